@@ -1,0 +1,124 @@
+//! The CPU pipeline's speed: `cargo bench --bench pipeline`. Figures go to BENCHMARKS.md.
+//!
+//! Meshes are generated open cylinders (the tutorial's shape) scaled so that neighbouring vertices
+//! stay more than 0.01 apart: the tutorial's indexer would otherwise merge them, and the mesh would
+//! no longer be the size it says.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use tutorial13::mesh::{build_mesh, cylinder_obj_text, MeshOptions};
+use tutorial13::objloader::{load_obj, TriangleSoup};
+use tutorial13::tangentspace::{compute_tangent_basis, TangentOptions};
+use tutorial13::vboindexer::{index_vbo_tbn, index_vbo_tbn_linear, IndexOptions};
+
+/// `segments × rings × 2` triangles, about 0.06 apart around and 0.05 along the axis.
+fn cylinder(segments: u32, rings: u32) -> String {
+    cylinder_obj_text(
+        segments,
+        rings,
+        segments as f32 / 100.0,
+        rings as f32 / 20.0,
+        2.3,
+    )
+}
+
+fn write_obj(name: &str, segments: u32, rings: u32) -> PathBuf {
+    let dir = std::env::temp_dir().join("tutorial13-bench");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, cylinder(segments, rings)).unwrap();
+    path
+}
+
+fn soup_of(path: &Path) -> TriangleSoup {
+    load_obj(path).unwrap()
+}
+
+/// load_obj + compute_tangent_basis + index_vbo_tbn, from the file on disk.
+fn whole_pipeline(c: &mut Criterion) {
+    let mut group = c.benchmark_group("pipeline");
+    group.sample_size(10).warm_up_time(Duration::from_secs(1));
+    for (label, segments, rings) in [("10k", 100, 50), ("100k", 500, 100), ("1M", 1000, 500)] {
+        let path = write_obj(&format!("cylinder-{label}.obj"), segments, rings);
+        group.bench_function(BenchmarkId::new("obj+tangents+index", label), |b| {
+            b.iter(|| build_mesh(&soup_of(&path), MeshOptions::default()))
+        });
+    }
+    group.finish();
+}
+
+/// The grid indexer against the tutorial's linear search, on the same soup: the ratio is the figure.
+fn indexers(c: &mut Criterion) {
+    let mut group = c.benchmark_group("index_vbo_tbn");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(500));
+    for (label, segments, rings) in [("20k", 100, 100), ("60k", 300, 100)] {
+        let soup = soup_of(&write_obj(
+            &format!("cylinder-{label}.obj"),
+            segments,
+            rings,
+        ));
+        let basis = compute_tangent_basis(&soup, TangentOptions::default());
+        group.bench_function(BenchmarkId::new("grid", label), |b| {
+            b.iter(|| index_vbo_tbn(&soup, &basis, IndexOptions::default()))
+        });
+        group.bench_function(BenchmarkId::new("linear", label), |b| {
+            b.iter(|| index_vbo_tbn_linear(&soup, &basis, IndexOptions::default()))
+        });
+    }
+    group.finish();
+}
+
+/// The soup as MikkTSpace sees it: faces of three corners.
+struct MikkSoup<'a> {
+    soup: &'a TriangleSoup,
+    tangents: Vec<[f32; 4]>,
+}
+
+impl mikktspace::Geometry for MikkSoup<'_> {
+    fn num_faces(&self) -> usize {
+        self.soup.triangle_count()
+    }
+    fn num_vertices_of_face(&self, _face: usize) -> usize {
+        3
+    }
+    fn position(&self, face: usize, vert: usize) -> [f32; 3] {
+        self.soup.vertices[3 * face + vert].to_array()
+    }
+    fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
+        self.soup.normals[3 * face + vert].to_array()
+    }
+    fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
+        self.soup.uvs[3 * face + vert].to_array()
+    }
+    fn set_tangent_encoded(&mut self, tangent: [f32; 4], face: usize, vert: usize) {
+        self.tangents[3 * face + vert] = tangent;
+    }
+}
+
+/// Tangents only, for the 100k-triangle soup: the tutorial's per-triangle solve beside MikkTSpace.
+fn tangent_sources(c: &mut Criterion) {
+    let mut group = c.benchmark_group("tangents");
+    group.sample_size(10).warm_up_time(Duration::from_secs(1));
+    let soup = soup_of(&write_obj("cylinder-100k.obj", 500, 100));
+    group.bench_function("compute_tangent_basis/100k", |b| {
+        b.iter(|| compute_tangent_basis(&soup, TangentOptions::default()))
+    });
+    group.bench_function("mikktspace/100k", |b| {
+        b.iter(|| {
+            let mut geometry = MikkSoup {
+                soup: &soup,
+                tangents: vec![[0.0; 4]; soup.vertices.len()],
+            };
+            assert!(mikktspace::generate_tangents(&mut geometry));
+            geometry.tangents
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, whole_pipeline, indexers, tangent_sources);
+criterion_main!(benches);

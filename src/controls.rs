@@ -1,0 +1,212 @@
+//! `common/controls.cpp`: the tutorial's first-person camera.
+//!
+//! The mouse turns the camera (0.005 rad per pixel of motion), the arrow keys move it (3 units per
+//! second) along the view direction and the right vector. The projection keeps the tutorial's fixed
+//! 4:3 aspect, whatever the window's shape. The angles use 3.14 where π would do, as the original.
+
+use glam::camera::rh::proj::opengl::perspective;
+use glam::camera::rh::view::look_at_mat4;
+use glam::{Mat4, Vec3};
+
+/// The tutorial writes 3.14 for π (start angle, and the quarter turn of `right`); keeping its value
+/// keeps its first frame.
+#[allow(clippy::approx_constant)]
+pub const TUTORIAL_PI: f32 = 3.14;
+
+/// What the window saw since the last frame.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Input {
+    /// Mouse motion in pixels, +x right and +y down (the tutorial re-centres the cursor each frame and
+    /// reads the offset from the centre; raw motion gives the same numbers without warping).
+    pub mouse_dx: f64,
+    pub mouse_dy: f64,
+    /// Arrow keys held.
+    pub up: bool,
+    pub down: bool,
+    pub left: bool,
+    pub right: bool,
+}
+
+/// The tutorial's globals of `controls.cpp`, in a struct.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Controls {
+    pub position: Vec3,
+    /// Toward -Z at 3.14.
+    pub horizontal_angle: f32,
+    /// 0: look at the horizon.
+    pub vertical_angle: f32,
+    /// Degrees.
+    pub initial_fov: f32,
+    /// Units per second.
+    pub speed: f32,
+    /// Radians per pixel.
+    pub mouse_speed: f32,
+    view_matrix: Mat4,
+    projection_matrix: Mat4,
+}
+
+impl Default for Controls {
+    fn default() -> Self {
+        let mut controls = Controls {
+            position: Vec3::new(0.0, 0.0, 5.0),
+            horizontal_angle: TUTORIAL_PI,
+            vertical_angle: 0.0,
+            initial_fov: 45.0,
+            speed: 3.0,
+            mouse_speed: 0.005,
+            view_matrix: Mat4::IDENTITY,
+            projection_matrix: Mat4::IDENTITY,
+        };
+        controls.compute_matrices_from_inputs(&Input::default(), 0.0);
+        controls
+    }
+}
+
+impl Controls {
+    /// Spherical angles to a direction, as the tutorial's `direction` vector.
+    pub fn direction(&self) -> Vec3 {
+        let (h, v) = (self.horizontal_angle, self.vertical_angle);
+        Vec3::new(v.cos() * h.sin(), v.sin(), v.cos() * h.cos())
+    }
+
+    /// The tutorial's `right` vector: horizontal, a quarter turn from the direction.
+    pub fn right(&self) -> Vec3 {
+        let h = self.horizontal_angle - TUTORIAL_PI / 2.0;
+        Vec3::new(h.sin(), 0.0, h.cos())
+    }
+
+    /// One frame of `computeMatricesFromInputs`: turn, move, then rebuild both matrices.
+    pub fn compute_matrices_from_inputs(&mut self, input: &Input, delta_time: f32) {
+        // The original adds mouseSpeed * (centre - cursor): moving right lowers the angle, which
+        // turns the view to the right.
+        self.horizontal_angle -= self.mouse_speed * input.mouse_dx as f32;
+        self.vertical_angle -= self.mouse_speed * input.mouse_dy as f32;
+
+        let direction = self.direction();
+        let right = self.right();
+        let up = right.cross(direction);
+
+        let step = delta_time * self.speed;
+        if input.up {
+            self.position += direction * step;
+        }
+        if input.down {
+            self.position -= direction * step;
+        }
+        if input.right {
+            self.position += right * step;
+        }
+        if input.left {
+            self.position -= right * step;
+        }
+
+        // 4:3 whatever the window is, as the original (the viewport follows the window instead).
+        self.projection_matrix = perspective(self.initial_fov.to_radians(), 4.0 / 3.0, 0.1, 100.0);
+        self.view_matrix = look_at_mat4(self.position, self.position + direction, up);
+    }
+
+    pub fn view_matrix(&self) -> Mat4 {
+        self.view_matrix
+    }
+
+    pub fn projection_matrix(&self) -> Mat4 {
+        self.projection_matrix
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn close(a: Mat4, b: Mat4, eps: f32) -> bool {
+        a.abs_diff_eq(b, eps)
+    }
+
+    // Fails if the start position, angles or look-at convention differ from the tutorial's: the first
+    // view looks from (0, 0, 5) toward -Z. 3.14 is 0.0016 rad short of π, which tilts the rotation by
+    // that much and moves the origin sideways by 5 × 0.0016 = 0.008: hence the 1e-2 tolerance.
+    #[test]
+    fn initial_view_looks_down_minus_z() {
+        let c = Controls::default();
+        let expected = look_at_mat4(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y);
+        assert!(
+            close(c.view_matrix(), expected, 1e-2),
+            "{}",
+            c.view_matrix()
+        );
+        let d = c.direction();
+        assert!(
+            (0.0015..0.0017).contains(&d.x) && d.y == 0.0 && d.z < -0.99999,
+            "{d}"
+        );
+        // The world origin lands 5 units in front of the camera.
+        let origin = c.view_matrix().transform_point3(Vec3::ZERO);
+        assert!(
+            (origin - Vec3::new(0.0, 0.0, -5.0)).length() < 1e-2,
+            "{origin}"
+        );
+    }
+
+    // Fails if the projection is not the tutorial's 45°, 4:3, near 0.1, far 100 GL matrix.
+    #[test]
+    fn projection_is_45_degrees_4_by_3() {
+        let p = Controls::default().projection_matrix();
+        let f = 1.0 / (22.5f32.to_radians()).tan();
+        assert!((p.y_axis.y - f).abs() < 1e-5);
+        assert!((p.x_axis.x - f * 0.75).abs() < 1e-5);
+        // A point on the near plane maps to NDC z = -1, on the far plane to +1.
+        let near = p.project_point3(Vec3::new(0.0, 0.0, -0.1));
+        let far = p.project_point3(Vec3::new(0.0, 0.0, -100.0));
+        assert!((near.z + 1.0).abs() < 1e-5 && (far.z - 1.0).abs() < 1e-4);
+    }
+
+    // Fails if the mouse does not turn by mouse_speed × pixels with the original's signs.
+    #[test]
+    fn mouse_turns_by_the_tutorials_formula() {
+        let mut c = Controls::default();
+        let input = Input {
+            mouse_dx: 100.0,
+            mouse_dy: -40.0,
+            ..Default::default()
+        };
+        c.compute_matrices_from_inputs(&input, 0.016);
+        assert!((c.horizontal_angle - (TUTORIAL_PI - 0.5)).abs() < 1e-6);
+        assert!((c.vertical_angle - 0.2).abs() < 1e-6);
+        // Mouse up (negative dy) looks up; position does not move without keys.
+        assert!(c.direction().y > 0.19);
+        assert_eq!(c.position, Vec3::new(0.0, 0.0, 5.0));
+    }
+
+    // Fails if the arrow keys do not move 3 units per second along direction and right.
+    #[test]
+    fn arrow_keys_move_along_direction_and_right() {
+        let mut c = Controls::default();
+        let forward = Input {
+            up: true,
+            ..Default::default()
+        };
+        let direction = c.direction();
+        c.compute_matrices_from_inputs(&forward, 0.5);
+        assert!((c.position - (Vec3::new(0.0, 0.0, 5.0) + direction * 1.5)).length() < 1e-6);
+        let start = c.position;
+        let right = c.right();
+        let strafe = Input {
+            right: true,
+            ..Default::default()
+        };
+        c.compute_matrices_from_inputs(&strafe, 1.0);
+        assert!((c.position - (start + right * 3.0)).length() < 1e-6);
+        // Looking toward -Z, "right" is +X.
+        assert!((right - Vec3::X).length() < 1e-2, "{right}");
+        let both = Input {
+            left: true,
+            right: true,
+            up: true,
+            down: true,
+            ..Default::default()
+        };
+        let before = c.position;
+        c.compute_matrices_from_inputs(&both, 1.0);
+        assert!((c.position - before).length() < 1e-5);
+    }
+}

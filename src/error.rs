@@ -1,0 +1,62 @@
+//! One error type for the library: every variant names the file it is about, so that the binary can
+//! print a single line such as `assets/normal.bmp: malformed BMP: 16 bits per pixel, only 24 is supported`.
+
+use std::path::PathBuf;
+
+/// Result alias used across the crate.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The file could not be opened, read or written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// The OBJ text is not something the tutorial's loader could use.
+    #[error("{}: malformed OBJ: {reason}", path.display())]
+    Obj { path: PathBuf, reason: String },
+    /// The DDS file is not a DXT1/DXT3/DXT5 texture the tutorial's loader accepts, or is cut short.
+    #[error("{}: malformed DDS: {reason}", path.display())]
+    Dds { path: PathBuf, reason: String },
+    /// The BMP file is not a 24-bit uncompressed bitmap, or is cut short.
+    #[error("{}: malformed BMP: {reason}", path.display())]
+    Bmp { path: PathBuf, reason: String },
+    /// A shader failed to compile or link; `log` is the driver's info log.
+    #[error("{}: {stage} failed:\n{log}", path.display())]
+    Shader {
+        path: PathBuf,
+        stage: &'static str,
+        log: String,
+    },
+    /// The GL context could not be made or lacks what the tutorial needs (GL 3.3, S3TC, a profile).
+    #[error("{0}")]
+    Gl(String),
+    /// Writing a generated asset failed for a reason other than I/O (e.g. the encoder refused).
+    #[error("{}: cannot write: {reason}", path.display())]
+    Write { path: PathBuf, reason: String },
+}
+
+impl Error {
+    /// The file the error is about, if it is about one.
+    pub fn path(&self) -> Option<&std::path::Path> {
+        match self {
+            Error::Io { path, .. }
+            | Error::Obj { path, .. }
+            | Error::Dds { path, .. }
+            | Error::Bmp { path, .. }
+            | Error::Shader { path, .. }
+            | Error::Write { path, .. } => Some(path),
+            Error::Gl(_) => None,
+        }
+    }
+
+    pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+        Error::Io {
+            path: path.into(),
+            source,
+        }
+    }
+}

@@ -1,0 +1,189 @@
+//! `tutorial13`: the binary. The command line is the contract in DESIGN.md; `--help` lists the keys.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use clap::{Parser, Subcommand, ValueEnum};
+use tutorial13::context::{write_screenshot, Profile};
+use tutorial13::headless::{min_median, HeadlessOptions, HeadlessRenderer};
+use tutorial13::tutorial13::SceneOptions;
+use tutorial13::window::{run_window, WindowOptions};
+
+const KEYS: &str = "Keys (window):
+  mouse           look around (the cursor is grabbed and hidden)
+  arrow keys      move forward / back, strafe left / right
+  Esc             quit (closing the window quits too)";
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "tutorial13",
+    version,
+    about = "opengl-tutorial.org's Tutorial 13 (Normal Mapping), ported to Rust",
+    after_help = KEYS,
+    args_conflicts_with_subcommands = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+
+    /// Folder with cylinder.obj, diffuse.DDS, normal.bmp and specular.DDS (the tutorial's own files
+    /// work unchanged) [default: the crate's assets/]
+    #[arg(long, value_name = "DIR")]
+    assets: Option<PathBuf>,
+
+    /// Folder with the .vertexshader/.fragmentshader files [default: the crate's shaders/, else the
+    /// copies built into the binary]
+    #[arg(long, value_name = "DIR")]
+    shaders: Option<PathBuf>,
+
+    /// No window: render through EGL on Mesa (no display or X server needed)
+    #[arg(long)]
+    headless: bool,
+
+    /// Render N frames with time frozen at 0, then exit
+    #[arg(long, value_name = "N")]
+    frames: Option<u32>,
+
+    /// Write the last frame to this PNG (top row first)
+    #[arg(long, value_name = "FILE.png")]
+    screenshot: Option<PathBuf>,
+
+    /// Framebuffer size
+    #[arg(long, value_name = "WxH", default_value = "1024x768", value_parser = parse_size)]
+    size: (u32, u32),
+
+    /// OpenGL profile of the context
+    #[arg(long, value_enum, default_value_t = ProfileArg::Core)]
+    profile: ProfileArg,
+
+    /// Start with the tangent-basis debug lines on (not available yet)
+    #[arg(long)]
+    debug_lines: bool,
+
+    /// Render K headless frames, each timed to completion, and print min/median ms/frame
+    #[arg(long, value_name = "K")]
+    bench: Option<u32>,
+
+    /// Headless: use a GPU's EGL device where there is one instead of Mesa's llvmpipe
+    #[arg(long)]
+    prefer_hardware: bool,
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+enum ProfileArg {
+    Core,
+    Compat,
+}
+
+impl From<ProfileArg> for Profile {
+    fn from(p: ProfileArg) -> Self {
+        match p {
+            ProfileArg::Core => Profile::Core,
+            ProfileArg::Compat => Profile::Compat,
+        }
+    }
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Generate the project's own assets (cylinder, brick textures, normal map) into a folder
+    MakeAssets {
+        /// Output folder (created if missing)
+        #[arg(long, value_name = "DIR", default_value = "assets")]
+        out: PathBuf,
+    },
+}
+
+fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("'{s}' is not WxH, e.g. 1024x768"))?;
+    let parse = |v: &str| {
+        v.parse::<u32>()
+            .ok()
+            .filter(|&n| (1..=16384).contains(&n))
+            .ok_or_else(|| format!("'{v}' is not a size from 1 to 16384"))
+    };
+    Ok((parse(w)?, parse(h)?))
+}
+
+/// The crate's own assets/ folder, wherever the binary is started from.
+fn default_assets() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets")
+}
+
+fn main() -> ExitCode {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info"))
+        .format_timestamp(None)
+        .format_target(false)
+        .init();
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            // One line: the context chain, outermost first.
+            eprintln!("tutorial13: {}", format!("{e:#}").replace('\n', " | "));
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    if let Some(Command::MakeAssets { out }) = &cli.command {
+        tutorial13::assets::make_assets(out)?;
+        println!("wrote {}", out.display());
+        return Ok(());
+    }
+    if cli.debug_lines {
+        log::warn!("--debug-lines is not available yet in this build: drawing without them");
+    }
+    let scene = SceneOptions {
+        assets: cli.assets.clone().unwrap_or_else(default_assets),
+        shaders: cli.shaders.clone(),
+        ..Default::default()
+    };
+    if cli.headless || cli.bench.is_some() {
+        run_headless(&cli, scene)
+    } else {
+        run_window(WindowOptions {
+            scene,
+            size: cli.size,
+            profile: cli.profile.into(),
+            frames: cli.frames,
+            screenshot: cli.screenshot.clone(),
+        })
+        .map_err(anyhow::Error::from)
+    }
+}
+
+fn run_headless(cli: &Cli, scene: SceneOptions) -> Result<()> {
+    let (width, height) = cli.size;
+    let mut renderer = HeadlessRenderer::new(&HeadlessOptions {
+        scene,
+        width,
+        height,
+        profile: cli.profile.into(),
+        prefer_hardware: cli.prefer_hardware,
+    })?;
+    log::info!("{}", renderer.context.info());
+    if let Some(k) = cli.bench {
+        let times = renderer.bench(k.max(1))?;
+        let (min, median) = min_median(&times);
+        println!(
+            "{k} frames at {width}x{height}: min {min:.3} ms/frame, median {median:.3} ms/frame"
+        );
+    }
+    if cli.bench.is_none() || cli.screenshot.is_some() {
+        let image = renderer.render_frames(cli.frames.unwrap_or(1))?;
+        if let Some(path) = &cli.screenshot {
+            save(path, &image)?;
+        }
+    }
+    Ok(())
+}
+
+fn save(path: &Path, image: &image::RgbaImage) -> Result<()> {
+    write_screenshot(path, image).with_context(|| "cannot save the screenshot".to_string())?;
+    log::info!("wrote {}", path.display());
+    Ok(())
+}

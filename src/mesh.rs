@@ -1,0 +1,89 @@
+//! The CPU half of `tutorial13.cpp`'s set-up, in its order: `loadOBJ`, `computeTangentBasis`,
+//! `indexVBO_TBN`. Its options are the tutorial's experiments, so a switch re-runs only this part.
+
+use std::path::Path;
+
+use crate::objloader::{load_obj, TriangleSoup};
+use crate::tangentspace::{compute_tangent_basis, TangentOptions};
+use crate::vboindexer::{index_vbo_tbn, IndexOptions, IndexedMesh};
+use crate::Result;
+
+/// Every switch of the CPU pipeline.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct MeshOptions {
+    pub tangents: TangentOptions,
+    pub indexing: IndexOptions,
+}
+
+/// Soup → tangents → indexed mesh.
+pub fn build_mesh(soup: &TriangleSoup, options: MeshOptions) -> IndexedMesh {
+    let basis = compute_tangent_basis(soup, options.tangents);
+    index_vbo_tbn(soup, &basis, options.indexing)
+}
+
+/// Reads an OBJ and runs the whole CPU pipeline on it.
+pub fn load_mesh(path: &Path, options: MeshOptions) -> Result<IndexedMesh> {
+    Ok(build_mesh(&load_obj(path)?, options))
+}
+
+/// OBJ text of an open cylinder around the y axis (sides only, smooth radial normals), the shape of
+/// the tutorial's: `segments` around, `rings` bands from y = 0 to y = `height`, U wrapping the texture
+/// `u_repeat` times around (growing to the right seen from outside) and V running 0..1 upwards. Faces are counter-clockwise seen from outside.
+/// The seam repeats its positions' UVs at U = `u_repeat`, as the tutorial's file does, so indexing keeps
+/// two vertices there. Used for the project's asset and for the benchmarks' large meshes.
+pub fn cylinder_obj_text(
+    segments: u32,
+    rings: u32,
+    radius: f32,
+    height: f32,
+    u_repeat: f32,
+) -> String {
+    use std::fmt::Write;
+    let mut text = String::with_capacity((segments as usize + 1) * (rings as usize + 1) * 96);
+    let _ = writeln!(
+        text,
+        "# tutorial13: open cylinder, {segments} segments, {rings} rings, radius {radius}, height {height}"
+    );
+    for ring in 0..=rings {
+        let y = height * ring as f32 / rings as f32;
+        for s in 0..segments {
+            let (sin, cos) = angle(s, segments).sin_cos();
+            let _ = writeln!(text, "v {:.6} {:.6} {:.6}", radius * sin, y, -radius * cos);
+        }
+    }
+    for ring in 0..=rings {
+        let v = ring as f32 / rings as f32;
+        for s in 0..=segments {
+            // U decreases with the angle, as in the tutorial's file: seen from outside, U grows to
+            // the right and the texture is not mirrored.
+            let u = u_repeat * (segments - s) as f32 / segments as f32;
+            let _ = writeln!(text, "vt {u:.6} {v:.6}");
+        }
+    }
+    for s in 0..segments {
+        let (sin, cos) = angle(s, segments).sin_cos();
+        let _ = writeln!(text, "vn {:.6} 0.000000 {:.6}", sin, -cos);
+    }
+    // 1-based OBJ indices of the corner at (segment s, ring r); s may be `segments` (the seam's UV).
+    let v = |s: u32, r: u32| r * segments + s % segments + 1;
+    let vt = |s: u32, r: u32| r * (segments + 1) + s + 1;
+    let vn = |s: u32| s % segments + 1;
+    for r in 0..rings {
+        for s in 0..segments {
+            let corner = |s: u32, r: u32| format!("{}/{}/{}", v(s, r), vt(s, r), vn(s));
+            let (a, b, c, d) = (
+                corner(s, r),
+                corner(s + 1, r),
+                corner(s + 1, r + 1),
+                corner(s, r + 1),
+            );
+            // Angles grow from -z towards +x: seen from outside, (s, r) → (s, r+1) → (s+1, r+1) is CCW.
+            let _ = writeln!(text, "f {a} {d} {c}\nf {a} {c} {b}");
+        }
+    }
+    text
+}
+
+fn angle(s: u32, segments: u32) -> f32 {
+    std::f32::consts::TAU * s as f32 / segments as f32
+}

@@ -1,0 +1,242 @@
+//! `common/objloader.cpp`: read an OBJ into the tutorial's de-indexed triangle soup.
+//!
+//! The tutorial's `loadOBJ` reads `v`, `vt`, `vn` and `f a/b/c a/b/c a/b/c`, then emits three
+//! corners per triangle (position, UV, normal), negating V because its textures are DDS files stored
+//! upside down. Here tobj does the parsing (polygons triangulated, negative indices resolved), and a
+//! short pre-scan checks what tobj would otherwise patch over silently: a face corner without UV or
+//! normal (tobj reuses the previous one), index 0 or out-of-range relative indices.
+
+use std::path::Path;
+
+use glam::{Vec2, Vec3};
+
+use crate::{Error, Result};
+
+/// Three corners per triangle, in file order, as `loadOBJ`'s three output vectors.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct TriangleSoup {
+    pub vertices: Vec<Vec3>,
+    /// `(u, -v)`: V negated exactly as the tutorial's loader does.
+    pub uvs: Vec<Vec2>,
+    pub normals: Vec<Vec3>,
+}
+
+impl TriangleSoup {
+    pub fn triangle_count(&self) -> usize {
+        self.vertices.len() / 3
+    }
+}
+
+/// Reads `path` as the tutorial's `loadOBJ` does. Errors name the file and the reason.
+pub fn load_obj(path: &Path) -> Result<TriangleSoup> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    load_obj_bytes(&bytes, path)
+}
+
+/// [`load_obj`] on bytes already in memory; `path` is only used in error messages.
+pub fn load_obj_bytes(bytes: &[u8], path: &Path) -> Result<TriangleSoup> {
+    let err = |reason: String| Error::Obj {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let text = std::str::from_utf8(bytes)
+        .map_err(|e| err(format!("not UTF-8 text (byte {})", e.valid_up_to())))?;
+    check_faces(text).map_err(err)?;
+
+    let options = tobj::LoadOptions {
+        triangulate: true,
+        single_index: false,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    // Materials are not used by the tutorial: never touch the .mtl file.
+    let (models, _) = tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| {
+        Ok((Vec::new(), Default::default()))
+    })
+    .map_err(|e| err(e.to_string()))?;
+
+    let mut soup = TriangleSoup::default();
+    for model in &models {
+        let mesh = &model.mesh;
+        // The pre-scan guarantees that every corner has all three indices, so the index lists match.
+        if mesh.texcoord_indices.len() != mesh.indices.len()
+            || mesh.normal_indices.len() != mesh.indices.len()
+        {
+            return Err(err(format!(
+                "object '{}' has faces without UV or normal indices",
+                model.name
+            )));
+        }
+        for ((&vi, &ti), &ni) in mesh
+            .indices
+            .iter()
+            .zip(&mesh.texcoord_indices)
+            .zip(&mesh.normal_indices)
+        {
+            let (vi, ti, ni) = (vi as usize, ti as usize, ni as usize);
+            let position = Vec3::from_slice(&mesh.positions[3 * vi..3 * vi + 3]);
+            let uv = Vec2::from_slice(&mesh.texcoords[2 * ti..2 * ti + 2]);
+            let normal = Vec3::from_slice(&mesh.normals[3 * ni..3 * ni + 3]);
+            if !(position.is_finite() && uv.is_finite() && normal.is_finite()) {
+                return Err(err(format!(
+                    "object '{}' uses a non-finite number (position {position}, uv {uv}, normal {normal})",
+                    model.name
+                )));
+            }
+            soup.vertices.push(position);
+            // Invert V: the tutorial's DDS textures are stored upside down.
+            soup.uvs.push(Vec2::new(uv.x, -uv.y));
+            soup.normals.push(normal);
+        }
+    }
+    if soup.vertices.is_empty() {
+        return Err(err("no faces".into()));
+    }
+    Ok(soup)
+}
+
+/// Checks every `f` line for what the tutorial needs and tobj does not enforce: at least three
+/// corners, each written `v/vt/vn` with all three indices present, non-zero and in range at that
+/// point of the file (relative indices count back from the elements declared so far).
+fn check_faces(text: &str) -> std::result::Result<(), String> {
+    let mut counts = [0usize; 3]; // v, vt, vn declared so far
+    for (line_number, line) in text.lines().enumerate() {
+        let line_number = line_number + 1;
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => counts[0] += 1,
+            Some("vt") => counts[1] += 1,
+            Some("vn") => counts[2] += 1,
+            Some("f") => {
+                let corners: Vec<&str> = words.collect();
+                if corners.len() < 3 {
+                    return Err(format!(
+                        "line {line_number}: a face needs at least 3 corners, found {}",
+                        corners.len()
+                    ));
+                }
+                for corner in corners {
+                    check_corner(corner, &counts).map_err(|reason| {
+                        format!("line {line_number}: corner '{corner}': {reason}")
+                    })?;
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+fn check_corner(corner: &str, counts: &[usize; 3]) -> std::result::Result<(), String> {
+    const WHAT: [&str; 3] = ["position", "UV", "normal"];
+    let parts: Vec<&str> = corner.split('/').collect();
+    if parts.len() != 3 || parts[1].is_empty() || parts[2].is_empty() {
+        return Err("needs a UV and a normal index (v/vt/vn): the tutorial uses both".into());
+    }
+    for (k, part) in parts.iter().enumerate() {
+        let index: i64 = part
+            .parse()
+            .map_err(|_| format!("'{part}' is not an index"))?;
+        let count = counts[k] as i64;
+        let in_range = if index > 0 {
+            index <= count
+        } else {
+            index < 0 && -index <= count
+        };
+        if !in_range {
+            return Err(format!(
+                "{} index {index} out of range ({count} declared so far)",
+                WHAT[k]
+            ));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn load(text: &str) -> Result<TriangleSoup> {
+        load_obj_bytes(text.as_bytes(), Path::new("mem.obj"))
+    }
+
+    const QUAD: &str =
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n";
+
+    // Fails if quads are not triangulated into two triangles or V is not negated.
+    #[test]
+    fn quad_is_triangulated_and_v_negated() {
+        let soup = load(&format!("{QUAD}f 1/1/1 2/2/1 3/3/1 4/4/1\n")).unwrap();
+        assert_eq!(soup.triangle_count(), 2);
+        assert_eq!(soup.vertices[2], Vec3::new(1.0, 1.0, 0.0));
+        assert_eq!(soup.uvs[2], Vec2::new(1.0, -1.0));
+        assert!(soup.normals.iter().all(|&n| n == Vec3::Z));
+    }
+
+    // Fails if relative (negative) indices are not resolved against the elements declared so far.
+    #[test]
+    fn negative_indices_match_positive_ones() {
+        let a = load(&format!("{QUAD}f 1/1/1 2/2/1 3/3/1\n")).unwrap();
+        let b = load(&format!("{QUAD}f -4/-4/-1 -3/-3/-1 -2/-2/-1\n")).unwrap();
+        assert_eq!(a, b);
+    }
+
+    // Fails if a bad input is accepted, or its error does not name the file and the reason.
+    #[test]
+    fn bad_inputs_are_errors_naming_the_file() {
+        let cases = [
+            (String::from("v 0 0 0\n"), "no faces"),
+            (format!("{QUAD}f 1 2 3\n"), "needs a UV and a normal"),
+            (
+                format!("{QUAD}f 1//1 2//1 3//1\n"),
+                "needs a UV and a normal",
+            ),
+            (format!("{QUAD}f 1/1 2/2 3/3\n"), "needs a UV and a normal"),
+            (format!("{QUAD}f 1/1/1 2/2/1 9/3/1\n"), "out of range"),
+            (format!("{QUAD}f 1/1/1 2/2/1 0/3/1\n"), "out of range"),
+            (format!("{QUAD}f 1/1/1 2/2/1 -5/3/1\n"), "out of range"),
+            (format!("{QUAD}f 1/1/1 2/2/2 3/3/1\n"), "out of range"),
+            (
+                format!("{QUAD}f 1/1/1 2/2/1 -99999999999999999999/3/1\n"),
+                "not an index",
+            ),
+            (format!("{QUAD}f 1/1/1 2/2/1\n"), "at least 3 corners"),
+            (format!("{QUAD}f 1/1/1 2/x/1 3/3/1\n"), "not an index"),
+            (
+                "v 0 0 nan\nvt 0 0\nvn 0 0 1\nf 1/1/1 1/1/1 1/1/1\n".into(),
+                "non-finite",
+            ),
+            (
+                "v 0 0 1e39\nvt 0 0\nvn 0 0 1\nf 1/1/1 1/1/1 1/1/1\n".into(),
+                "non-finite",
+            ),
+            (
+                "v 0 0 0\nvt 0 inf\nvn 0 0 1\nf 1/1/1 1/1/1 1/1/1\n".into(),
+                "non-finite",
+            ),
+            (
+                "v 0 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 1/1/1 1/1/1\n".into(),
+                "mem.obj",
+            ),
+            (
+                "v 0 0 zero\nvt 0 0\nvn 0 0 1\nf 1/1/1 1/1/1 1/1/1\n".into(),
+                "mem.obj",
+            ),
+        ];
+        for (text, reason) in cases {
+            let e = load(&text).expect_err(&text).to_string();
+            assert!(e.starts_with("mem.obj: malformed OBJ"), "{e}");
+            assert!(e.contains(reason), "{text:?} gave {e}");
+        }
+        let e = load_obj_bytes(b"v 0 0 0\n\xff\xfe", Path::new("mem.obj")).unwrap_err();
+        assert!(e.to_string().contains("not UTF-8"), "{e}");
+    }
+
+    // Fails if a missing file panics or its error does not name the file.
+    #[test]
+    fn missing_file_names_the_file() {
+        let e = load_obj(Path::new("/nonexistent/cylinder.obj")).unwrap_err();
+        assert!(e.to_string().contains("/nonexistent/cylinder.obj"), "{e}");
+    }
+}

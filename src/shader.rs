@@ -1,0 +1,145 @@
+//! `common/shader.cpp`: compile and link the two shader files into a program.
+//!
+//! A learner edits the `.vertexshader`/`.fragmentshader` files and runs again without recompiling, so
+//! the sources are read at run time: from `--shaders DIR` if given, else from the crate's own
+//! `shaders/` folder (wherever the binary is started from), else from the copies embedded at build
+//! time (a binary moved to another machine still runs).
+
+use std::path::{Path, PathBuf};
+
+use glow::HasContext;
+
+use crate::context::Gl;
+use crate::{Error, Result};
+
+/// The shader files this crate ships, embedded as a fallback.
+const EMBEDDED: &[(&str, &str)] = &[
+    (
+        "NormalMapping.vertexshader",
+        include_str!("../shaders/NormalMapping.vertexshader"),
+    ),
+    (
+        "NormalMapping.fragmentshader",
+        include_str!("../shaders/NormalMapping.fragmentshader"),
+    ),
+];
+
+/// A shader's text and where it came from (named in every error).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ShaderFile {
+    pub path: PathBuf,
+    pub source: String,
+}
+
+/// The crate's `shaders/` folder as it was at build time.
+pub fn crate_shader_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders")
+}
+
+/// Finds `name`: in `dir` if given (it must be there), else in [`crate_shader_dir`], else embedded.
+pub fn find_shader(name: &str, dir: Option<&Path>) -> Result<ShaderFile> {
+    let read = |path: PathBuf| -> Result<ShaderFile> {
+        let source = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+        Ok(ShaderFile { path, source })
+    };
+    if let Some(dir) = dir {
+        return read(dir.join(name));
+    }
+    let on_disk = crate_shader_dir().join(name);
+    if on_disk.is_file() {
+        return read(on_disk);
+    }
+    let (_, source) = EMBEDDED
+        .iter()
+        .find(|(embedded, _)| *embedded == name)
+        .ok_or_else(|| Error::io(&on_disk, std::io::ErrorKind::NotFound.into()))?;
+    log::debug!("{name}: using the copy embedded at build time");
+    Ok(ShaderFile {
+        path: PathBuf::from("<embedded>").join(name),
+        source: source.to_string(),
+    })
+}
+
+/// A linked program, deleted with the value.
+pub struct Program {
+    gl: Gl,
+    pub id: glow::Program,
+}
+
+impl Drop for Program {
+    fn drop(&mut self) {
+        // SAFETY: the program was made by this context, which outlives it (shared `Gl`).
+        unsafe { self.gl.delete_program(self.id) };
+    }
+}
+
+impl Program {
+    pub fn uniform(&self, name: &str) -> Option<glow::UniformLocation> {
+        // SAFETY: a valid program of this context.
+        unsafe { self.gl.get_uniform_location(self.id, name) }
+    }
+}
+
+/// `LoadShaders`: compiles both stages and links them. On failure the error names the file (or
+/// both, for a link error) and carries the driver's info log. The shader objects are detached and
+/// deleted once linked, as the tutorial does.
+pub fn load_shaders(gl: &Gl, vertex: &ShaderFile, fragment: &ShaderFile) -> Result<Program> {
+    // SAFETY: plain GL calls on the current context with objects created here.
+    unsafe {
+        let vs = compile(gl, glow::VERTEX_SHADER, vertex)?;
+        let fs = match compile(gl, glow::FRAGMENT_SHADER, fragment) {
+            Ok(fs) => fs,
+            Err(e) => {
+                gl.delete_shader(vs);
+                return Err(e);
+            }
+        };
+        let id = gl.create_program().map_err(Error::Gl)?;
+        gl.attach_shader(id, vs);
+        gl.attach_shader(id, fs);
+        gl.link_program(id);
+        let linked = gl.get_program_link_status(id);
+        let log = gl.get_program_info_log(id);
+        gl.detach_shader(id, vs);
+        gl.detach_shader(id, fs);
+        gl.delete_shader(vs);
+        gl.delete_shader(fs);
+        if !linked {
+            gl.delete_program(id);
+            return Err(Error::Shader {
+                path: PathBuf::from(format!(
+                    "{} + {}",
+                    vertex.path.display(),
+                    fragment.path.display()
+                )),
+                stage: "linking",
+                log: log.trim_end().to_string(),
+            });
+        }
+        if !log.trim().is_empty() {
+            log::debug!("link log: {}", log.trim_end());
+        }
+        Ok(Program { gl: gl.clone(), id })
+    }
+}
+
+unsafe fn compile(gl: &Gl, kind: u32, file: &ShaderFile) -> Result<glow::Shader> {
+    let shader = gl.create_shader(kind).map_err(Error::Gl)?;
+    gl.shader_source(shader, &file.source);
+    gl.compile_shader(shader);
+    if gl.get_shader_compile_status(shader) {
+        return Ok(shader);
+    }
+    let log = gl.get_shader_info_log(shader);
+    gl.delete_shader(shader);
+    Err(Error::Shader {
+        path: file.path.clone(),
+        stage: "compilation",
+        log: log.trim_end().to_string(),
+    })
+}
+
+/// Vertex and fragment shader of one program, found by [`find_shader`], then linked.
+pub fn load_program(gl: &Gl, vertex: &str, fragment: &str, dir: Option<&Path>) -> Result<Program> {
+    load_shaders(gl, &find_shader(vertex, dir)?, &find_shader(fragment, dir)?)
+}

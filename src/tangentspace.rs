@@ -1,0 +1,245 @@
+//! `common/tangentspace.cpp`: one tangent and bitangent per triangle corner.
+//!
+//! Per triangle, the tutorial solves `deltaPos = deltaU * T + deltaV * B` for the two edges. Per
+//! corner it then makes T perpendicular to the corner's normal (Gram-Schmidt) and flips T where
+//! `dot(cross(n, t), b) < 0` (mirrored UVs). The bitangent is left as solved, not normalized.
+//!
+//! Where the port differs: a triangle whose UV determinant is zero or not finite (two corners sharing
+//! a UV, or UVs on a line) has no frame to solve for; the original then divides by zero and writes
+//! NaN/inf tangents. Here each corner of such a triangle gets a finite orthonormal frame instead (see
+//! [`fallback_frame`]); the same fallback catches a corner whose Gram-Schmidt result is not finite
+//! (tangent parallel to the normal).
+
+use glam::{Vec2, Vec3};
+
+use crate::objloader::TriangleSoup;
+
+/// The steps of the per-corner pass, as switches: the tutorial asks its reader to try without them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TangentOptions {
+    /// `t = normalize(t - n * dot(n, t))`.
+    pub gram_schmidt: bool,
+    /// `if dot(cross(n, t), b) < 0 { t = -t }`.
+    pub handedness: bool,
+}
+
+impl Default for TangentOptions {
+    /// The tutorial's code: both steps on.
+    fn default() -> Self {
+        TangentOptions {
+            gram_schmidt: true,
+            handedness: true,
+        }
+    }
+}
+
+/// `computeTangentBasis`'s two output vectors, one entry per corner of the soup.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct TangentBasis {
+    pub tangents: Vec<Vec3>,
+    pub bitangents: Vec<Vec3>,
+}
+
+/// The tutorial's `computeTangentBasis` over a triangle soup.
+pub fn compute_tangent_basis(soup: &TriangleSoup, options: TangentOptions) -> TangentBasis {
+    compute_tangent_basis_slices(&soup.vertices, &soup.uvs, &soup.normals, options)
+}
+
+/// [`compute_tangent_basis`] on the three corner arrays (lengths equal and a multiple of 3).
+pub fn compute_tangent_basis_slices(
+    vertices: &[Vec3],
+    uvs: &[Vec2],
+    normals: &[Vec3],
+    options: TangentOptions,
+) -> TangentBasis {
+    assert!(
+        vertices.len() == uvs.len() && vertices.len() == normals.len() && vertices.len() % 3 == 0,
+        "compute_tangent_basis needs equal corner arrays, three corners per triangle"
+    );
+    let n = vertices.len();
+    let mut basis = TangentBasis {
+        tangents: Vec::with_capacity(n),
+        bitangents: Vec::with_capacity(n),
+    };
+    for ((v, uv), nrm) in vertices
+        .chunks_exact(3)
+        .zip(uvs.chunks_exact(3))
+        .zip(normals.chunks_exact(3))
+    {
+        let delta_pos1 = v[1] - v[0];
+        let delta_pos2 = v[2] - v[0];
+        let delta_uv1 = uv[1] - uv[0];
+        let delta_uv2 = uv[2] - uv[0];
+        let det = delta_uv1.x * delta_uv2.y - delta_uv1.y * delta_uv2.x;
+        let r = 1.0 / det;
+        let tangent = (delta_pos1 * delta_uv2.y - delta_pos2 * delta_uv1.y) * r;
+        let bitangent = (delta_pos2 * delta_uv1.x - delta_pos1 * delta_uv2.x) * r;
+        let solved = det != 0.0 && det.is_finite() && tangent.is_finite() && bitangent.is_finite();
+        for &normal in nrm {
+            let frame = if solved {
+                orthogonalize_corner(normal, tangent, bitangent, options)
+            } else {
+                None
+            };
+            let (t, b) = frame.unwrap_or_else(|| fallback_frame(normal, delta_pos1, delta_pos2));
+            basis.tangents.push(t);
+            basis.bitangents.push(b);
+        }
+    }
+    basis
+}
+
+/// The tutorial's per-corner pass ("Going further": Gram-Schmidt, then handedness). `None` when the
+/// result would not be finite.
+fn orthogonalize_corner(
+    n: Vec3,
+    mut t: Vec3,
+    b: Vec3,
+    options: TangentOptions,
+) -> Option<(Vec3, Vec3)> {
+    if options.gram_schmidt {
+        t = (t - n * n.dot(t)).normalize();
+    }
+    if options.handedness && n.cross(t).dot(b) < 0.0 {
+        t = -t;
+    }
+    t.is_finite().then_some((t, b))
+}
+
+/// The frame given where the UVs define none. Rule: the unit normal `n` is the corner's normal (the
+/// triangle's face normal if that is zero or not finite, +Z if the triangle has no area); `t` is the
+/// triangle's first edge made perpendicular to `n` (its second edge if the first is parallel to `n`,
+/// any perpendicular if both are); `b = n × t`. So `t` and `b` are unit length, orthogonal to each
+/// other and to `n`, right-handed, and the same for every switch setting.
+pub fn fallback_frame(normal: Vec3, delta_pos1: Vec3, delta_pos2: Vec3) -> (Vec3, Vec3) {
+    let n = normal
+        .try_normalize()
+        .or_else(|| delta_pos1.cross(delta_pos2).try_normalize())
+        .unwrap_or(Vec3::Z);
+    let t = [delta_pos1, delta_pos2]
+        .into_iter()
+        .find_map(|edge| (edge - n * n.dot(edge)).try_normalize())
+        .unwrap_or_else(|| n.any_orthonormal_vector());
+    (t, n.cross(t))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn soup(vertices: [Vec3; 3], uvs: [Vec2; 3], normal: Vec3) -> TriangleSoup {
+        TriangleSoup {
+            vertices: vertices.to_vec(),
+            uvs: uvs.to_vec(),
+            normals: vec![normal; 3],
+        }
+    }
+
+    fn right_triangle(uvs: [Vec2; 3]) -> TriangleSoup {
+        soup([Vec3::ZERO, Vec3::X, Vec3::Y], uvs, Vec3::Z)
+    }
+
+    const AXIS_UVS: [Vec2; 3] = [Vec2::ZERO, Vec2::X, Vec2::Y];
+
+    // Fails if the per-triangle solve is wrong: U along +x and V along +y must give T=+x, B=+y.
+    #[test]
+    fn axis_aligned_uvs_give_x_and_y() {
+        let basis = compute_tangent_basis(&right_triangle(AXIS_UVS), TangentOptions::default());
+        assert_eq!(basis.tangents, vec![Vec3::X; 3]);
+        assert_eq!(basis.bitangents, vec![Vec3::Y; 3]);
+    }
+
+    // Fails if the solve does not scale with the UV density (B is left unnormalized, like the original).
+    #[test]
+    fn bitangent_is_not_normalized() {
+        let uvs = [Vec2::ZERO, Vec2::new(2.0, 0.0), Vec2::new(0.0, 4.0)];
+        let basis = compute_tangent_basis(&right_triangle(uvs), TangentOptions::default());
+        assert_eq!(basis.tangents[0], Vec3::X); // normalized by Gram-Schmidt
+        assert_eq!(basis.bitangents[0], Vec3::new(0.0, 0.25, 0.0));
+    }
+
+    // Fails if mirrored UVs (U running along -x) do not solve to T = -x, or if the handedness step
+    // does not then flip T back so that (T, B, N) is right-handed, as the tutorial's code does.
+    #[test]
+    fn mirrored_uvs_flip_the_tangent() {
+        let mirrored = right_triangle([Vec2::ZERO, Vec2::new(-1.0, 0.0), Vec2::Y]);
+        let no_flip = TangentOptions {
+            handedness: false,
+            ..Default::default()
+        };
+        let solved = compute_tangent_basis(&mirrored, no_flip);
+        assert_eq!(solved.tangents[0], -Vec3::X);
+        assert_eq!(solved.bitangents[0], Vec3::Y);
+        let fixed = compute_tangent_basis(&mirrored, TangentOptions::default());
+        assert_eq!(fixed.tangents[0], Vec3::X);
+        assert_eq!(fixed.bitangents[0], Vec3::Y);
+        assert!(Vec3::Z.cross(fixed.tangents[0]).dot(fixed.bitangents[0]) > 0.0);
+    }
+
+    // Fails if Gram-Schmidt leaves any component of T along a tilted corner normal.
+    #[test]
+    fn gram_schmidt_makes_t_perpendicular_to_n() {
+        let n = Vec3::new(0.3, -0.2, 1.0).normalize();
+        let tri = soup([Vec3::ZERO, Vec3::X, Vec3::Y], AXIS_UVS, n);
+        let basis = compute_tangent_basis(&tri, TangentOptions::default());
+        for t in &basis.tangents {
+            assert!(t.dot(n).abs() < 1e-6, "{t}");
+            assert!((t.length() - 1.0).abs() < 1e-6);
+        }
+        let off = TangentOptions {
+            gram_schmidt: false,
+            ..Default::default()
+        };
+        let raw = compute_tangent_basis(&tri, off);
+        assert_eq!(raw.tangents[0], Vec3::X);
+        assert!(raw.tangents[0].dot(n).abs() > 0.1);
+    }
+
+    // Fails if a zero or non-finite UV determinant leaks NaN/inf or a non-orthonormal frame, for
+    // every switch setting.
+    #[test]
+    fn degenerate_uvs_give_finite_unit_vectors() {
+        let cases = [
+            [Vec2::ZERO; 3],
+            [Vec2::ZERO, Vec2::X, Vec2::new(2.0, 0.0)],
+            [Vec2::ZERO, Vec2::X, Vec2::X],
+            [Vec2::ZERO, Vec2::new(1e30, 0.0), Vec2::new(0.0, 1e30)],
+        ];
+        let n = Vec3::new(0.0, 0.6, 0.8);
+        for uvs in cases {
+            for (gram_schmidt, handedness) in [(true, true), (false, false), (true, false)] {
+                let options = TangentOptions {
+                    gram_schmidt,
+                    handedness,
+                };
+                let tri = soup([Vec3::ZERO, Vec3::X, Vec3::Y], uvs, n);
+                let basis = compute_tangent_basis(&tri, options);
+                for (t, b) in basis.tangents.iter().zip(&basis.bitangents) {
+                    assert!(t.is_finite() && b.is_finite(), "{uvs:?}: {t} {b}");
+                    assert!((t.length() - 1.0).abs() < 1e-6 && (b.length() - 1.0).abs() < 1e-6);
+                    assert!(
+                        t.dot(n).abs() < 1e-6 && b.dot(n).abs() < 1e-6 && t.dot(*b).abs() < 1e-6
+                    );
+                }
+            }
+        }
+    }
+
+    // Fails if a triangle with no area, or a zero normal, reaches NaN in the fallback.
+    #[test]
+    fn fallback_survives_zero_area_and_zero_normal() {
+        for (normal, e1, e2) in [
+            (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO),
+            (Vec3::ZERO, Vec3::X, Vec3::Y),
+            (Vec3::Y, Vec3::Y, Vec3::Y * 2.0),
+            (Vec3::NAN, Vec3::X, Vec3::X),
+        ] {
+            let (t, b) = fallback_frame(normal, e1, e2);
+            assert!(
+                t.is_normalized() && b.is_normalized(),
+                "{normal} {e1} {e2}: {t} {b}"
+            );
+            assert!(t.dot(b).abs() < 1e-6);
+        }
+    }
+}

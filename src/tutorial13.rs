@@ -1,0 +1,247 @@
+//! `tutorial13.cpp`: the normal-mapped cylinder as a scene, and the frame every front end draws.
+//!
+//! Read top to bottom beside the C++: set the GL state, load the program and its uniforms, the three
+//! textures, the mesh through the CPU pipeline, the buffers; then each frame clear, bind, set the
+//! matrices and light, and draw the elements. Window and headless modes call the same
+//! [`render_frame`], so a test's pixels are the window's pixels.
+
+use std::path::{Path, PathBuf};
+
+use glam::{Mat3, Mat4, Vec3};
+use glow::HasContext;
+
+use crate::context::Gl;
+use crate::controls::Controls;
+use crate::mesh::{load_mesh, MeshOptions};
+use crate::shader::{load_program, Program};
+use crate::texture::{load_bmp_custom, load_dds, Texture};
+use crate::vboindexer::{IndexedMesh, Indices};
+use crate::{Error, Result};
+
+/// The light's place in the world, as the tutorial's `lightPos`.
+pub const LIGHT_POSITION_WORLDSPACE: Vec3 = Vec3::new(0.0, 0.0, 4.0);
+/// `glClearColor(0.0f, 0.0f, 0.4f, 0.0f)`.
+pub const CLEAR_COLOR: [f32; 4] = [0.0, 0.0, 0.4, 0.0];
+
+/// Where the scene's files come from, and the CPU pipeline's switches.
+#[derive(Debug, Clone, Default)]
+pub struct SceneOptions {
+    /// Holds cylinder.obj, diffuse.DDS, normal.bmp, specular.DDS.
+    pub assets: PathBuf,
+    /// `--shaders DIR`; `None` = the crate's shaders/ folder, else the embedded copies.
+    pub shaders: Option<PathBuf>,
+    pub mesh: MeshOptions,
+}
+
+/// The tutorial's global GL state: depth test (LESS), back faces culled, the dark blue clear colour.
+pub fn init_gl_state(gl: &Gl) {
+    // SAFETY: state-setting calls on the current context.
+    unsafe {
+        let [r, g, b, a] = CLEAR_COLOR;
+        gl.clear_color(r, g, b, a);
+        gl.enable(glow::DEPTH_TEST);
+        gl.depth_func(glow::LESS);
+        gl.enable(glow::CULL_FACE);
+    }
+}
+
+/// The five attribute buffers and the element buffer of one mesh, with the VAO they are drawn
+/// through. Deleted with the value.
+pub struct MeshBuffers {
+    gl: Gl,
+    vao: glow::VertexArray,
+    /// vertex, uv, normal, tangent, bitangent: attribute locations 0..4.
+    attributes: [glow::Buffer; 5],
+    elements: glow::Buffer,
+    index_count: i32,
+    index_type: u32,
+}
+
+/// Components per attribute, in location order.
+const ATTRIBUTE_SIZES: [i32; 5] = [3, 2, 3, 3, 3];
+
+impl MeshBuffers {
+    pub fn new(gl: &Gl, mesh: &IndexedMesh) -> Result<Self> {
+        let data: [&[u8]; 5] = [
+            bytemuck::cast_slice(&mesh.vertices),
+            bytemuck::cast_slice(&mesh.uvs),
+            bytemuck::cast_slice(&mesh.normals),
+            bytemuck::cast_slice(&mesh.tangents),
+            bytemuck::cast_slice(&mesh.bitangents),
+        ];
+        // SAFETY: buffers are created and filled on the current context with slices that live
+        // through the calls.
+        unsafe {
+            let vao = gl.create_vertex_array().map_err(Error::Gl)?;
+            gl.bind_vertex_array(Some(vao));
+            let mut attributes = Vec::with_capacity(5);
+            for bytes in data {
+                let buffer = gl.create_buffer().map_err(Error::Gl)?;
+                gl.bind_buffer(glow::ARRAY_BUFFER, Some(buffer));
+                gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
+                attributes.push(buffer);
+            }
+            let elements = gl.create_buffer().map_err(Error::Gl)?;
+            gl.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, Some(elements));
+            let (bytes, index_type): (&[u8], u32) = match &mesh.indices {
+                Indices::U16(v) => (bytemuck::cast_slice(v), glow::UNSIGNED_SHORT),
+                Indices::U32(v) => (bytemuck::cast_slice(v), glow::UNSIGNED_INT),
+            };
+            gl.buffer_data_u8_slice(glow::ELEMENT_ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
+            Ok(MeshBuffers {
+                gl: gl.clone(),
+                vao,
+                attributes: attributes.try_into().expect("five attribute buffers"),
+                elements,
+                index_count: mesh.indices.len() as i32,
+                index_type,
+            })
+        }
+    }
+
+    /// The tutorial's draw: enable and point each attribute array, draw the elements, disable.
+    pub fn draw(&self) {
+        let gl = &self.gl;
+        // SAFETY: every buffer belongs to this context; the pointers describe the data uploaded in `new`.
+        unsafe {
+            gl.bind_vertex_array(Some(self.vao));
+            for (location, (&buffer, &size)) in
+                self.attributes.iter().zip(&ATTRIBUTE_SIZES).enumerate()
+            {
+                gl.enable_vertex_attrib_array(location as u32);
+                gl.bind_buffer(glow::ARRAY_BUFFER, Some(buffer));
+                gl.vertex_attrib_pointer_f32(location as u32, size, glow::FLOAT, false, 0, 0);
+            }
+            gl.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, Some(self.elements));
+            gl.draw_elements(glow::TRIANGLES, self.index_count, self.index_type, 0);
+            for location in 0..ATTRIBUTE_SIZES.len() {
+                gl.disable_vertex_attrib_array(location as u32);
+            }
+        }
+    }
+}
+
+impl Drop for MeshBuffers {
+    fn drop(&mut self) {
+        // SAFETY: all made by this context, which the shared `Gl` keeps alive.
+        unsafe {
+            for &buffer in &self.attributes {
+                self.gl.delete_buffer(buffer);
+            }
+            self.gl.delete_buffer(self.elements);
+            self.gl.delete_vertex_array(self.vao);
+        }
+    }
+}
+
+/// Uniform locations of the NormalMapping program, looked up once.
+struct Uniforms {
+    mvp: Option<glow::UniformLocation>,
+    view: Option<glow::UniformLocation>,
+    model: Option<glow::UniformLocation>,
+    model_view_3x3: Option<glow::UniformLocation>,
+    light_position_worldspace: Option<glow::UniformLocation>,
+    samplers: [Option<glow::UniformLocation>; 3],
+}
+
+/// Everything the tutorial loads before its main loop.
+pub struct NormalMappingScene {
+    gl: Gl,
+    program: Program,
+    uniforms: Uniforms,
+    /// diffuse, normal, specular: texture units 0, 1, 2.
+    textures: [Texture; 3],
+    buffers: MeshBuffers,
+    /// The CPU mesh, kept for the debug lines and for re-running the pipeline.
+    pub mesh: IndexedMesh,
+    pub model_matrix: Mat4,
+}
+
+impl NormalMappingScene {
+    pub fn new(gl: &Gl, options: &SceneOptions) -> Result<Self> {
+        let program = load_program(
+            gl,
+            "NormalMapping.vertexshader",
+            "NormalMapping.fragmentshader",
+            options.shaders.as_deref(),
+        )?;
+        let uniforms = Uniforms {
+            mvp: program.uniform("MVP"),
+            view: program.uniform("V"),
+            model: program.uniform("M"),
+            model_view_3x3: program.uniform("MV3x3"),
+            light_position_worldspace: program.uniform("LightPosition_worldspace"),
+            samplers: [
+                program.uniform("DiffuseTextureSampler"),
+                program.uniform("NormalTextureSampler"),
+                program.uniform("SpecularTextureSampler"),
+            ],
+        };
+        let assets = &options.assets;
+        let textures = [
+            load_dds(gl, &assets.join("diffuse.DDS"))?,
+            load_bmp_custom(gl, &assets.join("normal.bmp"))?,
+            load_dds(gl, &assets.join("specular.DDS"))?,
+        ];
+        let mesh = load_mesh(&assets.join("cylinder.obj"), options.mesh)?;
+        let buffers = MeshBuffers::new(gl, &mesh)?;
+        Ok(NormalMappingScene {
+            gl: gl.clone(),
+            program,
+            uniforms,
+            textures,
+            buffers,
+            mesh,
+            model_matrix: Mat4::IDENTITY,
+        })
+    }
+
+    /// Re-runs the CPU pipeline with other switches and re-uploads the buffers; textures and program
+    /// stay as they are.
+    pub fn rebuild_mesh(&mut self, obj: &Path, options: MeshOptions) -> Result<()> {
+        let mesh = load_mesh(obj, options)?;
+        self.buffers = MeshBuffers::new(&self.gl, &mesh)?;
+        self.mesh = mesh;
+        Ok(())
+    }
+
+    /// One draw of the cylinder with the given camera.
+    pub fn draw(&self, projection: Mat4, view: Mat4) {
+        let gl = &self.gl;
+        let model = self.model_matrix;
+        let model_view = view * model;
+        let mvp = projection * model_view;
+        let model_view_3x3 = Mat3::from_mat4(model_view);
+        let u = &self.uniforms;
+        // SAFETY: program, uniforms and textures all belong to this context.
+        unsafe {
+            gl.use_program(Some(self.program.id));
+            gl.uniform_matrix_4_f32_slice(u.mvp.as_ref(), false, &mvp.to_cols_array());
+            gl.uniform_matrix_4_f32_slice(u.model.as_ref(), false, &model.to_cols_array());
+            gl.uniform_matrix_4_f32_slice(u.view.as_ref(), false, &view.to_cols_array());
+            gl.uniform_matrix_3_f32_slice(
+                u.model_view_3x3.as_ref(),
+                false,
+                &model_view_3x3.to_cols_array(),
+            );
+            gl.uniform_3_f32_slice(
+                u.light_position_worldspace.as_ref(),
+                &LIGHT_POSITION_WORLDSPACE.to_array(),
+            );
+            for (unit, (texture, sampler)) in self.textures.iter().zip(&u.samplers).enumerate() {
+                gl.active_texture(glow::TEXTURE0 + unit as u32);
+                gl.bind_texture(glow::TEXTURE_2D, Some(texture.id));
+                gl.uniform_1_i32(sampler.as_ref(), unit as i32);
+            }
+        }
+        self.buffers.draw();
+    }
+}
+
+/// The frame: clear colour and depth, then draw the scene from the camera. The caller binds the
+/// target (window back buffer or offscreen framebuffer) and sets the viewport.
+pub fn render_frame(gl: &Gl, scene: &NormalMappingScene, controls: &Controls) {
+    // SAFETY: clearing the bound framebuffer.
+    unsafe { gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT) };
+    scene.draw(controls.projection_matrix(), controls.view_matrix());
+}

@@ -1,0 +1,459 @@
+//! `common/vboindexer.cpp`: turn the triangle soup into an indexed mesh.
+//!
+//! The tutorial's `indexVBO_TBN` keeps a corner as a new vertex unless an earlier output vertex has
+//! position, UV and normal each within 0.01 per component (`is_near`); then the corner reuses the
+//! *first* such vertex and its tangent and bitangent are added to that vertex's (a sum, not an
+//! average, and not normalized: the shader normalizes). It searches linearly, so it is quadratic.
+//!
+//! [`index_vbo_tbn`] gives the same result in expected linear time: output vertices are kept in a hash
+//! grid keyed on their position, and a corner only looks at the (at most 2×2×2) cells that can hold a
+//! position within 0.01 of its own, taking the lowest matching index, as the linear search would.
+//! [`index_vbo_tbn_linear`] is the straightforward port, kept as the reference the tests compare with.
+//! [`index_vbo`] ports the plain `indexVBO` (exact matches through a map, no tangents).
+//!
+//! Where the port differs: indices are 16-bit only while every vertex fits (at most 65 535 of them),
+//! else 32-bit; the original casts to `unsigned short` and silently wraps.
+
+use glam::{Vec2, Vec3};
+use rustc_hash::FxHashMap;
+
+use crate::objloader::TriangleSoup;
+use crate::tangentspace::TangentBasis;
+
+/// The tutorial's tolerance: two attributes are "near" when every component differs by less.
+pub const NEAR: f32 = 0.01;
+
+/// An index buffer, 16-bit like the tutorial's when every vertex can be named in 16 bits.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Indices {
+    U16(Vec<u16>),
+    U32(Vec<u32>),
+}
+
+impl Indices {
+    /// The narrowest buffer for `indices` over `vertex_count` vertices. 16 bits while
+    /// `vertex_count <= 65535`, so that 0xFFFF (the primitive-restart index) is never a vertex.
+    pub fn from_u32(indices: Vec<u32>, vertex_count: usize) -> Self {
+        if vertex_count <= u16::MAX as usize {
+            Indices::U16(indices.into_iter().map(|i| i as u16).collect())
+        } else {
+            Indices::U32(indices)
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        match self {
+            Indices::U16(v) => v.len(),
+            Indices::U32(v) => v.len(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The `i`-th index, widened.
+    pub fn get(&self, i: usize) -> u32 {
+        match self {
+            Indices::U16(v) => v[i] as u32,
+            Indices::U32(v) => v[i],
+        }
+    }
+
+    /// Every index, widened, in order.
+    pub fn to_u32(&self) -> Vec<u32> {
+        match self {
+            Indices::U16(v) => v.iter().map(|&i| i as u32).collect(),
+            Indices::U32(v) => v.clone(),
+        }
+    }
+
+    /// Bytes per index: 2 or 4.
+    pub fn index_size(&self) -> usize {
+        match self {
+            Indices::U16(_) => 2,
+            Indices::U32(_) => 4,
+        }
+    }
+}
+
+/// The five vertex attribute arrays and the index buffer the tutorial uploads.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IndexedMesh {
+    pub indices: Indices,
+    pub vertices: Vec<Vec3>,
+    pub uvs: Vec<Vec2>,
+    pub normals: Vec<Vec3>,
+    /// Sums of the merged corners' tangents (empty from [`index_vbo`]).
+    pub tangents: Vec<Vec3>,
+    pub bitangents: Vec<Vec3>,
+}
+
+/// The tutorial's exercise as a switch.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct IndexOptions {
+    /// Normalize each corner's tangent and bitangent before adding them up (exercise 1), so that
+    /// large triangles no longer outweigh small ones. Off in the tutorial's code.
+    pub normalize_before_sum: bool,
+}
+
+/// The tutorial's `is_near`, per component.
+fn is_near(a: f32, b: f32) -> bool {
+    (a - b).abs() < NEAR
+}
+
+fn is_near_vertex(a: (Vec3, Vec2, Vec3), b: (Vec3, Vec2, Vec3)) -> bool {
+    is_near(a.0.x, b.0.x)
+        && is_near(a.0.y, b.0.y)
+        && is_near(a.0.z, b.0.z)
+        && is_near(a.1.x, b.1.x)
+        && is_near(a.1.y, b.1.y)
+        && is_near(a.2.x, b.2.x)
+        && is_near(a.2.y, b.2.y)
+        && is_near(a.2.z, b.2.z)
+}
+
+/// Collects output vertices and the index buffer for both indexers, so that they differ only in how
+/// they find a similar vertex.
+struct Builder {
+    mesh: IndexedMesh,
+    indices: Vec<u32>,
+    options: IndexOptions,
+}
+
+impl Builder {
+    fn new(capacity: usize, options: IndexOptions) -> Self {
+        Builder {
+            mesh: IndexedMesh {
+                indices: Indices::U16(Vec::new()),
+                vertices: Vec::with_capacity(capacity),
+                uvs: Vec::with_capacity(capacity),
+                normals: Vec::with_capacity(capacity),
+                tangents: Vec::with_capacity(capacity),
+                bitangents: Vec::with_capacity(capacity),
+            },
+            indices: Vec::with_capacity(capacity),
+            options,
+        }
+    }
+
+    fn vertex(&self, i: usize) -> (Vec3, Vec2, Vec3) {
+        (
+            self.mesh.vertices[i],
+            self.mesh.uvs[i],
+            self.mesh.normals[i],
+        )
+    }
+
+    fn prepare(&self, t: Vec3, b: Vec3) -> (Vec3, Vec3) {
+        if self.options.normalize_before_sum {
+            (t.normalize_or_zero(), b.normalize_or_zero())
+        } else {
+            (t, b)
+        }
+    }
+
+    /// A corner that reuses vertex `index`: "average" (sum) its tangents in.
+    fn reuse(&mut self, index: u32, t: Vec3, b: Vec3) {
+        let (t, b) = self.prepare(t, b);
+        self.indices.push(index);
+        self.mesh.tangents[index as usize] += t;
+        self.mesh.bitangents[index as usize] += b;
+    }
+
+    /// A corner that becomes a new vertex; returns its index.
+    fn push(&mut self, corner: (Vec3, Vec2, Vec3), t: Vec3, b: Vec3) -> u32 {
+        let (t, b) = self.prepare(t, b);
+        let index = self.mesh.vertices.len() as u32;
+        self.mesh.vertices.push(corner.0);
+        self.mesh.uvs.push(corner.1);
+        self.mesh.normals.push(corner.2);
+        self.mesh.tangents.push(t);
+        self.mesh.bitangents.push(b);
+        self.indices.push(index);
+        index
+    }
+
+    fn finish(mut self) -> IndexedMesh {
+        self.mesh.indices = Indices::from_u32(self.indices, self.mesh.vertices.len());
+        self.mesh
+    }
+}
+
+fn check_lengths(soup: &TriangleSoup, basis: &TangentBasis) {
+    let n = soup.vertices.len();
+    assert!(
+        soup.uvs.len() == n
+            && soup.normals.len() == n
+            && basis.tangents.len() == n
+            && basis.bitangents.len() == n,
+        "index_vbo_tbn needs one UV, normal, tangent and bitangent per corner"
+    );
+    assert!(
+        n <= u32::MAX as usize,
+        "more corners than 32-bit indices can name"
+    );
+}
+
+fn corner(soup: &TriangleSoup, i: usize) -> (Vec3, Vec2, Vec3) {
+    (soup.vertices[i], soup.uvs[i], soup.normals[i])
+}
+
+/// The straightforward port of `indexVBO_TBN` with `getSimilarVertexIndex`: for each corner, scan the
+/// output vertices from the first and take the first near one. Quadratic; the tests' reference.
+pub fn index_vbo_tbn_linear(
+    soup: &TriangleSoup,
+    basis: &TangentBasis,
+    options: IndexOptions,
+) -> IndexedMesh {
+    check_lengths(soup, basis);
+    let mut out = Builder::new(soup.vertices.len(), options);
+    for i in 0..soup.vertices.len() {
+        let c = corner(soup, i);
+        let (t, b) = (basis.tangents[i], basis.bitangents[i]);
+        let found = (0..out.mesh.vertices.len()).find(|&j| is_near_vertex(c, out.vertex(j)));
+        match found {
+            Some(j) => out.reuse(j as u32, t, b),
+            None => {
+                out.push(c, t, b);
+            }
+        }
+    }
+    out.finish()
+}
+
+/// Side of a grid cell. With the probe margin below, a corner's neighbourhood spans 2 × 0.0101 =
+/// 0.0202 < 0.025 per axis, so it touches at most two cells per axis.
+const CELL: f64 = 0.025;
+/// A little more than `NEAR`: f32's `|a - b| < 0.01` holds only where the exact difference is below
+/// 0.01 × (1 + 2⁻²⁴), so every near vertex lies strictly within this margin.
+const MARGIN: f64 = 0.0101;
+const NO_VERTEX: u32 = u32::MAX;
+
+/// Cell coordinate along one axis. The float-to-int cast saturates, so huge values share the end
+/// cells; that only adds candidates, never loses one, because the exact test decides.
+fn cell_of(x: f64) -> i64 {
+    (x / CELL).floor() as i64
+}
+
+/// Output vertices bucketed by position cell. Each bucket is a list threaded through `next`, in
+/// increasing vertex order, so the first near vertex of a bucket is its lowest.
+struct Grid {
+    buckets: FxHashMap<[i64; 3], (u32, u32)>, // first, last vertex of the bucket
+    next: Vec<u32>,
+}
+
+impl Grid {
+    fn with_capacity(n: usize) -> Self {
+        let mut buckets = FxHashMap::default();
+        buckets.reserve(n / 2);
+        Grid {
+            buckets,
+            next: Vec::with_capacity(n),
+        }
+    }
+
+    /// Registers output vertex `index` (which must be the newest) at `position`.
+    fn insert(&mut self, index: u32, position: Vec3) {
+        debug_assert_eq!(index as usize, self.next.len());
+        self.next.push(NO_VERTEX);
+        let key = position.to_array().map(|x| cell_of(x as f64));
+        match self.buckets.get_mut(&key) {
+            Some((_, last)) => {
+                self.next[*last as usize] = index;
+                *last = index;
+            }
+            None => {
+                self.buckets.insert(key, (index, index));
+            }
+        }
+    }
+
+    /// The lowest output vertex near `c`, as the linear search would find it.
+    fn find(&self, c: (Vec3, Vec2, Vec3), out: &Builder) -> Option<u32> {
+        let p = c.0.to_array().map(|x| x as f64);
+        let lo = p.map(|x| cell_of(x - MARGIN));
+        let hi = p.map(|x| cell_of(x + MARGIN));
+        let mut best = NO_VERTEX;
+        for x in lo[0]..=hi[0] {
+            for y in lo[1]..=hi[1] {
+                for z in lo[2]..=hi[2] {
+                    let Some(&(first, _)) = self.buckets.get(&[x, y, z]) else {
+                        continue;
+                    };
+                    let mut j = first;
+                    // Buckets are in increasing order: stop at the first near one, or once past `best`.
+                    while j != NO_VERTEX && j < best {
+                        if is_near_vertex(c, out.vertex(j as usize)) {
+                            best = j;
+                            break;
+                        }
+                        j = self.next[j as usize];
+                    }
+                }
+            }
+        }
+        (best != NO_VERTEX).then_some(best)
+    }
+}
+
+fn is_finite_corner(c: (Vec3, Vec2, Vec3)) -> bool {
+    c.0.is_finite() && c.1.is_finite() && c.2.is_finite()
+}
+
+/// `indexVBO_TBN` with the tutorial's exact semantics, in expected linear time (see the module docs).
+pub fn index_vbo_tbn(
+    soup: &TriangleSoup,
+    basis: &TangentBasis,
+    options: IndexOptions,
+) -> IndexedMesh {
+    check_lengths(soup, basis);
+    let n = soup.vertices.len();
+    let mut out = Builder::new(n, options);
+    let mut grid = Grid::with_capacity(n);
+    for i in 0..n {
+        let c = corner(soup, i);
+        let (t, b) = (basis.tangents[i], basis.bitangents[i]);
+        // A non-finite component is never near anything (NaN and inf - inf compare false), so such
+        // a corner is always new and never found again: keep it out of the grid.
+        if !is_finite_corner(c) {
+            out.push(c, t, b);
+            grid.next.push(NO_VERTEX);
+            continue;
+        }
+        match grid.find(c, &out) {
+            Some(j) => out.reuse(j, t, b),
+            None => {
+                let index = out.push(c, t, b);
+                grid.insert(index, c.0);
+            }
+        }
+    }
+    out.finish()
+}
+
+/// The plain `indexVBO`: corners merge only when position, UV and normal are bit-for-bit equal (the
+/// original compares `PackedVertex` with `memcmp` in a `std::map`). No tangents.
+pub fn index_vbo(soup: &TriangleSoup) -> IndexedMesh {
+    let n = soup.vertices.len();
+    assert!(soup.uvs.len() == n && soup.normals.len() == n);
+    let mut out = Builder::new(n, IndexOptions::default());
+    let mut seen: FxHashMap<[u32; 8], u32> = FxHashMap::default();
+    for i in 0..n {
+        let c = corner(soup, i);
+        let key = [c.0.x, c.0.y, c.0.z, c.1.x, c.1.y, c.2.x, c.2.y, c.2.z].map(f32::to_bits);
+        match seen.get(&key) {
+            Some(&j) => out.indices.push(j),
+            None => {
+                let j = out.push(c, Vec3::ZERO, Vec3::ZERO);
+                seen.insert(key, j);
+            }
+        }
+    }
+    out.mesh.tangents.clear();
+    out.mesh.bitangents.clear();
+    out.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn soup_of(positions: &[Vec3]) -> (TriangleSoup, TangentBasis) {
+        let n = positions.len();
+        let soup = TriangleSoup {
+            vertices: positions.to_vec(),
+            uvs: vec![Vec2::ZERO; n],
+            normals: vec![Vec3::Z; n],
+        };
+        let basis = TangentBasis {
+            tangents: (0..n).map(|i| Vec3::new(i as f32, 1.0, 0.0)).collect(),
+            bitangents: vec![Vec3::Y; n],
+        };
+        (soup, basis)
+    }
+
+    // Fails if "near" is not strict per-component < 0.01, or if a merged vertex keeps its own
+    // tangent instead of the sum.
+    #[test]
+    fn near_corners_merge_and_sum() {
+        let (soup, basis) = soup_of(&[
+            Vec3::ZERO,
+            Vec3::new(0.009, 0.0, 0.0), // near the first
+            Vec3::new(0.011, 0.0, 0.0), // not near the first, near the second: new vertex
+        ]);
+        for mesh in [
+            index_vbo_tbn(&soup, &basis, IndexOptions::default()),
+            index_vbo_tbn_linear(&soup, &basis, IndexOptions::default()),
+        ] {
+            assert_eq!(mesh.indices, Indices::U16(vec![0, 0, 1]));
+            assert_eq!(mesh.vertices, vec![Vec3::ZERO, Vec3::new(0.011, 0.0, 0.0)]);
+            assert_eq!(mesh.tangents[0], Vec3::new(1.0, 2.0, 0.0));
+            assert_eq!(mesh.bitangents[0], Vec3::new(0.0, 2.0, 0.0));
+        }
+    }
+
+    // Fails if the fast indexer takes any near vertex rather than the first, as the linear search does.
+    #[test]
+    fn first_near_vertex_wins_across_cells() {
+        // Vertices 0 and 1 are 0.015 apart (both kept); the corner at 0.0075 is near both and
+        // straddles a cell boundary: it must pick vertex 0.
+        let base = 0.025 * 7.0 - 0.0075;
+        let (soup, basis) = soup_of(&[
+            Vec3::new(base + 0.015, 0.0, 0.0),
+            Vec3::new(base, 0.0, 0.0),
+            Vec3::new(base + 0.0075, 0.0, 0.0),
+        ]);
+        let fast = index_vbo_tbn(&soup, &basis, IndexOptions::default());
+        assert_eq!(fast.indices.to_u32(), vec![0, 1, 0]);
+        assert_eq!(
+            fast,
+            index_vbo_tbn_linear(&soup, &basis, IndexOptions::default())
+        );
+    }
+
+    // Fails if NaN corners are merged with each other or anything else (the original never does).
+    #[test]
+    fn non_finite_corners_never_merge() {
+        let (soup, basis) = soup_of(&[
+            Vec3::NAN,
+            Vec3::NAN,
+            Vec3::ZERO,
+            Vec3::INFINITY,
+            Vec3::INFINITY,
+            Vec3::ZERO,
+        ]);
+        let fast = index_vbo_tbn(&soup, &basis, IndexOptions::default());
+        assert_eq!(fast.indices.to_u32(), vec![0, 1, 2, 3, 4, 2]);
+    }
+
+    // Fails if the exercise switch does not normalize each corner before summing.
+    #[test]
+    fn normalize_before_sum() {
+        let (soup, basis) = soup_of(&[Vec3::ZERO, Vec3::ZERO, Vec3::ZERO]);
+        let options = IndexOptions {
+            normalize_before_sum: true,
+        };
+        let mesh = index_vbo_tbn(&soup, &basis, options);
+        let expected =
+            Vec3::Y + Vec3::new(1.0, 1.0, 0.0).normalize() + Vec3::new(2.0, 1.0, 0.0).normalize();
+        assert!((mesh.tangents[0] - expected).length() < 1e-6);
+        assert_eq!(mesh.bitangents[0], Vec3::new(0.0, 3.0, 0.0));
+    }
+
+    // Fails if the plain indexer merges anything but bit-identical corners.
+    #[test]
+    fn index_vbo_merges_exact_duplicates_only() {
+        let (soup, _) = soup_of(&[Vec3::ZERO, Vec3::new(0.001, 0.0, 0.0), Vec3::ZERO]);
+        let mesh = index_vbo(&soup);
+        assert_eq!(mesh.indices.to_u32(), vec![0, 1, 0]);
+        assert!(mesh.tangents.is_empty());
+    }
+
+    // Fails if the index width rule is off by one at the 16-bit limit.
+    #[test]
+    fn index_width_threshold() {
+        assert_eq!(Indices::from_u32(vec![65534], 65535).index_size(), 2);
+        assert_eq!(Indices::from_u32(vec![65535], 65536).index_size(), 4);
+    }
+}

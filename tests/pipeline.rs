@@ -1,0 +1,161 @@
+//! The CPU pipeline end to end: load_obj → compute_tangent_basis → index_vbo_tbn, on the tutorial's
+//! own cylinder, on large generated meshes, and on random soups against the linear-search reference.
+
+use std::path::{Path, PathBuf};
+
+use glam::{Vec2, Vec3};
+use proptest::prelude::*;
+use tutorial13::mesh::{build_mesh, cylinder_obj_text, load_mesh, MeshOptions};
+use tutorial13::objloader::{load_obj, load_obj_bytes, TriangleSoup};
+use tutorial13::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
+use tutorial13::vboindexer::{
+    index_vbo, index_vbo_tbn, index_vbo_tbn_linear, IndexOptions, Indices,
+};
+
+fn original(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/tutorial13-original")
+        .join(name)
+}
+
+// Fails if loading, V negation or the 0.01 merging differ from the original, which turns the
+// tutorial's 64 triangles (192 corners) into 66 vertices with 16-bit indices.
+#[test]
+fn tutorial_cylinder_indexes_to_66_vertices() {
+    let soup = load_obj(&original("cylinder.obj")).unwrap();
+    assert_eq!(soup.triangle_count(), 64);
+    assert_eq!(soup.vertices.len(), 192);
+    // V is negated: the file's V runs from about 0 to 1.
+    assert!(soup.uvs.iter().all(|uv| (-1.0001..=0.0001).contains(&uv.y)));
+    let mesh = load_mesh(&original("cylinder.obj"), MeshOptions::default()).unwrap();
+    assert_eq!(mesh.vertices.len(), 66);
+    assert_eq!(mesh.indices.len(), 192);
+    assert!(matches!(mesh.indices, Indices::U16(_)));
+    let basis = compute_tangent_basis(&soup, TangentOptions::default());
+    let reference = index_vbo_tbn_linear(&soup, &basis, IndexOptions::default());
+    assert_eq!(mesh, reference);
+    // Every summed tangent points around the cylinder (perpendicular to the axis and the normal).
+    for (t, n) in mesh.tangents.iter().zip(&mesh.normals) {
+        let t = t.normalize();
+        assert!(t.y.abs() < 1e-3 && t.dot(*n).abs() < 1e-3, "{t} {n}");
+    }
+}
+
+// Fails if the generated cylinder's winding, seam or normals are off: every face's geometric normal
+// must agree with its corners' normals, and the seam must cost exactly one extra column of vertices.
+#[test]
+fn generated_cylinder_is_outward_and_seamed() {
+    let (segments, rings) = (32, 4);
+    let text = cylinder_obj_text(segments, rings, 1.0, 2.0, 2.3);
+    let soup = load_obj_bytes(text.as_bytes(), Path::new("generated.obj")).unwrap();
+    assert_eq!(soup.triangle_count(), (2 * segments * rings) as usize);
+    for tri in 0..soup.triangle_count() {
+        let v = &soup.vertices[3 * tri..3 * tri + 3];
+        let face_normal = (v[1] - v[0]).cross(v[2] - v[0]);
+        for n in &soup.normals[3 * tri..3 * tri + 3] {
+            assert!(face_normal.dot(*n) > 0.0, "triangle {tri} faces inwards");
+        }
+    }
+    let mesh = build_mesh(&soup, MeshOptions::default());
+    assert_eq!(mesh.vertices.len(), ((segments + 1) * (rings + 1)) as usize);
+}
+
+// Fails if indices stay 16-bit past 65 535 vertices (the original wraps) or if any corner ends up
+// naming a vertex with other attributes.
+#[test]
+fn more_than_65535_vertices_use_32_bit_indices_and_lose_nothing() {
+    // Radius 40 and height 40 keep neighbouring vertices more than 0.01 apart, so none merge.
+    let (segments, rings) = (400, 200);
+    let text = cylinder_obj_text(segments, rings, 40.0, 40.0, 8.0);
+    let soup = load_obj_bytes(text.as_bytes(), Path::new("big.obj")).unwrap();
+    let mesh = build_mesh(&soup, MeshOptions::default());
+    let expected_vertices = ((segments + 1) * (rings + 1)) as usize;
+    assert!(expected_vertices > 65_535);
+    assert_eq!(mesh.vertices.len(), expected_vertices);
+    let Indices::U32(indices) = &mesh.indices else {
+        panic!("{} vertices with 16-bit indices", mesh.vertices.len());
+    };
+    assert_eq!(indices.len(), soup.vertices.len());
+    for (corner, &index) in indices.iter().enumerate() {
+        let i = index as usize;
+        assert_eq!(mesh.vertices[i], soup.vertices[corner]);
+        assert_eq!(mesh.uvs[i], soup.uvs[corner]);
+        assert_eq!(mesh.normals[i], soup.normals[corner]);
+    }
+    // Corners equal bit for bit, so the plain indexer agrees on every index.
+    assert_eq!(index_vbo(&soup).indices, mesh.indices);
+}
+
+// Fails if a missing or malformed OBJ panics or returns an error without the file's name.
+#[test]
+fn bad_obj_files_name_the_file() {
+    let missing = Path::new("/nonexistent/dir/cylinder.obj");
+    let e = load_mesh(missing, MeshOptions::default()).unwrap_err();
+    assert!(
+        e.to_string().starts_with("/nonexistent/dir/cylinder.obj: "),
+        "{e}"
+    );
+    let dir = std::env::temp_dir().join(format!("tutorial13-pipeline-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("no-normals.obj");
+    std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n").unwrap();
+    let e = load_mesh(&bad, MeshOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("no-normals.obj") && e.contains("normal"), "{e}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Values that stress the 0.01 test and the grid: multiples of half a grid cell, with offsets just
+/// inside and just outside the tolerance.
+fn coordinate() -> impl Strategy<Value = f32> {
+    let offsets = prop::sample::select(vec![
+        0.0f32, 0.0001, -0.0001, 0.004, -0.004, 0.0099, -0.0099, 0.00999, 0.01, -0.01, 0.0101,
+        -0.0101, 0.0125, 0.02, -0.02,
+    ]);
+    (-6i32..6, offsets).prop_map(|(k, o)| k as f32 * 0.0125 + o)
+}
+
+fn corner() -> impl Strategy<Value = (Vec3, Vec2, Vec3, Vec3, Vec3)> {
+    let v3 = || (coordinate(), coordinate(), coordinate()).prop_map(|(x, y, z)| Vec3::new(x, y, z));
+    let small = || {
+        (-4i32..4, -4i32..4, -4i32..4)
+            .prop_map(|(x, y, z)| Vec3::new(x as f32, y as f32, z as f32) * 0.37)
+    };
+    (
+        v3(),
+        (coordinate(), coordinate()).prop_map(|(u, v)| Vec2::new(u, v)),
+        v3(),
+        small(),
+        small(),
+    )
+}
+
+fn soup_strategy() -> impl Strategy<Value = (TriangleSoup, TangentBasis)> {
+    prop::collection::vec(prop::collection::vec(corner(), 3), 1..120).prop_map(|triangles| {
+        let mut soup = TriangleSoup::default();
+        let mut basis = TangentBasis::default();
+        for (p, uv, n, t, b) in triangles.into_iter().flatten() {
+            soup.vertices.push(p);
+            soup.uvs.push(uv);
+            soup.normals.push(n);
+            basis.tangents.push(t);
+            basis.bitangents.push(b);
+        }
+        (soup, basis)
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(400))]
+
+    // Fails if the grid indexer ever picks another vertex than the linear search (ties included), or
+    // sums tangents in another order: indices, vertices and sums must be identical to the bit.
+    #[test]
+    fn fast_indexer_equals_linear_reference((soup, basis) in soup_strategy(), normalize in any::<bool>()) {
+        let options = IndexOptions { normalize_before_sum: normalize };
+        let fast = index_vbo_tbn(&soup, &basis, options);
+        let reference = index_vbo_tbn_linear(&soup, &basis, options);
+        prop_assert_eq!(fast, reference);
+    }
+}
