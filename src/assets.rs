@@ -398,7 +398,8 @@ pub fn normal_map_from_height(height: &[f32], size: u32, strength: f32) -> Vec<[
 }
 
 /// 24-bit uncompressed BMP (54-byte header, BI_RGB, bottom row first), what `loadBMP_custom` reads.
-fn encode_bmp(rgb: &[[u8; 3]], size: u32) -> std::result::Result<Vec<u8>, String> {
+/// `rgb` is `size × size` texels, picture row 0 (top) first. Public for tests that need flat maps.
+pub fn encode_bmp(rgb: &[[u8; 3]], size: u32) -> std::result::Result<Vec<u8>, String> {
     let flat: Vec<u8> = rgb.iter().flatten().copied().collect();
     let mut bytes = Vec::with_capacity(54 + flat.len());
     image::codecs::bmp::BmpEncoder::new(&mut bytes)
@@ -414,7 +415,7 @@ fn encode_bmp(rgb: &[[u8; 3]], size: u32) -> std::result::Result<Vec<u8>, String
 /// filtering; picture row 0 stored first (see the module comment). Range fit rather than texpresso's
 /// default cluster fit: the whole of `make_assets` takes ~1.2 s instead of ~5.8 s in a debug build,
 /// for ~2 dB less PSNR on level 0 (42 instead of 44 dB on the diffuse map), invisible on noisy bricks.
-fn encode_dds_dxt3(rgba: Vec<u8>, size: u32) -> std::result::Result<Vec<u8>, String> {
+pub fn encode_dds_dxt3(rgba: Vec<u8>, size: u32) -> std::result::Result<Vec<u8>, String> {
     let format = texpresso::Format::Bc2;
     let params = texpresso::Params {
         algorithm: texpresso::Algorithm::RangeFit,

@@ -108,17 +108,17 @@ fn check_faces(text: &str) -> std::result::Result<(), String> {
             Some("vt") => counts[1] += 1,
             Some("vn") => counts[2] += 1,
             Some("f") => {
-                let corners: Vec<&str> = words.collect();
-                if corners.len() < 3 {
-                    return Err(format!(
-                        "line {line_number}: a face needs at least 3 corners, found {}",
-                        corners.len()
-                    ));
-                }
-                for corner in corners {
+                let mut corners = 0;
+                for corner in words {
                     check_corner(corner, &counts).map_err(|reason| {
                         format!("line {line_number}: corner '{corner}': {reason}")
                     })?;
+                    corners += 1;
+                }
+                if corners < 3 {
+                    return Err(format!(
+                        "line {line_number}: a face needs at least 3 corners, found {corners}"
+                    ));
                 }
             }
             _ => {}
@@ -129,11 +129,15 @@ fn check_faces(text: &str) -> std::result::Result<(), String> {
 
 fn check_corner(corner: &str, counts: &[usize; 3]) -> std::result::Result<(), String> {
     const WHAT: [&str; 3] = ["position", "UV", "normal"];
-    let parts: Vec<&str> = corner.split('/').collect();
-    if parts.len() != 3 || parts[1].is_empty() || parts[2].is_empty() {
-        return Err("needs a UV and a normal index (v/vt/vn): the tutorial uses both".into());
+    let mut parts = corner.split('/');
+    let parts = [parts.next(), parts.next(), parts.next(), parts.next()];
+    let [Some(v), Some(vt), Some(vn), None] = parts else {
+        return Err(NEEDS_UV_AND_NORMAL.into());
+    };
+    if vt.is_empty() || vn.is_empty() {
+        return Err(NEEDS_UV_AND_NORMAL.into());
     }
-    for (k, part) in parts.iter().enumerate() {
+    for (k, part) in [v, vt, vn].into_iter().enumerate() {
         let index: i64 = part
             .parse()
             .map_err(|_| format!("'{part}' is not an index"))?;
@@ -152,6 +156,8 @@ fn check_corner(corner: &str, counts: &[usize; 3]) -> std::result::Result<(), St
     }
     Ok(())
 }
+
+const NEEDS_UV_AND_NORMAL: &str = "needs a UV and a normal index (v/vt/vn): the tutorial uses both";
 
 #[cfg(test)]
 mod tests {

@@ -6,8 +6,8 @@
 //! average, and not normalized: the shader normalizes). It searches linearly, so it is quadratic.
 //!
 //! [`index_vbo_tbn`] gives the same result in expected linear time: output vertices are kept in a hash
-//! grid keyed on their position, and a corner only looks at the (at most 2×2×2) cells that can hold a
-//! position within 0.01 of its own, taking the lowest matching index, as the linear search would.
+//! grid keyed on their position (each registered in the cells its ±0.01 neighbourhood touches), and
+//! a corner looks only in its own cell, taking the lowest matching index, as the linear search would.
 //! [`index_vbo_tbn_linear`] is the straightforward port, kept as the reference the tests compare with.
 //! [`index_vbo`] ports the plain `indexVBO` (exact matches through a map, no tangents).
 //!
@@ -222,13 +222,13 @@ pub fn index_vbo_tbn_linear(
     out.finish()
 }
 
-/// Side of a grid cell. With the probe margin below, a corner's neighbourhood spans 2 × 0.0101 =
-/// 0.0202 < 0.025 per axis, so it touches at most two cells per axis.
+/// Side of a grid cell. A vertex's neighbourhood (± `MARGIN`) spans 0.0202 < 0.025 per axis, so it
+/// touches at most two cells per axis.
 const CELL: f64 = 0.025;
 /// A little more than `NEAR`: f32's `|a - b| < 0.01` holds only where the exact difference is below
 /// 0.01 × (1 + 2⁻²⁴), so every near vertex lies strictly within this margin.
 const MARGIN: f64 = 0.0101;
-const NO_VERTEX: u32 = u32::MAX;
+const NO_ENTRY: u32 = u32::MAX;
 
 /// Cell coordinate along one axis. The float-to-int cast saturates, so huge values share the end
 /// cells; that only adds candidates, never loses one, because the exact test decides.
@@ -236,64 +236,69 @@ fn cell_of(x: f64) -> i64 {
     (x / CELL).floor() as i64
 }
 
-/// Output vertices bucketed by position cell. Each bucket is a list threaded through `next`, in
-/// increasing vertex order, so the first near vertex of a bucket is its lowest.
+/// One key for three cell coordinates. Distinct cells may share a key (21 bits each, wrapping); that
+/// too only adds candidates.
+fn cell_key(x: i64, y: i64, z: i64) -> u64 {
+    const MASK: u64 = (1 << 21) - 1;
+    (x as u64 & MASK) | (y as u64 & MASK) << 21 | (z as u64 & MASK) << 42
+}
+
+/// Output vertices bucketed by position cell. A vertex is registered in every cell its ±0.01
+/// neighbourhood touches (one to eight), so a corner looks in its own cell only: corners outnumber
+/// vertices about six to one in a typical mesh, so the probing is done on the cheaper side. Each
+/// bucket is a list threaded through `entries`, in increasing vertex order, so the first near vertex
+/// found is the lowest near one, as the linear search would find.
 struct Grid {
-    buckets: FxHashMap<[i64; 3], (u32, u32)>, // first, last vertex of the bucket
-    next: Vec<u32>,
+    buckets: FxHashMap<u64, (u32, u32)>, // first, last entry of the bucket
+    entries: Vec<(u32, u32)>,            // vertex, next entry of the same bucket
 }
 
 impl Grid {
     fn with_capacity(n: usize) -> Self {
         let mut buckets = FxHashMap::default();
-        buckets.reserve(n / 2);
+        buckets.reserve(n);
         Grid {
             buckets,
-            next: Vec::with_capacity(n),
+            entries: Vec::with_capacity(2 * n),
         }
     }
 
     /// Registers output vertex `index` (which must be the newest) at `position`.
     fn insert(&mut self, index: u32, position: Vec3) {
-        debug_assert_eq!(index as usize, self.next.len());
-        self.next.push(NO_VERTEX);
-        let key = position.to_array().map(|x| cell_of(x as f64));
-        match self.buckets.get_mut(&key) {
-            Some((_, last)) => {
-                self.next[*last as usize] = index;
-                *last = index;
-            }
-            None => {
-                self.buckets.insert(key, (index, index));
-            }
-        }
-    }
-
-    /// The lowest output vertex near `c`, as the linear search would find it.
-    fn find(&self, c: (Vec3, Vec2, Vec3), out: &Builder) -> Option<u32> {
-        let p = c.0.to_array().map(|x| x as f64);
+        let p = position.to_array().map(|x| x as f64);
         let lo = p.map(|x| cell_of(x - MARGIN));
         let hi = p.map(|x| cell_of(x + MARGIN));
-        let mut best = NO_VERTEX;
         for x in lo[0]..=hi[0] {
             for y in lo[1]..=hi[1] {
                 for z in lo[2]..=hi[2] {
-                    let Some(&(first, _)) = self.buckets.get(&[x, y, z]) else {
-                        continue;
-                    };
-                    let mut j = first;
-                    // Buckets are in increasing order: stop at the first near one, or once past `best`.
-                    while j != NO_VERTEX && j < best {
-                        if is_near_vertex(c, out.vertex(j as usize)) {
-                            best = j;
-                            break;
+                    let entry = self.entries.len() as u32;
+                    self.entries.push((index, NO_ENTRY));
+                    match self.buckets.get_mut(&cell_key(x, y, z)) {
+                        Some((_, last)) => {
+                            self.entries[*last as usize].1 = entry;
+                            *last = entry;
                         }
-                        j = self.next[j as usize];
+                        None => {
+                            self.buckets.insert(cell_key(x, y, z), (entry, entry));
+                        }
                     }
                 }
             }
         }
-        (best != NO_VERTEX).then_some(best)
+    }
+
+    /// The lowest output vertex near `c`.
+    fn find(&self, c: (Vec3, Vec2, Vec3), out: &Builder) -> Option<u32> {
+        let [x, y, z] = c.0.to_array().map(|v| cell_of(v as f64));
+        let &(mut entry, _) = self.buckets.get(&cell_key(x, y, z))?;
+        while entry != NO_ENTRY {
+            let (vertex, next) = self.entries[entry as usize];
+            if is_near_vertex(c, out.vertex(vertex as usize)) {
+                return Some(vertex);
+            }
+            entry = next;
+        }
+        None
     }
 }
 
@@ -318,7 +323,6 @@ pub fn index_vbo_tbn(
         // a corner is always new and never found again: keep it out of the grid.
         if !is_finite_corner(c) {
             out.push(c, t, b);
-            grid.next.push(NO_VERTEX);
             continue;
         }
         match grid.find(c, &out) {
