@@ -8,12 +8,12 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    /// The file could not be opened, read or written.
-    #[error("{}: {source}", path.display())]
+    /// The file could not be opened, read or written. The I/O error is part of the message, not a
+    /// separate cause, so that printing the chain does not say it twice.
+    #[error("{}: {error}", path.display())]
     Io {
         path: PathBuf,
-        #[source]
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// The OBJ text is not something the tutorial's loader could use.
     #[error("{}: malformed OBJ: {reason}", path.display())]
@@ -25,7 +25,7 @@ pub enum Error {
     #[error("{}: malformed BMP: {reason}", path.display())]
     Bmp { path: PathBuf, reason: String },
     /// A shader failed to compile or link; `log` is the driver's info log.
-    #[error("{}: {stage} failed:\n{log}", path.display())]
+    #[error("{}: {stage} failed: {log}", path.display())]
     Shader {
         path: PathBuf,
         stage: &'static str,
@@ -53,10 +53,10 @@ impl Error {
         }
     }
 
-    pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
+    pub(crate) fn io(path: impl Into<PathBuf>, error: std::io::Error) -> Self {
         Error::Io {
             path: path.into(),
-            source,
+            error,
         }
     }
 }

@@ -12,16 +12,19 @@ use glow::HasContext;
 use crate::context::Gl;
 use crate::{Error, Result};
 
+/// `(name, text)` of a file in the crate's shaders/ folder, embedded at build time.
+macro_rules! embedded {
+    ($name:literal) => {
+        ($name, include_str!(concat!("../shaders/", $name)))
+    };
+}
+
 /// The shader files this crate ships, embedded as a fallback.
 const EMBEDDED: &[(&str, &str)] = &[
-    (
-        "NormalMapping.vertexshader",
-        include_str!("../shaders/NormalMapping.vertexshader"),
-    ),
-    (
-        "NormalMapping.fragmentshader",
-        include_str!("../shaders/NormalMapping.fragmentshader"),
-    ),
+    embedded!("NormalMapping.vertexshader"),
+    embedded!("NormalMapping.fragmentshader"),
+    embedded!("NormalMappingDebug.vertexshader"),
+    embedded!("NormalMappingDebug.fragmentshader"),
 ];
 
 /// A shader's text and where it came from (named in every error).

@@ -5,7 +5,7 @@
 //! matrices and light, and draw the elements. Window and headless modes call the same
 //! [`render_frame`], so a test's pixels are the window's pixels.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
@@ -31,6 +31,146 @@ pub struct SceneOptions {
     /// `--shaders DIR`; `None` = the crate's shaders/ folder, else the embedded copies.
     pub shaders: Option<PathBuf>,
     pub mesh: MeshOptions,
+}
+
+/// The vector a colour view shows ("Debugging with colors"): 0 = the lit result.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum DebugVector {
+    #[default]
+    Lit = 0,
+    /// `normalize(LightDirection_tangentspace)`.
+    Light = 1,
+    /// `normalize(EyeDirection_tangentspace)`.
+    Eye = 2,
+    /// The normal read from the normal map.
+    TextureNormal = 3,
+}
+
+/// What the fragment shader outputs: the lit colour, or one tangent-space vector raw or as
+/// (v + 1) / 2, all three components or one as grey.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ColorView {
+    pub vector: DebugVector,
+    /// (v + 1) / 2 instead of v (whose negative parts clamp to black).
+    pub mapped: bool,
+    /// `None`: RGB = xyz; `Some(0..=2)`: that component alone, as grey.
+    pub component: Option<u8>,
+}
+
+impl ColorView {
+    /// Every view the `V` key steps through, in order (components are stepped by `C`).
+    pub const CYCLE: [(DebugVector, bool); 7] = [
+        (DebugVector::Lit, false),
+        (DebugVector::Light, false),
+        (DebugVector::Light, true),
+        (DebugVector::Eye, false),
+        (DebugVector::Eye, true),
+        (DebugVector::TextureNormal, false),
+        (DebugVector::TextureNormal, true),
+    ];
+
+    /// The next vector view, components kept.
+    pub fn next_vector(self) -> Self {
+        let i = Self::CYCLE
+            .iter()
+            .position(|&(v, m)| v == self.vector && (m == self.mapped || v == DebugVector::Lit))
+            .unwrap_or(0);
+        let (vector, mapped) = Self::CYCLE[(i + 1) % Self::CYCLE.len()];
+        ColorView {
+            vector,
+            mapped,
+            ..self
+        }
+    }
+
+    /// All → x → y → z → all.
+    pub fn next_component(self) -> Self {
+        let component = match self.component {
+            None => Some(0),
+            Some(c) if c < 2 => Some(c + 1),
+            Some(_) => None,
+        };
+        ColorView { component, ..self }
+    }
+}
+
+impl std::fmt::Display for ColorView {
+    /// The `--view` name: `lit`, `light`, `light01`, `eye`, `eye01`, `normal`, `normal01`, with
+    /// `.x`, `.y` or `.z` for one component.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let name = match self.vector {
+            DebugVector::Lit => return f.write_str("lit"),
+            DebugVector::Light => "light",
+            DebugVector::Eye => "eye",
+            DebugVector::TextureNormal => "normal",
+        };
+        let mapped = if self.mapped { "01" } else { "" };
+        let component = match self.component {
+            None => "",
+            Some(0) => ".x",
+            Some(1) => ".y",
+            Some(_) => ".z",
+        };
+        write!(f, "{name}{mapped}{component}")
+    }
+}
+
+impl std::str::FromStr for ColorView {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        let bad = || {
+            format!(
+                "unknown view '{s}': use lit, light, light01, eye, eye01, normal or normal01, \
+                 optionally with .x, .y or .z"
+            )
+        };
+        let (name, component) = match s.rsplit_once('.') {
+            Some((name, "x")) => (name, Some(0)),
+            Some((name, "y")) => (name, Some(1)),
+            Some((name, "z")) => (name, Some(2)),
+            Some(_) => return Err(bad()),
+            None => (s, None),
+        };
+        let (base, mapped) = match name.strip_suffix("01") {
+            Some(base) => (base, true),
+            None => (name, false),
+        };
+        let vector = match base {
+            "lit" if !mapped && component.is_none() => DebugVector::Lit,
+            "light" => DebugVector::Light,
+            "eye" => DebugVector::Eye,
+            "normal" => DebugVector::TextureNormal,
+            _ => return Err(bad()),
+        };
+        Ok(ColorView {
+            vector,
+            mapped,
+            component,
+        })
+    }
+}
+
+/// The tutorial's shader-side experiments.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ShaderSwitches {
+    /// Normalize T, B, N in camera space before building the TBN matrix, as the article's text does
+    /// (the repository's shader does not).
+    pub normalize_tbn: bool,
+    /// Specular colour from the specular texture (× 0.3); off: the constant vec3(0.3).
+    pub specular_texture: bool,
+    pub view: ColorView,
+}
+
+impl Default for ShaderSwitches {
+    /// The tutorial's repository shader.
+    fn default() -> Self {
+        ShaderSwitches {
+            normalize_tbn: false,
+            specular_texture: true,
+            view: ColorView::default(),
+        }
+    }
 }
 
 /// The tutorial's global GL state: depth test (LESS), back faces culled, the dark blue clear colour.
@@ -134,26 +274,65 @@ impl Drop for MeshBuffers {
     }
 }
 
-/// Uniform locations of the NormalMapping program, looked up once.
+type Uniform = Option<glow::UniformLocation>;
+
+/// Uniform locations of a NormalMapping program, looked up once. The debug program has five more.
 struct Uniforms {
-    mvp: Option<glow::UniformLocation>,
-    view: Option<glow::UniformLocation>,
-    model: Option<glow::UniformLocation>,
-    model_view_3x3: Option<glow::UniformLocation>,
-    light_position_worldspace: Option<glow::UniformLocation>,
-    samplers: [Option<glow::UniformLocation>; 3],
+    mvp: Uniform,
+    view: Uniform,
+    model: Uniform,
+    model_view_3x3: Uniform,
+    light_position_worldspace: Uniform,
+    samplers: [Uniform; 3],
+    normalize_tbn: Uniform,
+    specular_texture: Uniform,
+    debug_view: Uniform,
+    debug_mapped: Uniform,
+    debug_component: Uniform,
+}
+
+impl Uniforms {
+    fn new(program: &Program) -> Self {
+        Uniforms {
+            mvp: program.uniform("MVP"),
+            view: program.uniform("V"),
+            model: program.uniform("M"),
+            model_view_3x3: program.uniform("MV3x3"),
+            light_position_worldspace: program.uniform("LightPosition_worldspace"),
+            samplers: [
+                program.uniform("DiffuseTextureSampler"),
+                program.uniform("NormalTextureSampler"),
+                program.uniform("SpecularTextureSampler"),
+            ],
+            normalize_tbn: program.uniform("NormalizeTBN"),
+            specular_texture: program.uniform("UseSpecularTexture"),
+            debug_view: program.uniform("DebugView"),
+            debug_mapped: program.uniform("DebugMapped"),
+            debug_component: program.uniform("DebugComponent"),
+        }
+    }
 }
 
 /// Everything the tutorial loads before its main loop.
 pub struct NormalMappingScene {
     gl: Gl,
+    /// The tutorial's NormalMapping program, used whenever the switches are the tutorial's.
     program: Program,
     uniforms: Uniforms,
+    /// NormalMappingDebug: the same lighting with the experiments and colour views as uniforms.
+    debug_program: Program,
+    debug_uniforms: Uniforms,
+    pub switches: ShaderSwitches,
+    /// Draw through NormalMappingDebug even with the tutorial's switches (to compare the two paths,
+    /// which must give the same frame).
+    pub use_debug_program: bool,
     /// diffuse, normal, specular: texture units 0, 1, 2.
     textures: [Texture; 3],
     buffers: MeshBuffers,
     /// The CPU mesh, kept for the debug lines and for re-running the pipeline.
     pub mesh: IndexedMesh,
+    obj_path: PathBuf,
+    mesh_options: MeshOptions,
     pub model_matrix: Mat4,
 }
 
@@ -165,43 +344,52 @@ impl NormalMappingScene {
             "NormalMapping.fragmentshader",
             options.shaders.as_deref(),
         )?;
-        let uniforms = Uniforms {
-            mvp: program.uniform("MVP"),
-            view: program.uniform("V"),
-            model: program.uniform("M"),
-            model_view_3x3: program.uniform("MV3x3"),
-            light_position_worldspace: program.uniform("LightPosition_worldspace"),
-            samplers: [
-                program.uniform("DiffuseTextureSampler"),
-                program.uniform("NormalTextureSampler"),
-                program.uniform("SpecularTextureSampler"),
-            ],
-        };
+        let uniforms = Uniforms::new(&program);
+        let debug_program = load_program(
+            gl,
+            "NormalMappingDebug.vertexshader",
+            "NormalMappingDebug.fragmentshader",
+            options.shaders.as_deref(),
+        )?;
+        let debug_uniforms = Uniforms::new(&debug_program);
         let assets = &options.assets;
         let textures = [
             load_dds(gl, &assets.join("diffuse.DDS"))?,
             load_bmp_custom(gl, &assets.join("normal.bmp"))?,
             load_dds(gl, &assets.join("specular.DDS"))?,
         ];
-        let mesh = load_mesh(&assets.join("cylinder.obj"), options.mesh)?;
+        let obj_path = assets.join("cylinder.obj");
+        let mesh = load_mesh(&obj_path, options.mesh)?;
         let buffers = MeshBuffers::new(gl, &mesh)?;
         Ok(NormalMappingScene {
             gl: gl.clone(),
             program,
             uniforms,
+            debug_program,
+            debug_uniforms,
+            switches: ShaderSwitches::default(),
+            use_debug_program: false,
             textures,
             buffers,
             mesh,
+            obj_path,
+            mesh_options: options.mesh,
             model_matrix: Mat4::IDENTITY,
         })
     }
 
-    /// Re-runs the CPU pipeline with other switches and re-uploads the buffers; textures and program
+    /// The CPU pipeline's current switches.
+    pub fn mesh_options(&self) -> MeshOptions {
+        self.mesh_options
+    }
+
+    /// Re-runs the CPU pipeline with other switches and re-uploads the buffers; textures and programs
     /// stay as they are.
-    pub fn rebuild_mesh(&mut self, obj: &Path, options: MeshOptions) -> Result<()> {
-        let mesh = load_mesh(obj, options)?;
+    pub fn rebuild_mesh(&mut self, options: MeshOptions) -> Result<()> {
+        let mesh = load_mesh(&self.obj_path, options)?;
         self.buffers = MeshBuffers::new(&self.gl, &mesh)?;
         self.mesh = mesh;
+        self.mesh_options = options;
         Ok(())
     }
 
@@ -212,10 +400,25 @@ impl NormalMappingScene {
         let model_view = view * model;
         let mvp = projection * model_view;
         let model_view_3x3 = Mat3::from_mat4(model_view);
-        let u = &self.uniforms;
+        // The tutorial's own program unless an experiment or a colour view asks for the debug one.
+        let tutorial = self.switches == ShaderSwitches::default() && !self.use_debug_program;
+        let (program, u) = if tutorial {
+            (&self.program, &self.uniforms)
+        } else {
+            (&self.debug_program, &self.debug_uniforms)
+        };
         // SAFETY: program, uniforms and textures all belong to this context.
         unsafe {
-            gl.use_program(Some(self.program.id));
+            gl.use_program(Some(program.id));
+            if !tutorial {
+                let sw = self.switches;
+                gl.uniform_1_i32(u.normalize_tbn.as_ref(), sw.normalize_tbn as i32);
+                gl.uniform_1_i32(u.specular_texture.as_ref(), sw.specular_texture as i32);
+                gl.uniform_1_i32(u.debug_view.as_ref(), sw.view.vector as i32);
+                gl.uniform_1_i32(u.debug_mapped.as_ref(), sw.view.mapped as i32);
+                let component = sw.view.component.map_or(-1, i32::from);
+                gl.uniform_1_i32(u.debug_component.as_ref(), component);
+            }
             gl.uniform_matrix_4_f32_slice(u.mvp.as_ref(), false, &mvp.to_cols_array());
             gl.uniform_matrix_4_f32_slice(u.model.as_ref(), false, &model.to_cols_array());
             gl.uniform_matrix_4_f32_slice(u.view.as_ref(), false, &view.to_cols_array());

@@ -2,94 +2,13 @@
 //! a symmetric frame from symmetric inputs, and golden images. Set `TUTORIAL13_BLESS=1` to rewrite
 //! the golden images after an intended change (then look at them before committing).
 
-use std::path::{Path, PathBuf};
+mod common;
 
+use common::*;
 use glam::Vec3;
-use image::{Rgb, RgbImage, RgbaImage};
-use tutorial13::assets::{encode_bmp, encode_dds_dxt3};
+use image::RgbImage;
 use tutorial13::context::Profile;
-use tutorial13::controls::Controls;
-use tutorial13::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::objloader::load_obj;
-use tutorial13::tutorial13::SceneOptions;
-
-const W: u32 = 1024;
-const H: u32 = 768;
-const BACKGROUND: [u8; 3] = [0, 0, 102];
-
-fn manifest() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn own_assets() -> PathBuf {
-    manifest().join("assets")
-}
-
-fn original_assets() -> PathBuf {
-    manifest().join("../shared/tutorial13-original")
-}
-
-fn options(assets: PathBuf, profile: Profile) -> HeadlessOptions {
-    HeadlessOptions {
-        scene: SceneOptions {
-            assets,
-            ..Default::default()
-        },
-        width: W,
-        height: H,
-        profile,
-        prefer_hardware: false,
-    }
-}
-
-/// One frame (time frozen at 0), alpha dropped as in a screenshot. `render_frames` fails on any GL
-/// error, so every test here also asserts a frame free of GL errors.
-fn render(options: &HeadlessOptions) -> RgbImage {
-    let mut renderer = HeadlessRenderer::new(options).expect("headless renderer");
-    let frame = renderer
-        .render_frames(1)
-        .expect("a frame without GL errors");
-    rgb(frame)
-}
-
-fn rgb(frame: RgbaImage) -> RgbImage {
-    image::DynamicImage::ImageRgba8(frame).into_rgb8()
-}
-
-fn is_background(p: &Rgb<u8>) -> bool {
-    p.0 == BACKGROUND
-}
-
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("tutorial13-render-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-/// The project's cylinder with a flat normal map and white diffuse and specular maps.
-fn flat_white_assets() -> PathBuf {
-    let dir = temp_dir("flat-white");
-    std::fs::copy(own_assets().join("cylinder.obj"), dir.join("cylinder.obj")).unwrap();
-    let size = 64;
-    let white = encode_dds_dxt3(vec![255; (size * size * 4) as usize], size).unwrap();
-    std::fs::write(dir.join("diffuse.DDS"), &white).unwrap();
-    std::fs::write(dir.join("specular.DDS"), &white).unwrap();
-    let flat = encode_bmp(&vec![[128, 128, 255]; (size * size) as usize], size).unwrap();
-    std::fs::write(dir.join("normal.bmp"), flat).unwrap();
-    dir
-}
-
-/// Window coordinates (x right, y down from the top row) of a world point, through the tutorial's
-/// start camera.
-fn project(world: Vec3) -> (f32, f32) {
-    let controls = Controls::default();
-    let clip = controls.projection_matrix() * controls.view_matrix() * world.extend(1.0);
-    let ndc = clip.truncate() / clip.w;
-    (
-        (ndc.x + 1.0) * 0.5 * W as f32,
-        (1.0 - ndc.y) * 0.5 * H as f32,
-    )
-}
 
 // Fails if the program does not link in a 3.3 core context, any GL error is raised in a frame, the
 // clear colour is not the tutorial's (0, 0, 0.4), or the cylinder is missing.
@@ -175,7 +94,7 @@ fn silhouette_matches_the_projection() {
 // eye directions are interpolated differently on the two sides.
 #[test]
 fn flat_white_cylinder_is_mirror_symmetric() {
-    let frame = render(&options(flat_white_assets(), Profile::Core));
+    let frame = render(&options(flat_white_assets("symmetry"), Profile::Core));
     if std::env::var_os("TUTORIAL13_DUMP").is_some() {
         frame
             .save(std::env::temp_dir().join("flat-white.png"))

@@ -1,0 +1,106 @@
+//! Helpers shared by the frame tests: headless set-up, asset folders, projection to pixels.
+#![allow(dead_code)] // each test file uses a different subset
+
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use image::{Rgb, RgbImage, RgbaImage};
+use tutorial13::assets::{encode_bmp, encode_dds_dxt3};
+use tutorial13::context::Profile;
+use tutorial13::controls::Controls;
+use tutorial13::headless::{HeadlessOptions, HeadlessRenderer};
+use tutorial13::tutorial13::SceneOptions;
+
+pub const W: u32 = 1024;
+pub const H: u32 = 768;
+pub const BACKGROUND: [u8; 3] = [0, 0, 102];
+
+pub fn manifest() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+pub fn own_assets() -> PathBuf {
+    manifest().join("assets")
+}
+
+pub fn original_assets() -> PathBuf {
+    manifest().join("../shared/tutorial13-original")
+}
+
+pub fn options(assets: PathBuf, profile: Profile) -> HeadlessOptions {
+    HeadlessOptions {
+        scene: SceneOptions {
+            assets,
+            ..Default::default()
+        },
+        width: W,
+        height: H,
+        profile,
+        prefer_hardware: false,
+    }
+}
+
+pub fn renderer(options: &HeadlessOptions) -> HeadlessRenderer {
+    HeadlessRenderer::new(options).expect("headless renderer")
+}
+
+/// One frame (time frozen at 0), alpha dropped as in a screenshot. `render_frames` fails on any GL
+/// error, so every frame taken through here is also checked free of GL errors.
+pub fn frame(renderer: &mut HeadlessRenderer) -> RgbImage {
+    rgb(renderer
+        .render_frames(1)
+        .expect("a frame without GL errors"))
+}
+
+pub fn render(options: &HeadlessOptions) -> RgbImage {
+    frame(&mut renderer(options))
+}
+
+pub fn rgb(frame: RgbaImage) -> RgbImage {
+    image::DynamicImage::ImageRgba8(frame).into_rgb8()
+}
+
+pub fn is_background(p: &Rgb<u8>) -> bool {
+    p.0 == BACKGROUND
+}
+
+/// A fresh folder under the system's temp dir, unique to this process and `name`.
+pub fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("tutorial13-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// An asset folder with `obj_text` as cylinder.obj, a flat normal map, and diffuse and specular
+/// maps of one colour each.
+pub fn flat_assets(name: &str, obj_text: &str, diffuse: [u8; 4], specular: [u8; 4]) -> PathBuf {
+    let dir = temp_dir(name);
+    std::fs::write(dir.join("cylinder.obj"), obj_text).unwrap();
+    let size = 64;
+    let texels = (size * size) as usize;
+    let dds = |rgba: [u8; 4]| encode_dds_dxt3(rgba.repeat(texels), size).unwrap();
+    std::fs::write(dir.join("diffuse.DDS"), dds(diffuse)).unwrap();
+    std::fs::write(dir.join("specular.DDS"), dds(specular)).unwrap();
+    let flat = encode_bmp(&vec![[128, 128, 255]; texels], size).unwrap();
+    std::fs::write(dir.join("normal.bmp"), flat).unwrap();
+    dir
+}
+
+/// The project's cylinder with a flat normal map and white diffuse and specular maps.
+pub fn flat_white_assets(name: &str) -> PathBuf {
+    let obj = std::fs::read_to_string(own_assets().join("cylinder.obj")).unwrap();
+    flat_assets(name, &obj, [255; 4], [255; 4])
+}
+
+/// Window coordinates (x right, y down from the top row; pixel centres at +0.5) of a world point,
+/// through the tutorial's start camera.
+pub fn project(world: Vec3) -> (f32, f32) {
+    let controls = Controls::default();
+    let clip = controls.projection_matrix() * controls.view_matrix() * world.extend(1.0);
+    let ndc = clip.truncate() / clip.w;
+    (
+        (ndc.x + 1.0) * 0.5 * W as f32,
+        (1.0 - ndc.y) * 0.5 * H as f32,
+    )
+}
