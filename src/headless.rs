@@ -7,7 +7,7 @@ use glow::HasContext;
 
 use crate::context::{format_errors, gl_errors, HeadlessContext, OffscreenTarget, Profile};
 use crate::controls::{Controls, Input};
-use crate::tutorial13::{init_gl_state, render_frame, NormalMappingScene, SceneOptions};
+use crate::tutorial13::{SceneOptions, Tutorial13};
 use crate::{Error, Result};
 
 /// What to render headless.
@@ -24,7 +24,7 @@ pub struct HeadlessOptions {
 /// A ready-to-draw headless set-up: context, target, scene, camera at the tutorial's start.
 pub struct HeadlessRenderer {
     // Field order is drop order: GL objects go before the context that owns them.
-    pub scene: NormalMappingScene,
+    pub tutorial: Tutorial13,
     pub target: OffscreenTarget,
     pub controls: Controls,
     pub context: HeadlessContext,
@@ -36,10 +36,14 @@ impl HeadlessRenderer {
         log::debug!("headless context: {}", context.info());
         let gl = context.gl().clone();
         let target = OffscreenTarget::new(&gl, options.width, options.height)?;
-        init_gl_state(&gl);
-        let scene = NormalMappingScene::new(&gl, &options.scene)?;
+        let tutorial = Tutorial13::new(
+            &gl,
+            context.info(),
+            |name| context.get_proc_address(name),
+            &options.scene,
+        )?;
         Ok(HeadlessRenderer {
-            scene,
+            tutorial,
             target,
             controls: Controls::default(),
             context,
@@ -51,7 +55,7 @@ impl HeadlessRenderer {
         self.controls
             .compute_matrices_from_inputs(&Input::default(), 0.0);
         self.target.bind();
-        render_frame(self.context.gl(), &self.scene, &self.controls);
+        self.tutorial.render(self.context.gl(), &self.controls);
     }
 
     /// Renders `frames` frames (at least one) and returns the last, top row first. Fails if GL

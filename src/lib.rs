@@ -15,6 +15,7 @@
 pub mod assets;
 pub mod context;
 pub mod controls;
+pub mod debuglines;
 pub mod error;
 pub mod headless;
 pub mod mesh;

@@ -6,14 +6,13 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use tutorial13::context::{write_screenshot, Profile};
+use tutorial13::debuglines::LineMode;
 use tutorial13::headless::{min_median, HeadlessOptions, HeadlessRenderer};
-use tutorial13::tutorial13::SceneOptions;
-use tutorial13::window::{run_window, WindowOptions};
-
-const KEYS: &str = "Keys (window):
-  mouse           look around (the cursor is grabbed and hidden)
-  arrow keys      move forward / back, strafe left / right
-  Esc             quit (closing the window quits too)";
+use tutorial13::mesh::MeshOptions;
+use tutorial13::tangentspace::TangentOptions;
+use tutorial13::tutorial13::{ColorView, SceneOptions, ShaderSwitches};
+use tutorial13::vboindexer::IndexOptions;
+use tutorial13::window::{run_window, WindowOptions, KEYS};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -57,9 +56,38 @@ struct Cli {
     #[arg(long, value_enum, default_value_t = ProfileArg::Core)]
     profile: ProfileArg,
 
-    /// Start with the tangent-basis debug lines on (not available yet)
+    /// Start with the TBN debug lines on (key L toggles them)
     #[arg(long)]
     debug_lines: bool,
+
+    /// How to draw the debug lines: the tutorial's immediate mode (needs --profile compat) or a line
+    /// shader [default: immediate mode where the context allows it, else the shader, with a notice]
+    #[arg(long, value_enum, value_name = "MODE")]
+    debug_lines_mode: Option<LineModeArg>,
+
+    /// Colour view: lit, light, light01, eye, eye01, normal, normal01, optionally .x/.y/.z (key V)
+    #[arg(long, value_name = "NAME", default_value = "lit")]
+    view: ColorView,
+
+    /// Exercise 1: normalize tangents and bitangents before summing them (key N)
+    #[arg(long)]
+    normalize_before_sum: bool,
+
+    /// Skip the Gram-Schmidt step of the tangent basis (key G)
+    #[arg(long)]
+    no_gram_schmidt: bool,
+
+    /// Skip the handedness fix of the tangent basis (key H)
+    #[arg(long)]
+    no_handedness: bool,
+
+    /// Constant specular colour 0.3 instead of the specular texture (key S)
+    #[arg(long)]
+    no_specular_texture: bool,
+
+    /// Normalize the camera-space T, B, N as the article's text does (key T)
+    #[arg(long)]
+    normalize_tbn: bool,
 
     /// Render K headless frames, each timed to completion, and print min/median ms/frame
     #[arg(long, value_name = "K")]
@@ -83,6 +111,12 @@ impl From<ProfileArg> for Profile {
             ProfileArg::Compat => Profile::Compat,
         }
     }
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+enum LineModeArg {
+    Legacy,
+    Shader,
 }
 
 #[derive(Subcommand, Debug)]
@@ -134,17 +168,33 @@ fn run(cli: Cli) -> Result<()> {
         println!("wrote {}", out.display());
         return Ok(());
     }
-    if cli.debug_lines {
-        log::warn!("--debug-lines is not available yet in this build: drawing without them");
-    }
     let scene = SceneOptions {
         assets: cli.assets.clone().unwrap_or_else(default_assets),
         shaders: cli.shaders.clone(),
-        ..Default::default()
+        mesh: MeshOptions {
+            tangents: TangentOptions {
+                gram_schmidt: !cli.no_gram_schmidt,
+                handedness: !cli.no_handedness,
+            },
+            indexing: IndexOptions {
+                normalize_before_sum: cli.normalize_before_sum,
+            },
+        },
+        switches: ShaderSwitches {
+            normalize_tbn: cli.normalize_tbn,
+            specular_texture: !cli.no_specular_texture,
+            view: cli.view,
+        },
+        debug_lines: cli.debug_lines,
+        line_mode: cli.debug_lines_mode.map(|m| match m {
+            LineModeArg::Legacy => LineMode::Legacy,
+            LineModeArg::Shader => LineMode::Shader,
+        }),
     };
     if cli.headless || cli.bench.is_some() {
         run_headless(&cli, scene)
     } else {
+        println!("{KEYS}");
         run_window(WindowOptions {
             scene,
             size: cli.size,

@@ -25,6 +25,8 @@ const EMBEDDED: &[(&str, &str)] = &[
     embedded!("NormalMapping.fragmentshader"),
     embedded!("NormalMappingDebug.vertexshader"),
     embedded!("NormalMappingDebug.fragmentshader"),
+    embedded!("DebugLines.vertexshader"),
+    embedded!("DebugLines.fragmentshader"),
 ];
 
 /// A shader's text and where it came from (named in every error).

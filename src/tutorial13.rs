@@ -10,8 +10,9 @@ use std::path::PathBuf;
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
 
-use crate::context::Gl;
+use crate::context::{ContextInfo, Gl};
 use crate::controls::Controls;
+use crate::debuglines::{DebugLines, LegacyGl, LineMode};
 use crate::mesh::{load_mesh, MeshOptions};
 use crate::shader::{load_program, Program};
 use crate::texture::{load_bmp_custom, load_dds, Texture};
@@ -23,14 +24,21 @@ pub const LIGHT_POSITION_WORLDSPACE: Vec3 = Vec3::new(0.0, 0.0, 4.0);
 /// `glClearColor(0.0f, 0.0f, 0.4f, 0.0f)`.
 pub const CLEAR_COLOR: [f32; 4] = [0.0, 0.0, 0.4, 0.0];
 
-/// Where the scene's files come from, and the CPU pipeline's switches.
+/// Where the scene's files come from, and every switch a learner can start with.
 #[derive(Debug, Clone, Default)]
 pub struct SceneOptions {
     /// Holds cylinder.obj, diffuse.DDS, normal.bmp, specular.DDS.
     pub assets: PathBuf,
     /// `--shaders DIR`; `None` = the crate's shaders/ folder, else the embedded copies.
     pub shaders: Option<PathBuf>,
+    /// The CPU pipeline's switches (Gram-Schmidt, handedness, normalize before summing).
     pub mesh: MeshOptions,
+    /// The shader's switches and the colour view.
+    pub switches: ShaderSwitches,
+    /// Start with the TBN debug lines on.
+    pub debug_lines: bool,
+    /// `None`: immediate mode where the context allows it, else the line shader.
+    pub line_mode: Option<LineMode>,
 }
 
 /// The vector a colour view shows ("Debugging with colors"): 0 = the lit result.
@@ -315,7 +323,7 @@ impl Uniforms {
 
 /// Everything the tutorial loads before its main loop.
 pub struct NormalMappingScene {
-    gl: Gl,
+    pub(crate) gl: Gl,
     /// The tutorial's NormalMapping program, used whenever the switches are the tutorial's.
     program: Program,
     uniforms: Uniforms,
@@ -367,7 +375,7 @@ impl NormalMappingScene {
             uniforms,
             debug_program,
             debug_uniforms,
-            switches: ShaderSwitches::default(),
+            switches: options.switches,
             use_debug_program: false,
             textures,
             buffers,
@@ -441,10 +449,165 @@ impl NormalMappingScene {
     }
 }
 
-/// The frame: clear colour and depth, then draw the scene from the camera. The caller binds the
-/// target (window back buffer or offscreen framebuffer) and sets the viewport.
-pub fn render_frame(gl: &Gl, scene: &NormalMappingScene, controls: &Controls) {
-    // SAFETY: clearing the bound framebuffer.
-    unsafe { gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT) };
-    scene.draw(controls.projection_matrix(), controls.view_matrix());
+/// What a key or a flag can change while the program runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Action {
+    /// Show or hide the TBN debug lines.
+    ToggleLines,
+    /// Immediate mode ↔ line shader.
+    ToggleLineMode,
+    /// Next colour view (lit, light, eye, texture normal; raw and (v+1)/2).
+    NextView,
+    /// All components → x → y → z.
+    NextComponent,
+    /// Exercise 1: normalize tangents before summing them (CPU pipeline re-run).
+    ToggleNormalizeBeforeSum,
+    /// Gram-Schmidt on/off (CPU pipeline re-run).
+    ToggleGramSchmidt,
+    /// Handedness fix on/off (CPU pipeline re-run).
+    ToggleHandedness,
+    /// Specular texture ↔ constant 0.3.
+    ToggleSpecularTexture,
+    /// The article's normalized TBN ↔ the repository shader's.
+    ToggleNormalizedTbn,
+}
+
+/// The tutorial's main-loop state, shared by the window and headless front ends: the scene, its
+/// debug lines and whether they show. [`Tutorial13::render`] is the frame both draw.
+pub struct Tutorial13 {
+    // Field order is drop order; both hold GL objects of the same context.
+    /// Built the first time they are shown, so that a run without them neither loads their shader
+    /// nor prints the core-profile notice.
+    lines: Option<DebugLines>,
+    pub scene: NormalMappingScene,
+    show_lines: bool,
+    /// The immediate-mode entry points, or why this context has none.
+    legacy: std::result::Result<LegacyGl, String>,
+    line_mode: Option<LineMode>,
+    shader_dir: Option<PathBuf>,
+}
+
+impl Tutorial13 {
+    /// Loads the scene (and its lines, if they start on). `loader` resolves GL entry points of the
+    /// current context, for the immediate-mode functions glow does not have.
+    pub fn new(
+        gl: &Gl,
+        info: &ContextInfo,
+        loader: impl FnMut(&std::ffi::CStr) -> *const std::ffi::c_void,
+        options: &SceneOptions,
+    ) -> Result<Self> {
+        init_gl_state(gl);
+        let scene = NormalMappingScene::new(gl, options)?;
+        let mut tutorial = Tutorial13 {
+            lines: None,
+            scene,
+            show_lines: false,
+            legacy: LegacyGl::load(info, loader).map_err(|e| e.to_string()),
+            line_mode: options.line_mode,
+            shader_dir: options.shaders.clone(),
+        };
+        tutorial.set_show_lines(options.debug_lines)?;
+        Ok(tutorial)
+    }
+
+    pub fn show_lines(&self) -> bool {
+        self.show_lines
+    }
+
+    /// Shows or hides the TBN lines, building them (from the current mesh) the first time.
+    pub fn set_show_lines(&mut self, show: bool) -> Result<()> {
+        if show && self.lines.is_none() {
+            let lines = DebugLines::with_legacy(
+                &self.scene.gl,
+                self.legacy.clone(),
+                &self.scene.mesh,
+                self.line_mode,
+                self.shader_dir.as_deref(),
+            )?;
+            self.lines = Some(lines);
+        }
+        self.show_lines = show;
+        Ok(())
+    }
+
+    /// The path the lines are drawn with, once they have been shown.
+    pub fn line_mode(&self) -> Option<LineMode> {
+        self.lines.as_ref().map(DebugLines::mode)
+    }
+
+    /// Why immediate mode is not used, if it was wanted and is not.
+    pub fn line_notice(&self) -> Option<&str> {
+        self.lines.as_ref().and_then(DebugLines::notice)
+    }
+
+    /// The frame: clear colour and depth, draw the scene from the camera, then the debug lines if
+    /// they are on. The caller binds the target (back buffer or offscreen) and sets the viewport.
+    pub fn render(&self, gl: &Gl, controls: &Controls) {
+        // SAFETY: clearing the bound framebuffer.
+        unsafe { gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT) };
+        let (projection, view) = (controls.projection_matrix(), controls.view_matrix());
+        self.scene.draw(projection, view);
+        if let (true, Some(lines)) = (self.show_lines, &self.lines) {
+            lines.draw(projection, view, self.scene.model_matrix);
+        }
+    }
+
+    /// Applies one switch, redoing only what it needs: a uniform for shader switches, the CPU
+    /// pipeline and both vertex uploads for mesh switches.
+    pub fn apply(&mut self, action: Action) -> Result<()> {
+        let mut mesh = self.scene.mesh_options();
+        let switches = &mut self.scene.switches;
+        match action {
+            Action::ToggleLines => self.set_show_lines(!self.show_lines)?,
+            Action::ToggleLineMode => {
+                let current = self.line_mode().or(self.line_mode);
+                let next = match current {
+                    Some(LineMode::Shader) => LineMode::Legacy,
+                    // Immediate mode is the default where the context has it.
+                    _ if self.legacy.is_err() => LineMode::Legacy,
+                    _ => LineMode::Shader,
+                };
+                self.line_mode = Some(next);
+                if let Some(lines) = &mut self.lines {
+                    lines.set_mode(next)?;
+                }
+            }
+            Action::NextView => switches.view = switches.view.next_vector(),
+            Action::NextComponent => switches.view = switches.view.next_component(),
+            Action::ToggleSpecularTexture => switches.specular_texture ^= true,
+            Action::ToggleNormalizedTbn => switches.normalize_tbn ^= true,
+            Action::ToggleNormalizeBeforeSum => mesh.indexing.normalize_before_sum ^= true,
+            Action::ToggleGramSchmidt => mesh.tangents.gram_schmidt ^= true,
+            Action::ToggleHandedness => mesh.tangents.handedness ^= true,
+        }
+        if mesh != self.scene.mesh_options() {
+            self.scene.rebuild_mesh(mesh)?;
+            if let Some(lines) = &mut self.lines {
+                lines.rebuild(&self.scene.mesh)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// One line for the title bar and the log: view, lines, and every experiment switch.
+    pub fn status(&self) -> String {
+        let on = |b: bool| if b { "on" } else { "off" };
+        let sw = self.scene.switches;
+        let mesh = self.scene.mesh_options();
+        let lines = match (self.show_lines, self.line_mode()) {
+            (true, Some(LineMode::Legacy)) => "immediate mode",
+            (true, _) => "line shader",
+            (false, _) => "off",
+        };
+        format!(
+            "view {} | lines {lines} | Gram-Schmidt {} | handedness {} | normalize before sum {} | \
+             specular texture {} | TBN {}",
+            sw.view,
+            on(mesh.tangents.gram_schmidt),
+            on(mesh.tangents.handedness),
+            on(mesh.indexing.normalize_before_sum),
+            on(sw.specular_texture),
+            if sw.normalize_tbn { "normalized (article)" } else { "as summed (repository)" },
+        )
+    }
 }

@@ -31,7 +31,7 @@ use crate::context::{
     context_info, format_errors, gl_errors, read_pixels_rgba, write_screenshot, Gl, Profile,
 };
 use crate::controls::{Controls, Input};
-use crate::tutorial13::{init_gl_state, render_frame, NormalMappingScene, SceneOptions};
+use crate::tutorial13::{Action, SceneOptions, Tutorial13};
 use crate::{Error, Result};
 
 pub const TITLE: &str = "Tutorial 13 - Normal Mapping";
@@ -85,7 +85,7 @@ struct App {
 /// Everything alive while the window is open. Field order is drop order: the GL objects first, then
 /// the surface and context, then the window.
 struct Running {
-    scene: NormalMappingScene,
+    tutorial: Tutorial13,
     gl: Gl,
     surface: Surface<WindowSurface>,
     context: PossiblyCurrentContext,
@@ -95,6 +95,9 @@ struct Running {
     last_time: Instant,
     frames_drawn: u32,
     timer: FrameTimer,
+    /// The last "ms/frame" figure, kept for the title.
+    ms_per_frame: Option<f64>,
+    screenshots_taken: u32,
 }
 
 impl App {
@@ -145,6 +148,23 @@ impl ApplicationHandler for App {
                     KeyCode::ArrowDown => running.input.down = pressed,
                     KeyCode::ArrowLeft => running.input.left = pressed,
                     KeyCode::ArrowRight => running.input.right = pressed,
+                    KeyCode::KeyP if pressed => {
+                        // The frame on screen is the front buffer: draw it again and read it back.
+                        if let Err(e) = running.frame(true).and_then(|()| running.save_numbered()) {
+                            log::error!("{e}");
+                        }
+                    }
+                    _ if pressed => {
+                        if let Some(action) = action_for_key(code) {
+                            match running.tutorial.apply(action) {
+                                Ok(()) => {
+                                    log::info!("{}", running.tutorial.status());
+                                    running.update_title();
+                                }
+                                Err(e) => log::error!("{e}"),
+                            }
+                        }
+                    }
                     _ => {}
                 }
             }
@@ -206,6 +226,38 @@ impl ApplicationHandler for App {
         self.running = None;
     }
 }
+
+/// The keys of the tutorial's switches (Esc, arrows and P are handled by the window itself).
+pub fn action_for_key(code: KeyCode) -> Option<Action> {
+    Some(match code {
+        KeyCode::KeyL => Action::ToggleLines,
+        KeyCode::KeyM => Action::ToggleLineMode,
+        KeyCode::KeyV => Action::NextView,
+        KeyCode::KeyC => Action::NextComponent,
+        KeyCode::KeyN => Action::ToggleNormalizeBeforeSum,
+        KeyCode::KeyG => Action::ToggleGramSchmidt,
+        KeyCode::KeyH => Action::ToggleHandedness,
+        KeyCode::KeyS => Action::ToggleSpecularTexture,
+        KeyCode::KeyT => Action::ToggleNormalizedTbn,
+        _ => return None,
+    })
+}
+
+/// Printed at start and in `--help`.
+pub const KEYS: &str = "Keys (window):
+  mouse           look around (the cursor is grabbed and hidden)
+  arrow keys      move forward / back, strafe left / right
+  L               TBN debug lines on / off (normals blue, tangents red, bitangents green)
+  M               debug lines: immediate mode (compatibility profile) / line shader
+  V               colour view: lit, light, light01, eye, eye01, normal, normal01
+  C               colour view component: all, x, y, z
+  N               normalize tangents before summing them (exercise 1)
+  G               Gram-Schmidt on / off
+  H               handedness fix on / off
+  S               specular texture / constant 0.3
+  T               TBN as summed (repository shader) / normalized (article)
+  P               save a screenshot (tutorial13-N.png in the current folder)
+  Esc             quit (closing the window quits too)";
 
 /// glutin's example picks the config with the most samples; the tutorial's frame wants none.
 fn pick_config(configs: Box<dyn Iterator<Item = Config> + '_>) -> Config {
@@ -285,10 +337,15 @@ impl Running {
                 );
             }
         }
-        init_gl_state(&gl);
-        let scene = NormalMappingScene::new(&gl, &options.scene)?;
-        Ok(Running {
-            scene,
+        let tutorial = Tutorial13::new(
+            &gl,
+            &info,
+            |name| display.get_proc_address(name),
+            &options.scene,
+        )?;
+        log::info!("{}", tutorial.status());
+        let running = Running {
+            tutorial,
             gl,
             surface,
             context,
@@ -298,7 +355,32 @@ impl Running {
             last_time: Instant::now(),
             frames_drawn: 0,
             timer: FrameTimer::new(),
-        })
+            ms_per_frame: None,
+            screenshots_taken: 0,
+        };
+        running.update_title();
+        Ok(running)
+    }
+
+    /// "Tutorial 13 - Normal Mapping - 3.2 ms/frame - view lit | lines off | ...".
+    fn update_title(&self) {
+        let ms = self
+            .ms_per_frame
+            .map_or(String::new(), |ms| format!(" - {ms:.3} ms/frame"));
+        self.window
+            .set_title(&format!("{TITLE}{ms} - {}", self.tutorial.status()));
+    }
+
+    /// `P`: tutorial13-1.png, tutorial13-2.png, ... in the current folder, never overwriting.
+    fn save_numbered(&mut self) -> Result<()> {
+        let path = loop {
+            self.screenshots_taken += 1;
+            let path = PathBuf::from(format!("tutorial13-{}.png", self.screenshots_taken));
+            if !path.exists() {
+                break path;
+            }
+        };
+        self.save(&path)
     }
 
     /// One frame into the back buffer (not yet swapped).
@@ -322,7 +404,7 @@ impl Running {
             self.gl
                 .viewport(0, 0, size.width as i32, size.height as i32)
         };
-        render_frame(&self.gl, &self.scene, &self.controls);
+        self.tutorial.render(&self.gl, &self.controls);
         let errors = gl_errors(&self.gl);
         if !errors.is_empty() {
             return Err(Error::Gl(format!("GL reported {}", format_errors(&errors))));

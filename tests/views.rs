@@ -9,11 +9,12 @@ use glam::{Mat3, Vec3};
 use image::RgbImage;
 use tutorial13::context::Profile;
 use tutorial13::controls::Controls;
+use tutorial13::debuglines::LineMode;
 use tutorial13::headless::HeadlessRenderer;
 use tutorial13::mesh::cylinder_obj_text;
 use tutorial13::objloader::load_obj;
 use tutorial13::tangentspace::{compute_tangent_basis, TangentOptions};
-use tutorial13::tutorial13::{ColorView, ShaderSwitches, LIGHT_POSITION_WORLDSPACE};
+use tutorial13::tutorial13::{Action, ColorView, ShaderSwitches, LIGHT_POSITION_WORLDSPACE};
 use tutorial13::vboindexer::IndexedMesh;
 
 fn view(name: &str) -> ColorView {
@@ -21,7 +22,7 @@ fn view(name: &str) -> ColorView {
 }
 
 fn with_view(renderer: &mut HeadlessRenderer, name: &str) -> RgbImage {
-    renderer.scene.switches.view = view(name);
+    renderer.tutorial.scene.switches.view = view(name);
     frame(renderer)
 }
 
@@ -82,7 +83,7 @@ fn debug_program_with_tutorial_switches_equals_tutorial_program() {
     for assets in [own_assets(), original_assets()] {
         let mut renderer = renderer(&options(assets, Profile::Core));
         let tutorial = frame(&mut renderer);
-        renderer.scene.use_debug_program = true;
+        renderer.tutorial.scene.use_debug_program = true;
         let debug = frame(&mut renderer);
         assert_eq!(count_differing(&tutorial, &debug), 0);
     }
@@ -143,7 +144,7 @@ fn tangent_space(mesh: &IndexedMesh, i: usize, toward_light: bool) -> Vec3 {
 #[test]
 fn light_and_eye_views_follow_their_formulas() {
     let mut renderer = renderer(&options(flat_white_assets("views-light"), Profile::Core));
-    let mesh = renderer.scene.mesh.clone();
+    let mesh = renderer.tutorial.scene.mesh.clone();
     let find = |target: Vec3| {
         (0..mesh.vertices.len())
             .find(|&i| (mesh.vertices[i] - target).length() < 1e-4)
@@ -186,12 +187,12 @@ fn specular_switch_is_texture_times_point_three_versus_constant() {
     };
     let mut white = renderer(&options(flat_white_assets("views-specular"), Profile::Core));
     let with_texture = frame(&mut white);
-    white.scene.switches = off;
+    white.tutorial.scene.switches = off;
     assert!(max_channel_diff(&with_texture, &frame(&mut white)) <= 1);
 
     let mut bricks = renderer(&options(own_assets(), Profile::Core));
     let with_texture = frame(&mut bricks);
-    bricks.scene.switches = off;
+    bricks.tutorial.scene.switches = off;
     let without = frame(&mut bricks);
     let changed = count_differing(&with_texture, &without);
     println!("specular texture off changes {changed} pixels of the bricks");
@@ -205,7 +206,7 @@ fn specular_switch_is_texture_times_point_three_versus_constant() {
 fn normalized_tbn_switch_changes_the_lighting() {
     let mut renderer = renderer(&options(own_assets(), Profile::Core));
     let repository = frame(&mut renderer);
-    renderer.scene.switches.normalize_tbn = true;
+    renderer.tutorial.scene.switches.normalize_tbn = true;
     let article = frame(&mut renderer);
     let changed = count_differing(&repository, &article);
     println!("normalized TBN changes {changed} pixels");
@@ -266,9 +267,9 @@ fn handedness_switch_changes_only_the_mirrored_half() {
 
     let mut renderer = renderer(&options(dir, Profile::Core));
     let fixed = frame(&mut renderer);
-    let mut mesh_options = renderer.scene.mesh_options();
+    let mut mesh_options = renderer.tutorial.scene.mesh_options();
     mesh_options.tangents = no_fix;
-    renderer.scene.rebuild_mesh(mesh_options).unwrap();
+    renderer.tutorial.scene.rebuild_mesh(mesh_options).unwrap();
     let unfixed = frame(&mut renderer);
     // Columns one segment either side of the seam (world x = 0).
     let segment = std::f32::consts::TAU / 32.0;
@@ -305,4 +306,83 @@ fn handedness_switch_changes_only_the_mirrored_half() {
         flipped_changed * 2 > flipped_total,
         "{flipped_changed} of {flipped_total}"
     );
+}
+
+// Fails if any switch, in either profile, raises a GL error or leaves the frame unchanged when it
+// should change it: every action is applied in turn (twice, so each ends where it started), with a
+// frame after each, and `frame` asserts that GL reported nothing.
+#[test]
+fn every_switch_renders_without_gl_errors_in_both_profiles() {
+    // Lighting switches first, while the lit view shows them; the normalized TBN after the mesh
+    // switches (it hides the tangents' lengths, which normalizing before the sum changes); views last.
+    let actions = [
+        Action::ToggleLines,
+        Action::ToggleLineMode,
+        Action::ToggleSpecularTexture,
+        Action::ToggleNormalizeBeforeSum,
+        Action::ToggleGramSchmidt,
+        Action::ToggleHandedness,
+        Action::ToggleNormalizedTbn,
+        Action::NextView,
+        Action::NextComponent,
+    ];
+    for profile in [Profile::Core, Profile::Compat] {
+        let mut renderer = renderer(&options(own_assets(), profile));
+        let start = frame(&mut renderer);
+        let mut previous = start.clone();
+        for action in actions {
+            renderer.tutorial.apply(action).unwrap();
+            let switched = frame(&mut renderer);
+            let changed = count_differing(&previous, &switched);
+            println!(
+                "{profile:?} {action:?}: {changed} pixels changed; {}",
+                renderer.tutorial.status()
+            );
+            // Both line paths draw the same pixels; every other action changes the frame.
+            if action != Action::ToggleLineMode {
+                assert!(changed > 0, "{action:?} in {profile:?} changed nothing");
+            }
+            previous = switched;
+        }
+        // Undo: the cycles of NextView (7) and NextComponent (4) need more presses to come back.
+        for action in actions {
+            let presses = match action {
+                Action::NextView => ColorView::CYCLE.len() - 1,
+                Action::NextComponent => 3,
+                _ => 1,
+            };
+            for _ in 0..presses {
+                renderer.tutorial.apply(action).unwrap();
+            }
+        }
+        assert_eq!(
+            count_differing(&start, &frame(&mut renderer)),
+            0,
+            "{profile:?}: not back to start"
+        );
+    }
+}
+
+// Fails if asking for the tutorial's immediate mode in a core context silently draws nothing or
+// raises GL errors, instead of falling back to the line shader with a notice.
+#[test]
+fn legacy_lines_in_a_core_context_fall_back_with_a_notice() {
+    let mut options = options(own_assets(), Profile::Core);
+    options.scene.debug_lines = true;
+    options.scene.line_mode = Some(LineMode::Legacy);
+    let mut core = renderer(&options);
+    assert_eq!(core.tutorial.line_mode(), Some(LineMode::Shader));
+    let notice = core.tutorial.line_notice().expect("a notice").to_string();
+    assert!(notice.contains("compatibility"), "{notice}");
+    let with_lines = frame(&mut core);
+    options.scene.debug_lines = false;
+    let without = frame(&mut renderer(&options));
+    assert!(count_differing(&with_lines, &without) > 500);
+    // In a compatibility context the same request draws in immediate mode, with the same pixels.
+    options.scene.debug_lines = true;
+    options.profile = Profile::Compat;
+    let mut compat = renderer(&options);
+    assert_eq!(compat.tutorial.line_mode(), Some(LineMode::Legacy));
+    assert!(compat.tutorial.line_notice().is_none());
+    assert_eq!(count_differing(&with_lines, &frame(&mut compat)), 0);
 }

@@ -1,0 +1,529 @@
+//! The tutorial's "Debugging with the immediate mode": after the cylinder, a short line from every
+//! vertex along its normal (blue), tangent (red) and bitangent (green), and a white cross at the light.
+//!
+//! Two ways to draw the same lines:
+//!
+//! - [`LineMode::Legacy`] is the tutorial's code, call for call: the fixed-function matrix stacks,
+//!   `glUseProgram(0)`, then `glBegin(GL_LINES)` … `glEnd()` over every index. It needs a
+//!   compatibility-profile context; glow has no immediate mode, so the entry points are loaded into
+//!   [`LegacyGl`].
+//! - [`LineMode::Shader`] is for core-profile contexts (the tutorial's default, and all macOS has):
+//!   the same segments in the same order and colours, in one vertex buffer built once, drawn with a
+//!   small line shader and one `glDrawArrays(GL_LINES)`.
+//!
+//! Both draw with the depth test on, so the lines are hidden where the cylinder is in front of them,
+//! and both leave the GL state as they found it, so the next frame is unaffected.
+
+use std::ffi::{c_void, CStr};
+use std::path::{Path, PathBuf};
+
+use glam::{Mat4, Vec3};
+use glow::HasContext;
+
+use crate::context::{ContextInfo, Gl, Profile};
+use crate::shader::{load_program, Program};
+use crate::tutorial13::LIGHT_POSITION_WORLDSPACE;
+use crate::vboindexer::{IndexedMesh, Indices};
+use crate::{Error, Result};
+
+/// Length of every debug line, in model-space units (`p += o*0.1f`).
+pub const LINE_LENGTH: f32 = 0.1;
+/// `glColor3f(0, 0, 1)`: normals.
+pub const NORMAL_COLOR: [f32; 3] = [0.0, 0.0, 1.0];
+/// `glColor3f(1, 0, 0)`: tangents.
+pub const TANGENT_COLOR: [f32; 3] = [1.0, 0.0, 0.0];
+/// `glColor3f(0, 1, 0)`: bitangents.
+pub const BITANGENT_COLOR: [f32; 3] = [0.0, 1.0, 0.0];
+/// `glColor3f(1, 1, 1)`: the light's cross.
+pub const LIGHT_COLOR: [f32; 3] = [1.0, 1.0, 1.0];
+
+// Fixed-function enums; glow only exports the core ones.
+const GL_MODELVIEW: u32 = 0x1700;
+const GL_PROJECTION: u32 = 0x1701;
+/// glPushAttrib group holding the current colour (and normal, texture coordinates).
+const GL_CURRENT_BIT: u32 = 0x0001;
+/// glPushAttrib group holding GL_MATRIX_MODE.
+const GL_TRANSFORM_BIT: u32 = 0x1000;
+
+/// How the debug lines are drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LineMode {
+    /// The tutorial's immediate mode (compatibility profile only).
+    Legacy,
+    /// One vertex buffer and a line shader (any 3.3 context).
+    Shader,
+}
+
+/// The fixed-function entry points the tutorial's debug code calls, which glow does not load.
+///
+/// Only valid on the context they were loaded from, while it is current.
+#[derive(Clone, Copy)]
+pub struct LegacyGl {
+    matrix_mode: unsafe extern "system" fn(u32),
+    load_matrix_f: unsafe extern "system" fn(*const f32),
+    push_matrix: unsafe extern "system" fn(),
+    pop_matrix: unsafe extern "system" fn(),
+    push_attrib: unsafe extern "system" fn(u32),
+    pop_attrib: unsafe extern "system" fn(),
+    color_3f: unsafe extern "system" fn(f32, f32, f32),
+    begin: unsafe extern "system" fn(u32),
+    vertex_3fv: unsafe extern "system" fn(*const f32),
+    end: unsafe extern "system" fn(),
+}
+
+impl std::fmt::Debug for LegacyGl {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LegacyGl").finish_non_exhaustive()
+    }
+}
+
+/// Looks up one entry point; null means the driver does not have it at all.
+fn lookup(loader: &mut impl FnMut(&CStr) -> *const c_void, name: &CStr) -> Result<*const c_void> {
+    let ptr = loader(name);
+    if ptr.is_null() {
+        Err(Error::Gl(format!(
+            "the driver has no {} (needed for the immediate-mode debug lines)",
+            name.to_string_lossy()
+        )))
+    } else {
+        Ok(ptr)
+    }
+}
+
+impl LegacyGl {
+    /// Loads the immediate-mode entry points of the context described by `info`.
+    ///
+    /// Availability is decided by the profile, not by null pointers: Mesa hands out these pointers in
+    /// a core context too, where every call only raises GL_INVALID_OPERATION.
+    pub fn load(
+        info: &ContextInfo,
+        mut loader: impl FnMut(&CStr) -> *const c_void,
+    ) -> Result<Self> {
+        if info.profile != Profile::Compat {
+            return Err(Error::Gl(format!(
+                "the tutorial's immediate-mode debug lines need a compatibility-profile context, \
+                 and this is a {} profile one (OpenGL {}.{} on {})",
+                info.profile, info.version.0, info.version.1, info.renderer
+            )));
+        }
+        macro_rules! entry {
+            ($name:literal, $ty:ty) => {{
+                let ptr = lookup(&mut loader, $name)?;
+                // SAFETY: `ptr` is the non-null address the context's loader gives for this GL 1.0
+                // function, whose C signature is the function-pointer type it is cast to.
+                unsafe { std::mem::transmute::<*const c_void, $ty>(ptr) }
+            }};
+        }
+        Ok(LegacyGl {
+            matrix_mode: entry!(c"glMatrixMode", unsafe extern "system" fn(u32)),
+            load_matrix_f: entry!(c"glLoadMatrixf", unsafe extern "system" fn(*const f32)),
+            push_matrix: entry!(c"glPushMatrix", unsafe extern "system" fn()),
+            pop_matrix: entry!(c"glPopMatrix", unsafe extern "system" fn()),
+            push_attrib: entry!(c"glPushAttrib", unsafe extern "system" fn(u32)),
+            pop_attrib: entry!(c"glPopAttrib", unsafe extern "system" fn()),
+            color_3f: entry!(c"glColor3f", unsafe extern "system" fn(f32, f32, f32)),
+            begin: entry!(c"glBegin", unsafe extern "system" fn(u32)),
+            vertex_3fv: entry!(c"glVertex3fv", unsafe extern "system" fn(*const f32)),
+            end: entry!(c"glEnd", unsafe extern "system" fn()),
+        })
+    }
+}
+
+/// The end of a debug line from `p` along `v`: `o = normalize(v); p += o*0.1f`.
+///
+/// A zero vector gives a zero-length line instead of the tutorial's NaN vertex.
+fn line_end(p: Vec3, v: Vec3) -> Vec3 {
+    p + v.normalize_or_zero() * LINE_LENGTH
+}
+
+/// The light's cross as the tutorial draws it, by moving `lightPos` back and forth: four vertices,
+/// two lines.
+fn light_cross() -> [Vec3; 4] {
+    let mut light_pos = LIGHT_POSITION_WORLDSPACE;
+    let a = light_pos;
+    light_pos += Vec3::X * LINE_LENGTH;
+    let b = light_pos;
+    light_pos -= Vec3::X * LINE_LENGTH;
+    let c = light_pos;
+    light_pos += Vec3::Y * LINE_LENGTH;
+    [a, b, c, light_pos]
+}
+
+/// What the lines are drawn from: a copy of the CPU mesh's attributes, so that the lines can be
+/// drawn (and the buffer rebuilt) without borrowing the scene.
+#[derive(Debug, Clone)]
+struct TbnSource {
+    indices: Indices,
+    vertices: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    /// Empty when the mesh has no tangents (then no red and green lines).
+    tangents: Vec<Vec3>,
+    bitangents: Vec<Vec3>,
+}
+
+impl TbnSource {
+    fn new(mesh: &IndexedMesh) -> Result<Self> {
+        let n = mesh.vertices.len();
+        for (name, len) in [
+            ("normals", mesh.normals.len()),
+            ("tangents", mesh.tangents.len()),
+            ("bitangents", mesh.bitangents.len()),
+        ] {
+            if len != n && !(len == 0 && name != "normals") {
+                return Err(Error::Gl(format!(
+                    "debug lines: the mesh has {n} vertices but {len} {name}"
+                )));
+            }
+        }
+        let indices = &mesh.indices;
+        if let Some(bad) = (0..indices.len())
+            .map(|i| indices.get(i))
+            .find(|&i| i as usize >= n)
+        {
+            return Err(Error::Gl(format!(
+                "debug lines: index {bad} is past the mesh's {n} vertices"
+            )));
+        }
+        Ok(TbnSource {
+            indices: mesh.indices.clone(),
+            vertices: mesh.vertices.clone(),
+            normals: mesh.normals.clone(),
+            tangents: mesh.tangents.clone(),
+            bitangents: mesh.bitangents.clone(),
+        })
+    }
+
+    /// The three sets of lines in the tutorial's order; sets the mesh does not have are left out.
+    fn sets(&self) -> impl Iterator<Item = ([f32; 3], &[Vec3])> {
+        [
+            (NORMAL_COLOR, self.normals.as_slice()),
+            (TANGENT_COLOR, self.tangents.as_slice()),
+            (BITANGENT_COLOR, self.bitangents.as_slice()),
+        ]
+        .into_iter()
+        .filter(|(_, directions)| !directions.is_empty())
+    }
+
+    /// Every vertex the legacy path sends, in the same order, for the shader path's buffer.
+    fn line_vertices(&self) -> Vec<LineVertex> {
+        let mut out = Vec::with_capacity(self.sets().count() * self.indices.len() * 2 + 4);
+        for (color, directions) in self.sets() {
+            for i in 0..self.indices.len() {
+                let index = self.indices.get(i) as usize;
+                let p = self.vertices[index];
+                out.push(LineVertex::new(p, color));
+                out.push(LineVertex::new(line_end(p, directions[index]), color));
+            }
+        }
+        out.extend(light_cross().map(|p| LineVertex::new(p, LIGHT_COLOR)));
+        out
+    }
+}
+
+/// One vertex of the shader path's buffer: position, then colour as normalized bytes (0 and 255
+/// are exactly 0.0 and 1.0, so the colours equal glColor3f's).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct LineVertex {
+    position: [f32; 3],
+    color: [u8; 4],
+}
+
+// SAFETY: repr(C) of 3 f32 and 4 u8: 16 bytes, no padding, every bit pattern valid.
+unsafe impl bytemuck::Zeroable for LineVertex {}
+// SAFETY: as above; Copy and 'static.
+unsafe impl bytemuck::Pod for LineVertex {}
+
+impl LineVertex {
+    fn new(position: Vec3, color: [f32; 3]) -> Self {
+        let [r, g, b] = color.map(|c| (c * 255.0).round() as u8);
+        LineVertex {
+            position: position.to_array(),
+            color: [r, g, b, 255],
+        }
+    }
+}
+
+const LINE_VERTEX_STRIDE: i32 = std::mem::size_of::<LineVertex>() as i32;
+
+/// The core-profile path's GL objects: program, VAO and the one vertex buffer. Deleted on drop.
+struct ShaderLines {
+    gl: Gl,
+    program: Program,
+    mvp: Option<glow::UniformLocation>,
+    vao: glow::VertexArray,
+    buffer: glow::Buffer,
+    vertex_count: i32,
+}
+
+impl ShaderLines {
+    fn new(gl: &Gl, shader_dir: Option<&Path>, source: &TbnSource) -> Result<Self> {
+        let program = load_program(
+            gl,
+            "DebugLines.vertexshader",
+            "DebugLines.fragmentshader",
+            shader_dir,
+        )?;
+        let mvp = program.uniform("MVP");
+        // SAFETY: objects are created on the current context; the previous VAO binding is restored.
+        let (vao, buffer) = unsafe {
+            let vao = gl.create_vertex_array().map_err(Error::Gl)?;
+            let buffer = match gl.create_buffer() {
+                Ok(buffer) => buffer,
+                Err(e) => {
+                    gl.delete_vertex_array(vao);
+                    return Err(Error::Gl(e));
+                }
+            };
+            let previous_vao = gl.get_parameter_vertex_array(glow::VERTEX_ARRAY_BINDING);
+            let previous_buffer = gl.get_parameter_buffer(glow::ARRAY_BUFFER_BINDING);
+            gl.bind_vertex_array(Some(vao));
+            gl.bind_buffer(glow::ARRAY_BUFFER, Some(buffer));
+            gl.enable_vertex_attrib_array(0);
+            gl.vertex_attrib_pointer_f32(0, 3, glow::FLOAT, false, LINE_VERTEX_STRIDE, 0);
+            gl.enable_vertex_attrib_array(1);
+            gl.vertex_attrib_pointer_f32(1, 4, glow::UNSIGNED_BYTE, true, LINE_VERTEX_STRIDE, 12);
+            gl.bind_vertex_array(previous_vao);
+            gl.bind_buffer(glow::ARRAY_BUFFER, previous_buffer);
+            (vao, buffer)
+        };
+        let mut lines = ShaderLines {
+            gl: gl.clone(),
+            program,
+            mvp,
+            vao,
+            buffer,
+            vertex_count: 0,
+        };
+        lines.upload(source)?;
+        Ok(lines)
+    }
+
+    /// (Re)fills the buffer; the VAO keeps pointing at it.
+    fn upload(&mut self, source: &TbnSource) -> Result<()> {
+        let vertices = source.line_vertices();
+        let count = i32::try_from(vertices.len()).map_err(|_| {
+            Error::Gl(format!(
+                "debug lines: {} line vertices are more than one glDrawArrays can draw",
+                vertices.len()
+            ))
+        })?;
+        let gl = &self.gl;
+        // SAFETY: the buffer belongs to this context; the slice lives through the call; the previous
+        // ARRAY_BUFFER binding is restored.
+        unsafe {
+            let previous = gl.get_parameter_buffer(glow::ARRAY_BUFFER_BINDING);
+            gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.buffer));
+            gl.buffer_data_u8_slice(
+                glow::ARRAY_BUFFER,
+                bytemuck::cast_slice(&vertices),
+                glow::STATIC_DRAW,
+            );
+            gl.bind_buffer(glow::ARRAY_BUFFER, previous);
+        }
+        self.vertex_count = count;
+        Ok(())
+    }
+
+    fn draw(&self, mvp: Mat4) {
+        let gl = &self.gl;
+        // SAFETY: program and VAO belong to this context; the previous program and VAO are restored.
+        unsafe {
+            let previous_program = gl.get_parameter_program(glow::CURRENT_PROGRAM);
+            let previous_vao = gl.get_parameter_vertex_array(glow::VERTEX_ARRAY_BINDING);
+            gl.use_program(Some(self.program.id));
+            gl.uniform_matrix_4_f32_slice(self.mvp.as_ref(), false, &mvp.to_cols_array());
+            gl.bind_vertex_array(Some(self.vao));
+            gl.draw_arrays(glow::LINES, 0, self.vertex_count);
+            gl.bind_vertex_array(previous_vao);
+            gl.use_program(previous_program);
+        }
+    }
+}
+
+impl Drop for ShaderLines {
+    fn drop(&mut self) {
+        // SAFETY: made by this context, which the shared `Gl` keeps alive; deleted once. The program
+        // deletes itself.
+        unsafe {
+            self.gl.delete_buffer(self.buffer);
+            self.gl.delete_vertex_array(self.vao);
+        }
+    }
+}
+
+/// The TBN debug lines of one mesh, drawn after the scene with the scene's matrices.
+pub struct DebugLines {
+    gl: Gl,
+    source: TbnSource,
+    /// Loaded when the context is a compatibility one; otherwise why it is not.
+    legacy: std::result::Result<LegacyGl, String>,
+    /// Built when first needed, so a legacy-only run keeps no second copy of the lines on the GPU.
+    shader: Option<ShaderLines>,
+    shader_dir: Option<PathBuf>,
+    mode: LineMode,
+    notice: Option<String>,
+}
+
+impl DebugLines {
+    /// Prepares the lines of `mesh` on the current context.
+    ///
+    /// `requested`: `None` or `Some(Legacy)` = the tutorial's immediate mode where the context is a
+    /// compatibility one, else the shader path with a one-line warning (see [`DebugLines::notice`]);
+    /// `Some(Shader)` = the shader path. `shader_dir` is passed to [`load_program`].
+    pub fn new(
+        gl: &Gl,
+        info: &ContextInfo,
+        loader: impl FnMut(&CStr) -> *const c_void,
+        mesh: &IndexedMesh,
+        requested: Option<LineMode>,
+        shader_dir: Option<&Path>,
+    ) -> Result<Self> {
+        let legacy = LegacyGl::load(info, loader).map_err(|e| e.to_string());
+        Self::with_legacy(gl, legacy, mesh, requested, shader_dir)
+    }
+
+    /// [`DebugLines::new`] with the immediate-mode table already loaded (or the reason it is not),
+    /// for callers that build the lines only once they are first shown.
+    pub fn with_legacy(
+        gl: &Gl,
+        legacy: std::result::Result<LegacyGl, String>,
+        mesh: &IndexedMesh,
+        requested: Option<LineMode>,
+        shader_dir: Option<&Path>,
+    ) -> Result<Self> {
+        let mut lines = DebugLines {
+            gl: gl.clone(),
+            source: TbnSource::new(mesh)?,
+            legacy,
+            shader: None,
+            shader_dir: shader_dir.map(Path::to_path_buf),
+            mode: LineMode::Shader,
+            notice: None,
+        };
+        lines.set_mode(requested.unwrap_or(LineMode::Legacy))?;
+        Ok(lines)
+    }
+
+    /// Switches paths; returns the mode now in use. Legacy in a core context falls back to Shader
+    /// with a notice rather than drawing nothing or raising GL errors.
+    pub fn set_mode(&mut self, requested: LineMode) -> Result<LineMode> {
+        let (mode, notice) = match (requested, &self.legacy) {
+            (LineMode::Legacy, Ok(_)) => (LineMode::Legacy, None),
+            (LineMode::Legacy, Err(reason)) => (
+                LineMode::Shader,
+                Some(format!(
+                    "TBN debug lines: falling back to the core-profile line shader: {reason}"
+                )),
+            ),
+            (LineMode::Shader, _) => (LineMode::Shader, None),
+        };
+        if mode == LineMode::Shader && self.shader.is_none() {
+            self.shader = Some(ShaderLines::new(
+                &self.gl,
+                self.shader_dir.as_deref(),
+                &self.source,
+            )?);
+        }
+        if let Some(notice) = &notice {
+            log::warn!("{notice}");
+        }
+        self.mode = mode;
+        self.notice = notice;
+        Ok(mode)
+    }
+
+    /// The path in use.
+    pub fn mode(&self) -> LineMode {
+        self.mode
+    }
+
+    /// Why the requested immediate mode is not used, if it is not.
+    pub fn notice(&self) -> Option<&str> {
+        self.notice.as_deref()
+    }
+
+    /// Takes the lines from another mesh (e.g. after the scene re-ran its CPU pipeline).
+    pub fn rebuild(&mut self, mesh: &IndexedMesh) -> Result<()> {
+        let source = TbnSource::new(mesh)?;
+        if let Some(shader) = &mut self.shader {
+            shader.upload(&source)?;
+        }
+        self.source = source;
+        Ok(())
+    }
+
+    /// Draws the lines into the bound framebuffer, depth-tested against what is there, with the
+    /// scene's matrices. GL state is left as it was found.
+    pub fn draw(&self, projection: Mat4, view: Mat4, model: Mat4) {
+        match (self.mode, &self.legacy, &self.shader) {
+            (LineMode::Legacy, Ok(legacy), _) => self.draw_legacy(legacy, projection, view, model),
+            (_, _, Some(shader)) => shader.draw(projection * (view * model)),
+            // set_mode builds the shader path before selecting it.
+            _ => unreachable!("debug lines selected a path they did not build"),
+        }
+    }
+
+    /// The tutorial's code, with the state it changes saved first and restored after.
+    fn draw_legacy(&self, legacy: &LegacyGl, projection: Mat4, view: Mat4, model: Mat4) {
+        let gl = &self.gl;
+        let source = &self.source;
+        let model_view = view * model;
+        // SAFETY: the entry points were loaded from this context, a compatibility one, which is
+        // current; every pointer passed points at 16 (matrices) or 3 (vertices) live floats.
+        unsafe {
+            let previous_program = gl.get_parameter_program(glow::CURRENT_PROGRAM);
+            // Saves the current colour and the matrix mode; the matrices themselves are pushed.
+            (legacy.push_attrib)(GL_CURRENT_BIT | GL_TRANSFORM_BIT);
+            (legacy.matrix_mode)(GL_PROJECTION);
+            (legacy.push_matrix)();
+            (legacy.load_matrix_f)(projection.to_cols_array().as_ptr());
+            (legacy.matrix_mode)(GL_MODELVIEW);
+            (legacy.push_matrix)();
+            (legacy.load_matrix_f)(model_view.to_cols_array().as_ptr());
+
+            gl.use_program(None);
+
+            // normals (blue), tangents (red), bitangents (green): one line per *index*, so shared
+            // vertices get theirs drawn several times, as in the tutorial.
+            for ([r, g, b], directions) in source.sets() {
+                (legacy.color_3f)(r, g, b);
+                (legacy.begin)(glow::LINES);
+                for i in 0..source.indices.len() {
+                    let index = source.indices.get(i) as usize;
+                    let p = source.vertices[index];
+                    (legacy.vertex_3fv)(p.to_array().as_ptr());
+                    let p = line_end(p, directions[index]);
+                    (legacy.vertex_3fv)(p.to_array().as_ptr());
+                }
+                (legacy.end)();
+            }
+
+            // The light, as a cross of two lines along +x and +y.
+            let [r, g, b] = LIGHT_COLOR;
+            (legacy.color_3f)(r, g, b);
+            (legacy.begin)(glow::LINES);
+            for p in light_cross() {
+                (legacy.vertex_3fv)(p.to_array().as_ptr());
+            }
+            (legacy.end)();
+
+            (legacy.matrix_mode)(GL_PROJECTION);
+            (legacy.pop_matrix)();
+            (legacy.matrix_mode)(GL_MODELVIEW);
+            (legacy.pop_matrix)();
+            (legacy.pop_attrib)();
+            gl.use_program(previous_program);
+        }
+    }
+}
+
+impl std::fmt::Debug for DebugLines {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("DebugLines")
+            .field("mode", &self.mode)
+            .field("notice", &self.notice)
+            .field("indices", &self.source.indices.len())
+            .finish_non_exhaustive()
+    }
+}
