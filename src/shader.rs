@@ -41,14 +41,19 @@ pub fn crate_shader_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders")
 }
 
-/// Finds `name`: in `dir` if given (it must be there), else in [`crate_shader_dir`], else embedded.
+/// Finds `name`: in `dir` if given and it is there, else in [`crate_shader_dir`], else embedded. A
+/// `--shaders` folder thus only needs the files a learner edits.
 pub fn find_shader(name: &str, dir: Option<&Path>) -> Result<ShaderFile> {
     let read = |path: PathBuf| -> Result<ShaderFile> {
         let source = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
         Ok(ShaderFile { path, source })
     };
     if let Some(dir) = dir {
-        return read(dir.join(name));
+        let path = dir.join(name);
+        if path.exists() {
+            return read(path);
+        }
+        log::info!("{name} is not in {}: using the crate's own", dir.display());
     }
     let on_disk = crate_shader_dir().join(name);
     if on_disk.is_file() {

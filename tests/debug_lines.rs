@@ -4,35 +4,23 @@
 //! drawing the lines leaves the next frame untouched. `TUTORIAL13_DUMP=1` writes the frames to
 //! target/test-output/.
 
-use std::path::{Path, PathBuf};
+mod common;
 
+use std::path::PathBuf;
+
+use common::{manifest, original_assets, own_assets, H, W};
 use glam::{Mat4, Vec2, Vec3};
 use image::{RgbImage, RgbaImage};
 use tutorial13::context::{gl_errors, Profile};
 use tutorial13::debuglines::{DebugLines, LegacyGl, LineMode};
-use tutorial13::headless::{HeadlessOptions, HeadlessRenderer};
+use tutorial13::headless::HeadlessRenderer;
 use tutorial13::shader::crate_shader_dir;
-use tutorial13::tutorial13::{SceneOptions, LIGHT_POSITION_WORLDSPACE};
-
-const W: u32 = 1024;
-const H: u32 = 768;
+use tutorial13::tutorial13::LIGHT_POSITION_WORLDSPACE;
 
 const BLUE: [u8; 3] = [0, 0, 255];
 const RED: [u8; 3] = [255, 0, 0];
 const GREEN: [u8; 3] = [0, 255, 0];
 const WHITE: [u8; 3] = [255, 255, 255];
-
-fn manifest() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn own_assets() -> PathBuf {
-    manifest().join("assets")
-}
-
-fn original_assets() -> PathBuf {
-    manifest().join("../shared/tutorial13-original")
-}
 
 fn output_dir() -> PathBuf {
     let out = manifest().join("target/test-output");
@@ -47,17 +35,7 @@ fn dump(name: &str, image: &RgbaImage) {
 }
 
 fn renderer(assets: PathBuf, profile: Profile) -> HeadlessRenderer {
-    HeadlessRenderer::new(&HeadlessOptions {
-        scene: SceneOptions {
-            assets,
-            ..Default::default()
-        },
-        width: W,
-        height: H,
-        profile,
-        prefer_hardware: false,
-    })
-    .expect("headless renderer")
+    common::renderer(&common::options(assets, profile))
 }
 
 /// The lines of the renderer's scene. The shaders come from the crate's folder, which has them
@@ -183,6 +161,18 @@ impl LineCheck {
     fn count(&self, color: [u8; 3]) -> usize {
         let slot = [BLUE, RED, GREEN, WHITE].iter().position(|c| *c == color);
         self.checked[slot.unwrap()]
+    }
+
+    fn report(&self, camera: &str) {
+        println!(
+            "{camera}: checked blue {}, red {}, green {}, white {} pixels, {} past the ends; already so {:?}",
+            self.count(BLUE),
+            self.count(RED),
+            self.count(GREEN),
+            self.count(WHITE),
+            self.beyond,
+            self.already
+        );
     }
 }
 
@@ -329,15 +319,7 @@ fn legacy_lines_land_on_the_projected_pixels() {
     let without = frame(&mut r, None);
     dump("lines-tutorial-camera.png", &with);
     let check = check_lines(&r, &rgb(&with), &rgb(&without));
-    println!(
-        "tutorial camera: checked blue {}, red {}, green {}, white {} pixels, {} past the ends; already so {:?}",
-        check.count(BLUE),
-        check.count(RED),
-        check.count(GREEN),
-        check.count(WHITE),
-        check.beyond,
-        check.already
-    );
+    check.report("tutorial camera");
     assert!(check.failures.is_empty(), "{:#?}", check.failures);
     // The light's cross is 1 unit in front of the camera: two lines of about 90 px, the horizontal
     // one on the row of the edge-on bottom rim, so only the vertical one is checked.
@@ -357,15 +339,7 @@ fn legacy_lines_land_on_the_projected_pixels() {
     let without = frame(&mut r, None);
     dump("lines-above.png", &with);
     let check = check_lines(&r, &rgb(&with), &rgb(&without));
-    println!(
-        "camera above: checked blue {}, red {}, green {}, white {} pixels, {} past the ends; already so {:?}",
-        check.count(BLUE),
-        check.count(RED),
-        check.count(GREEN),
-        check.count(WHITE),
-        check.beyond,
-        check.already
-    );
+    check.report("camera above");
     assert!(check.failures.is_empty(), "{:#?}", check.failures);
     for color in [BLUE, RED, GREEN] {
         assert!(
