@@ -511,13 +511,33 @@ impl Drop for Xvfb {
 // or the window's frame differs from the headless one by more than the tolerance stated below.
 #[test]
 fn window_under_xvfb_matches_headless() {
-    let scratch = Scratch::new("xvfb");
+    window_matches_headless(&[], "xvfb");
+}
+
+// Fails if the window's compatibility-profile context (GLX or EGL on X11) cannot draw the tutorial's
+// immediate-mode debug lines, or draws them differently from the headless context.
+#[test]
+fn window_compat_profile_with_debug_lines_matches_headless() {
+    let window = window_matches_headless(&["--profile", "compat", "--debug-lines"], "xvfb-compat");
+    // The bitangents hang below the bottom rim as pure green lines.
+    let green = window.pixels().filter(|p| p.0 == [0, 255, 0]).count();
+    assert!(
+        green > 100,
+        "{green} green pixels: no debug lines in the window"
+    );
+}
+
+/// Renders 3 frames in a real window under Xvfb and headless with the same `extra` flags, compares
+/// the two screenshots, and returns the window's.
+fn window_matches_headless(extra: &[&str], name: &str) -> RgbImage {
+    let scratch = Scratch::new(name);
     let xvfb = Xvfb::start();
     let window_shot = scratch.path("w.png");
     let started = Instant::now();
     let out = run(tutorial13()
         .env("DISPLAY", &xvfb.display)
         .env_remove("WAYLAND_DISPLAY")
+        .args(extra)
         .args(["--frames", "3", "--screenshot"])
         .arg(&window_shot));
     let window_time = started.elapsed();
@@ -529,6 +549,7 @@ fn window_under_xvfb_matches_headless() {
 
     let headless_shot = scratch.path("h.png");
     let out = run(tutorial13()
+        .args(extra)
         .args(["--headless", "--frames", "3", "--screenshot"])
         .arg(&headless_shot));
     assert_success(&out, "headless, 3 frames");
@@ -554,6 +575,7 @@ fn window_under_xvfb_matches_headless() {
         d.pixels,
         d.max
     );
+    window
 }
 
 // ---------------------------------------------------------------------------------------------------
