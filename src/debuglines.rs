@@ -16,6 +16,7 @@
 
 use std::ffi::{c_void, CStr};
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 
 use glam::{Mat4, Vec3};
 use glow::HasContext;
@@ -23,7 +24,7 @@ use glow::HasContext;
 use crate::context::{ContextInfo, Gl, Profile};
 use crate::shader::{load_program, Program};
 use crate::tutorial13::LIGHT_POSITION_WORLDSPACE;
-use crate::vboindexer::{IndexedMesh, Indices};
+use crate::vboindexer::IndexedMesh;
 use crate::{Error, Result};
 
 /// Length of every debug line, in model-space units (`p += o*0.1f`).
@@ -149,20 +150,16 @@ fn light_cross() -> [Vec3; 4] {
     [a, b, c, light_pos]
 }
 
-/// What the lines are drawn from: a copy of the CPU mesh's attributes, so that the lines can be
-/// drawn (and the buffer rebuilt) without borrowing the scene.
+/// What the lines are drawn from: the scene's CPU mesh, shared (not copied), checked once so that
+/// drawing never indexes out of bounds. Its tangents are empty for a mesh from `index_vbo` (then no
+/// red and green lines).
 #[derive(Debug, Clone)]
 struct TbnSource {
-    indices: Indices,
-    vertices: Vec<Vec3>,
-    normals: Vec<Vec3>,
-    /// Empty when the mesh has no tangents (then no red and green lines).
-    tangents: Vec<Vec3>,
-    bitangents: Vec<Vec3>,
+    mesh: Rc<IndexedMesh>,
 }
 
 impl TbnSource {
-    fn new(mesh: &IndexedMesh) -> Result<Self> {
+    fn new(mesh: &Rc<IndexedMesh>) -> Result<Self> {
         let n = mesh.vertices.len();
         for (name, len) in [
             ("normals", mesh.normals.len()),
@@ -184,21 +181,15 @@ impl TbnSource {
                 "debug lines: index {bad} is past the mesh's {n} vertices"
             )));
         }
-        Ok(TbnSource {
-            indices: mesh.indices.clone(),
-            vertices: mesh.vertices.clone(),
-            normals: mesh.normals.clone(),
-            tangents: mesh.tangents.clone(),
-            bitangents: mesh.bitangents.clone(),
-        })
+        Ok(TbnSource { mesh: mesh.clone() })
     }
 
     /// The three sets of lines in the tutorial's order; sets the mesh does not have are left out.
     fn sets(&self) -> impl Iterator<Item = ([f32; 3], &[Vec3])> {
         [
-            (NORMAL_COLOR, self.normals.as_slice()),
-            (TANGENT_COLOR, self.tangents.as_slice()),
-            (BITANGENT_COLOR, self.bitangents.as_slice()),
+            (NORMAL_COLOR, self.mesh.normals.as_slice()),
+            (TANGENT_COLOR, self.mesh.tangents.as_slice()),
+            (BITANGENT_COLOR, self.mesh.bitangents.as_slice()),
         ]
         .into_iter()
         .filter(|(_, directions)| !directions.is_empty())
@@ -211,15 +202,16 @@ impl TbnSource {
     /// bitangents, light), and each vertex keeps the place of its first index, so lines of different
     /// colours overlap exactly as in immediate mode (a test compares the two images).
     fn line_vertices(&self) -> Vec<LineVertex> {
-        let mut seen = vec![false; self.vertices.len()];
-        let first_uses: Vec<usize> = (0..self.indices.len())
-            .map(|i| self.indices.get(i) as usize)
+        let mesh = &self.mesh;
+        let mut seen = vec![false; mesh.vertices.len()];
+        let first_uses: Vec<usize> = (0..mesh.indices.len())
+            .map(|i| mesh.indices.get(i) as usize)
             .filter(|&index| !std::mem::replace(&mut seen[index], true))
             .collect();
         let mut out = Vec::with_capacity(self.sets().count() * first_uses.len() * 2 + 4);
         for (color, directions) in self.sets() {
             for &index in &first_uses {
-                let p = self.vertices[index];
+                let p = mesh.vertices[index];
                 out.push(LineVertex::new(p, color));
                 out.push(LineVertex::new(line_end(p, directions[index]), color));
             }
@@ -394,7 +386,7 @@ impl DebugLines {
         gl: &Gl,
         info: &ContextInfo,
         loader: impl FnMut(&CStr) -> *const c_void,
-        mesh: &IndexedMesh,
+        mesh: &Rc<IndexedMesh>,
         requested: Option<LineMode>,
         shader_dir: Option<&Path>,
     ) -> Result<Self> {
@@ -407,7 +399,7 @@ impl DebugLines {
     pub fn with_legacy(
         gl: &Gl,
         legacy: std::result::Result<LegacyGl, String>,
-        mesh: &IndexedMesh,
+        mesh: &Rc<IndexedMesh>,
         requested: Option<LineMode>,
         shader_dir: Option<&Path>,
     ) -> Result<Self> {
@@ -463,7 +455,7 @@ impl DebugLines {
     }
 
     /// Takes the lines from another mesh (e.g. after the scene re-ran its CPU pipeline).
-    pub fn rebuild(&mut self, mesh: &IndexedMesh) -> Result<()> {
+    pub fn rebuild(&mut self, mesh: &Rc<IndexedMesh>) -> Result<()> {
         let source = TbnSource::new(mesh)?;
         if let Some(shader) = &mut self.shader {
             shader.upload(&source)?;
@@ -486,7 +478,7 @@ impl DebugLines {
     /// The tutorial's code, with the state it changes saved first and restored after.
     fn draw_legacy(&self, legacy: &LegacyGl, projection: Mat4, view: Mat4, model: Mat4) {
         let gl = &self.gl;
-        let source = &self.source;
+        let mesh = &self.source.mesh;
         let model_view = view * model;
         // SAFETY: the entry points were loaded from this context, a compatibility one, which is
         // current; every pointer passed points at 16 (matrices) or 3 (vertices) live floats.
@@ -505,12 +497,12 @@ impl DebugLines {
 
             // normals (blue), tangents (red), bitangents (green): one line per *index*, so shared
             // vertices get theirs drawn several times, as in the tutorial.
-            for ([r, g, b], directions) in source.sets() {
+            for ([r, g, b], directions) in self.source.sets() {
                 (legacy.color_3f)(r, g, b);
                 (legacy.begin)(glow::LINES);
-                for i in 0..source.indices.len() {
-                    let index = source.indices.get(i) as usize;
-                    let p = source.vertices[index];
+                for i in 0..mesh.indices.len() {
+                    let index = mesh.indices.get(i) as usize;
+                    let p = mesh.vertices[index];
                     (legacy.vertex_3fv)(p.to_array().as_ptr());
                     let p = line_end(p, directions[index]);
                     (legacy.vertex_3fv)(p.to_array().as_ptr());
@@ -542,7 +534,7 @@ impl std::fmt::Debug for DebugLines {
         f.debug_struct("DebugLines")
             .field("mode", &self.mode)
             .field("notice", &self.notice)
-            .field("indices", &self.source.indices.len())
+            .field("indices", &self.source.mesh.indices.len())
             .finish_non_exhaustive()
     }
 }

@@ -6,6 +6,7 @@
 //! [`render_frame`], so a test's pixels are the window's pixels.
 
 use std::path::PathBuf;
+use std::rc::Rc;
 
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
@@ -337,8 +338,8 @@ pub struct NormalMappingScene {
     /// diffuse, normal, specular: texture units 0, 1, 2.
     textures: [Texture; 3],
     buffers: MeshBuffers,
-    /// The CPU mesh, kept for the debug lines and for re-running the pipeline.
-    pub mesh: IndexedMesh,
+    /// The CPU mesh, kept for the debug lines (which share it) and for re-running the pipeline.
+    pub mesh: Rc<IndexedMesh>,
     obj_path: PathBuf,
     mesh_options: MeshOptions,
     pub model_matrix: Mat4,
@@ -367,7 +368,7 @@ impl NormalMappingScene {
             load_dds(gl, &assets.join("specular.DDS"))?,
         ];
         let obj_path = assets.join("cylinder.obj");
-        let mesh = load_mesh(&obj_path, options.mesh)?;
+        let mesh = Rc::new(load_mesh(&obj_path, options.mesh)?);
         let buffers = MeshBuffers::new(gl, &mesh)?;
         Ok(NormalMappingScene {
             gl: gl.clone(),
@@ -396,7 +397,7 @@ impl NormalMappingScene {
     pub fn rebuild_mesh(&mut self, options: MeshOptions) -> Result<()> {
         let mesh = load_mesh(&self.obj_path, options)?;
         self.buffers = MeshBuffers::new(&self.gl, &mesh)?;
-        self.mesh = mesh;
+        self.mesh = Rc::new(mesh);
         self.mesh_options = options;
         Ok(())
     }

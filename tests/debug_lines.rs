@@ -651,9 +651,10 @@ fn missing_entry_point_is_an_error_naming_it() {
 fn rebuild_takes_the_new_mesh() {
     let mut r = renderer(own_assets(), Profile::Compat);
     look_from_above(&mut r);
-    let other =
+    let other = std::rc::Rc::new(
         tutorial13::mesh::load_mesh(&original_assets().join("cylinder.obj"), Default::default())
-            .unwrap();
+            .unwrap(),
+    );
     assert_ne!(other, r.tutorial.scene.mesh);
     for mode in [LineMode::Legacy, LineMode::Shader] {
         let mut rebuilt = lines(&r, Some(mode));
@@ -696,30 +697,30 @@ fn rebuild_takes_the_new_mesh() {
 fn inconsistent_mesh_is_refused() {
     let r = renderer(own_assets(), Profile::Compat);
     let context = &r.context;
-    let make = |mesh: &tutorial13::vboindexer::IndexedMesh| {
+    let make = |mesh: tutorial13::vboindexer::IndexedMesh| {
         DebugLines::new(
             context.gl(),
             context.info(),
             |name| context.get_proc_address(name),
-            mesh,
+            &std::rc::Rc::new(mesh),
             None,
             Some(&crate_shader_dir()),
         )
     };
-    let mut short = r.tutorial.scene.mesh.clone();
+    let mut short = (*r.tutorial.scene.mesh).clone();
     short.normals.pop();
-    let error = make(&short).expect_err("one normal short");
+    let error = make(short).expect_err("one normal short");
     assert!(error.to_string().contains("normals"), "{error}");
 
-    let mut past = r.tutorial.scene.mesh.clone();
+    let mut past = (*r.tutorial.scene.mesh).clone();
     let n = past.vertices.len() as u32;
     past.indices = tutorial13::vboindexer::Indices::U32(vec![0, 1, n]);
-    let error = make(&past).expect_err("index past the end");
+    let error = make(past).expect_err("index past the end");
     assert!(error.to_string().contains("index"), "{error}");
 
     // Without tangents (a mesh from index_vbo) only the normals are drawn.
-    let mut untangented = r.tutorial.scene.mesh.clone();
+    let mut untangented = (*r.tutorial.scene.mesh).clone();
     untangented.tangents.clear();
     untangented.bitangents.clear();
-    make(&untangented).expect("normals only");
+    make(untangented).expect("normals only");
 }
