@@ -465,3 +465,36 @@ impl Default for FrameTimer {
         Self::new()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Fails if a key listed in KEYS has no action, or two keys share one.
+    #[test]
+    fn every_listed_switch_key_has_its_own_action() {
+        let keys = [
+            (KeyCode::KeyL, 'L'),
+            (KeyCode::KeyM, 'M'),
+            (KeyCode::KeyV, 'V'),
+            (KeyCode::KeyC, 'C'),
+            (KeyCode::KeyN, 'N'),
+            (KeyCode::KeyG, 'G'),
+            (KeyCode::KeyH, 'H'),
+            (KeyCode::KeyS, 'S'),
+            (KeyCode::KeyT, 'T'),
+        ];
+        let mut actions = Vec::new();
+        for (code, letter) in keys {
+            let action = action_for_key(code).unwrap_or_else(|| panic!("{letter} has no action"));
+            assert!(!actions.contains(&action), "{letter} repeats {action:?}");
+            actions.push(action);
+            assert!(
+                KEYS.lines()
+                    .any(|l| l.trim_start().starts_with(&format!("{letter} "))),
+                "{letter} is not listed in KEYS"
+            );
+        }
+        assert_eq!(action_for_key(KeyCode::KeyQ), None);
+    }
+}
