@@ -288,15 +288,15 @@ impl Grid {
                 for z in lo[2]..=hi[2] {
                     let entry = self.entries.len() as u32;
                     self.entries.push((index, NO_ENTRY));
-                    match self.buckets.get_mut(&cell_key(x, y, z)) {
-                        Some((_, last)) => {
-                            self.entries[*last as usize].1 = entry;
-                            *last = entry;
-                        }
-                        None => {
-                            self.buckets.insert(cell_key(x, y, z), (entry, entry));
-                        }
+                    // One hash per registration: the entry API finds or makes the bucket.
+                    let (_, last) = self
+                        .buckets
+                        .entry(cell_key(x, y, z))
+                        .or_insert((entry, NO_ENTRY));
+                    if *last != NO_ENTRY {
+                        self.entries[*last as usize].1 = entry;
                     }
+                    *last = entry;
                 }
             }
         }
