@@ -259,11 +259,40 @@ pub const KEYS: &str = "Keys (window):
   P               save a screenshot (tutorial13-N.png in the current folder)
   Esc             quit (closing the window quits too)";
 
-/// glutin's example picks the config with the most samples; the tutorial's frame wants none.
-fn pick_config(configs: Box<dyn Iterator<Item = Config> + '_>) -> Config {
-    configs
-        .min_by_key(|c| (c.num_samples(), u8::from(c.depth_size() < 24)))
-        .expect("glutin hands the picker at least one config")
+/// glutin's example picks the config with the most samples; the tutorial's frame wants none, and a
+/// 24-bit depth buffer (GLFW's default) where there is one.
+fn pick_config(configs: Box<dyn Iterator<Item = Config> + '_>) -> Option<Config> {
+    configs.min_by_key(|c| (c.num_samples(), u8::from(c.depth_size() < 24)))
+}
+
+/// Opens the window with a config from [`pick_config`]. glutin-winit's picker must return a config,
+/// so a display with none at all is carried out of it as a silent unwind and turned into an error.
+fn build_window(
+    event_loop: &ActiveEventLoop,
+    attributes: winit::window::WindowAttributes,
+) -> Result<(Option<Window>, Config)> {
+    struct NoConfig;
+    let previous_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|info| {
+        if info.payload().downcast_ref::<NoConfig>().is_none() {
+            eprintln!("{info}");
+        }
+    }));
+    let built = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        DisplayBuilder::new()
+            .with_window_attributes(Some(attributes))
+            .build(event_loop, ConfigTemplateBuilder::new(), |configs| {
+                pick_config(configs).unwrap_or_else(|| std::panic::panic_any(NoConfig))
+            })
+    }));
+    std::panic::set_hook(previous_hook);
+    match built {
+        Ok(result) => result.map_err(|e| Error::Gl(no_display_message(&e.to_string()))),
+        Err(payload) if payload.is::<NoConfig>() => Err(Error::Gl(
+            "the display offers no OpenGL framebuffer configuration".into(),
+        )),
+        Err(payload) => std::panic::resume_unwind(payload),
+    }
 }
 
 impl Running {
@@ -272,11 +301,7 @@ impl Running {
         let attributes = Window::default_attributes()
             .with_title(TITLE)
             .with_inner_size(PhysicalSize::new(width, height));
-        let template = ConfigTemplateBuilder::new().with_depth_size(24);
-        let (window, config) = DisplayBuilder::new()
-            .with_window_attributes(Some(attributes))
-            .build(event_loop, template, pick_config)
-            .map_err(|e| Error::Gl(no_display_message(&e.to_string())))?;
+        let (window, config) = build_window(event_loop, attributes)?;
         let window = window.ok_or_else(|| Error::Gl("the window could not be created".into()))?;
         let display = config.display();
         let handle = window
