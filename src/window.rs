@@ -347,8 +347,9 @@ impl Running {
             )));
         }
         log::info!(
-            "window context: {info}, config with {} samples",
-            config.num_samples()
+            "window context: {info}, config with {} samples and a {}-bit depth buffer",
+            config.num_samples(),
+            config.depth_size()
         );
 
         if options.frames.is_none() {
