@@ -18,12 +18,14 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
 use glow::HasContext;
-use tutorial13::context::{gl_errors, Profile};
-use tutorial13::debuglines::{DebugLines, LineMode};
-use tutorial13::headless::{HeadlessOptions, HeadlessRenderer};
-use tutorial13::mesh::cylinder_obj_text;
-use tutorial13::shader::crate_shader_dir;
-use tutorial13::tutorial13::SceneOptions;
+use tutorial13::common::shader::crate_shader_dir;
+use tutorial13::debug::lines::{DebugLines, LineMode};
+use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
+use tutorial13::gl::{gl_errors, Profile};
+use tutorial13::mesh::grid_cylinder_obj_text;
+use tutorial13::scenes::cylinder::Cylinder;
+use tutorial13::scenes::tutorial13::LIGHT_POS;
+use tutorial13::scenes::SceneOptions;
 
 /// 375 segments × 200 rings × 2 = 150 000 triangles; vertices stay more than 0.01 apart (0.063 around,
 /// 0.05 along), so the tutorial's indexer keeps them all.
@@ -36,7 +38,7 @@ fn large_scene() -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(
         dir.join("cylinder.obj"),
-        cylinder_obj_text(SEGMENTS, RINGS, 3.75, 10.0, 2.0),
+        grid_cylinder_obj_text(SEGMENTS, RINGS, 3.75, 10.0, 2.0),
     )
     .unwrap();
     let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
@@ -50,17 +52,17 @@ fn lines(c: &mut Criterion) {
     let dir = large_scene();
     let mut renderer = HeadlessRenderer::new(&HeadlessOptions {
         scene: SceneOptions {
-            assets: dir.clone(),
+            assets: Some(dir.clone()),
             ..Default::default()
         },
         width: 512,
         height: 384,
         profile: Profile::Compat,
-        prefer_hardware: false,
+        ..Default::default()
     })
     .expect("a compatibility-profile context on llvmpipe");
     let _ = std::fs::remove_dir_all(&dir);
-    let mesh = &renderer.tutorial.scene.mesh;
+    let mesh = &renderer.scene_ref::<Cylinder>().tutorial.mesh;
     let triangles = mesh.indices.len() / 3;
     assert!(triangles >= 150_000, "{triangles} triangles");
     let context = &renderer.context;
@@ -70,6 +72,7 @@ fn lines(c: &mut Criterion) {
             context.info(),
             |name| context.get_proc_address(name),
             mesh,
+            LIGHT_POS,
             Some(mode),
             Some(&crate_shader_dir()),
         )
@@ -80,7 +83,7 @@ fn lines(c: &mut Criterion) {
     let (legacy, shader) = (make(LineMode::Legacy), make(LineMode::Shader));
 
     let gl = renderer.context.gl().clone();
-    let model = renderer.tutorial.scene.model_matrix;
+    let model = renderer.scene_ref::<Cylinder>().tutorial.model_matrix;
     let mut group = c.benchmark_group(format!("debug_lines_{}k_triangles", triangles / 1000));
     group
         .sample_size(10)

@@ -8,14 +8,14 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use tutorial13::mesh::{build_mesh, cylinder_obj_text, MeshOptions};
-use tutorial13::objloader::{load_obj, TriangleSoup};
-use tutorial13::tangentspace::{compute_tangent_basis, TangentOptions};
-use tutorial13::vboindexer::{index_vbo_tbn, index_vbo_tbn_linear, IndexOptions};
+use tutorial13::common::objloader::{load_obj, TriangleSoup};
+use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
+use tutorial13::common::vboindexer::{index_vbo_tbn, index_vbo_tbn_linear, IndexOptions};
+use tutorial13::mesh::{build_mesh, grid_cylinder_obj_text, MeshOptions};
 
 /// `segments × rings × 2` triangles, about 0.06 apart around and 0.05 along the axis.
 fn cylinder(segments: u32, rings: u32) -> String {
-    cylinder_obj_text(
+    grid_cylinder_obj_text(
         segments,
         rings,
         segments as f32 / 100.0,

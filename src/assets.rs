@@ -57,7 +57,10 @@ pub fn make_assets(out_dir: &Path) -> Result<()> {
     let wall = BrickWall::new(TEXTURE_SIZE);
 
     let path = out_dir.join("cylinder.obj");
-    write_file(&path, cylinder_obj_text(CYLINDER_SEGMENTS).as_bytes())?;
+    write_file(
+        &path,
+        tutorial_cylinder_obj_text(CYLINDER_SEGMENTS).as_bytes(),
+    )?;
 
     let path = out_dir.join("normal.bmp");
     let normals = normal_map_from_height(&wall.heights(), TEXTURE_SIZE, NORMAL_STRENGTH);
@@ -89,14 +92,15 @@ fn write_error(path: &Path, reason: String) -> Error {
 // ---------------------------------------------------------------------------------------------
 // Cylinder
 
-/// The tutorial's cylinder as OBJ text: radius 1, y from 0 to 2, `segments` (at least 3) quads
+/// The tutorial's cylinder as OBJ text, in its file's layout (see [`crate::mesh::grid_cylinder_obj_text`]
+/// for cylinders of any size): radius 1, y from 0 to 2, `segments` (at least 3) quads
 /// around, no caps.
 ///
 /// Laid out like the tutorial's file: the bottom ring then the top ring of positions (ring point `i`
 /// at angle `2πi/segments` from -Z towards +X), one radial normal per column, two UVs per column plus
 /// a seam column (so `2 * (segments + 1)` UVs), and two triangles per quad wound counter-clockwise
 /// seen from outside.
-pub fn cylinder_obj_text(segments: u32) -> String {
+pub fn tutorial_cylinder_obj_text(segments: u32) -> String {
     use std::fmt::Write as _;
 
     let n = segments.max(3);

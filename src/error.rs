@@ -31,9 +31,19 @@ pub enum Error {
         stage: &'static str,
         log: String,
     },
-    /// The GL context could not be made or lacks what the tutorial needs (GL 3.3, S3TC, a profile).
-    #[error("{0}")]
-    Gl(String),
+    /// No GL context could be made, or it lacks what the tutorial needs (GL 3.3, a profile).
+    #[error("OpenGL context: {0}")]
+    Context(String),
+    /// The window or its display: none to open a window on, no framebuffer config, a failed swap.
+    #[error("window: {0}")]
+    Window(String),
+    /// A GL object could not be made, or GL raised an error flag; `part` names what was being made
+    /// or drawn ("offscreen target", "mesh buffers", "debug lines", "frame").
+    #[error("{part}: {reason}")]
+    Gl { part: &'static str, reason: String },
+    /// A mesh the GL side refuses: arrays of different lengths, or indices past its vertices.
+    #[error("mesh: {0}")]
+    Mesh(String),
     /// Writing a generated asset failed for a reason other than I/O (e.g. the encoder refused).
     #[error("{}: cannot write: {reason}", path.display())]
     Write { path: PathBuf, reason: String },
@@ -49,7 +59,14 @@ impl Error {
             | Error::Bmp { path, .. }
             | Error::Shader { path, .. }
             | Error::Write { path, .. } => Some(path),
-            Error::Gl(_) => None,
+            Error::Context(_) | Error::Window(_) | Error::Gl { .. } | Error::Mesh(_) => None,
+        }
+    }
+
+    pub(crate) fn gl(part: &'static str, reason: impl Into<String>) -> Self {
+        Error::Gl {
+            part,
+            reason: reason.into(),
         }
     }
 

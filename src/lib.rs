@@ -1,30 +1,26 @@
 //! tutorial13: a Rust port of opengl-tutorial.org's "Tutorial 13: Normal Mapping".
 //!
-//! The modules mirror the tutorial's `common/` folder so that the code can be read beside the C++:
+//! The modules are layers, each using only the ones above it in this list:
 //!
-//! | tutorial file            | module          | what it does                                             |
-//! |--------------------------|-----------------|----------------------------------------------------------|
-//! | `common/objloader.cpp`   | [`objloader`]   | OBJ → triangle soup, V negated                           |
-//! | `common/tangentspace.cpp`| [`tangentspace`]| per-triangle tangent and bitangent                       |
-//! | `common/vboindexer.cpp`  | [`vboindexer`]  | merge near-identical corners, sum their tangents         |
-//! | `common/texture.cpp`     | [`texture`]     | DDS (DXT1/3/5) and 24-bit BMP files                      |
+//! | layer               | module        | what lives there                                              |
+//! |---------------------|---------------|---------------------------------------------------------------|
+//! | the tutorial's `common/` | [`common`] | objloader, tangentspace, vboindexer, texture, shader, controls |
+//! | CPU helpers         | [`mesh`], [`assets`] | the CPU pipeline's switches, mesh generators, the project's own assets |
+//! | GL helpers          | [`gl`]        | the `Gl` handle, context info, error draining, mesh buffers, read-back and image files, the headless context and offscreen targets |
+//! | debugging aids      | [`debug`]     | the TBN lines (immediate mode and line shader), colour views  |
+//! | scenes              | [`scenes`]    | `tutorial13.rs` (`tutorial13.cpp`), the cylinder scene, the [`scenes::Scene`] seam |
+//! | front ends          | [`frontends`] | the window, headless rendering (`--headless`, `--bench`, tests) |
 //!
-//! [`assets`] makes the project's own cylinder, brick textures and normal map (the tutorial's files
-//! cannot be redistributed here), and [`mesh`] chains the CPU pipeline the way `tutorial13.cpp` does.
+//! `docs/reading-guide.md` maps every block of `tutorial13.cpp` and every `common/*.cpp` function to
+//! the Rust that ports it.
 
 pub mod assets;
-pub mod context;
-pub mod controls;
-pub mod debuglines;
+pub mod common;
+pub mod debug;
 pub mod error;
-pub mod headless;
+pub mod frontends;
+pub mod gl;
 pub mod mesh;
-pub mod objloader;
-pub mod shader;
-pub mod tangentspace;
-pub mod texture;
-pub mod tutorial13;
-pub mod vboindexer;
-pub mod window;
+pub mod scenes;
 
 pub use error::{Error, Result};

@@ -5,26 +5,34 @@ use std::process::ExitCode;
 
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
-use tutorial13::context::{write_screenshot, Profile};
-use tutorial13::debuglines::LineMode;
-use tutorial13::headless::{min_median, HeadlessOptions, HeadlessRenderer};
+use tutorial13::common::tangentspace::TangentOptions;
+use tutorial13::common::vboindexer::IndexOptions;
+use tutorial13::debug::lines::LineMode;
+use tutorial13::debug::views::{ColorView, ShaderSwitches};
+use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
+use tutorial13::frontends::window::{run_window, WindowOptions};
+use tutorial13::frontends::{key_list, min_median};
+use tutorial13::gl::image::write_screenshot;
+use tutorial13::gl::Profile;
 use tutorial13::mesh::MeshOptions;
-use tutorial13::tangentspace::TangentOptions;
-use tutorial13::tutorial13::{ColorView, SceneOptions, ShaderSwitches};
-use tutorial13::vboindexer::IndexOptions;
-use tutorial13::window::{run_window, WindowOptions, KEYS};
+use tutorial13::scenes::cylinder::CylinderOptions;
+use tutorial13::scenes::{SceneName, SceneOptions};
 
 #[derive(Parser, Debug)]
 #[command(
     name = "tutorial13",
     version,
     about = "opengl-tutorial.org's Tutorial 13 (Normal Mapping), ported to Rust",
-    after_help = KEYS,
+    after_help = help_text(),
     args_conflicts_with_subcommands = true
 )]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
+
+    /// Which program to run (see the list below)
+    #[arg(long, value_name = "NAME", default_value = "cylinder")]
+    scene: SceneName,
 
     /// Folder with cylinder.obj, diffuse.DDS, normal.bmp and specular.DDS (the tutorial's own files
     /// work unchanged) [default: the crate's assets/]
@@ -142,9 +150,16 @@ fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
     Ok((parse(w)?, parse(h)?))
 }
 
-/// The crate's own assets/ folder, wherever the binary is started from.
-fn default_assets() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets")
+/// `--help`'s closing text: the scenes, then each scene's keys.
+fn help_text() -> String {
+    let mut text = String::from("Scenes (--scene NAME):");
+    for &scene in SceneName::ALL {
+        text.push_str(&format!("\n  {:<15} {}", scene.name(), scene.description()));
+    }
+    for &scene in SceneName::ALL {
+        text.push_str(&format!("\n\n{}", key_list(scene)));
+    }
+    text
 }
 
 fn main() -> ExitCode {
@@ -169,33 +184,36 @@ fn run(cli: Cli) -> Result<()> {
         return Ok(());
     }
     let scene = SceneOptions {
-        assets: cli.assets.clone().unwrap_or_else(default_assets),
+        assets: cli.assets.clone(),
         shaders: cli.shaders.clone(),
-        mesh: MeshOptions {
-            tangents: TangentOptions {
-                gram_schmidt: !cli.no_gram_schmidt,
-                handedness: !cli.no_handedness,
+        cylinder: CylinderOptions {
+            mesh: MeshOptions {
+                tangents: TangentOptions {
+                    gram_schmidt: !cli.no_gram_schmidt,
+                    handedness: !cli.no_handedness,
+                },
+                indexing: IndexOptions {
+                    normalize_before_sum: cli.normalize_before_sum,
+                },
             },
-            indexing: IndexOptions {
-                normalize_before_sum: cli.normalize_before_sum,
+            switches: ShaderSwitches {
+                normalize_tbn: cli.normalize_tbn,
+                specular_texture: !cli.no_specular_texture,
+                view: cli.view,
             },
+            debug_lines: cli.debug_lines,
+            line_mode: cli.debug_lines_mode.map(|m| match m {
+                LineModeArg::Legacy => LineMode::Legacy,
+                LineModeArg::Shader => LineMode::Shader,
+            }),
         },
-        switches: ShaderSwitches {
-            normalize_tbn: cli.normalize_tbn,
-            specular_texture: !cli.no_specular_texture,
-            view: cli.view,
-        },
-        debug_lines: cli.debug_lines,
-        line_mode: cli.debug_lines_mode.map(|m| match m {
-            LineModeArg::Legacy => LineMode::Legacy,
-            LineModeArg::Shader => LineMode::Shader,
-        }),
     };
     if cli.headless || cli.bench.is_some() {
         run_headless(&cli, scene)
     } else {
-        println!("{KEYS}");
+        println!("{}", key_list(cli.scene));
         run_window(WindowOptions {
+            scene_name: cli.scene,
             scene,
             size: cli.size,
             profile: cli.profile.into(),
@@ -209,6 +227,7 @@ fn run(cli: Cli) -> Result<()> {
 fn run_headless(cli: &Cli, scene: SceneOptions) -> Result<()> {
     let (width, height) = cli.size;
     let mut renderer = HeadlessRenderer::new(&HeadlessOptions {
+        scene_name: cli.scene,
         scene,
         width,
         height,

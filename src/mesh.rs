@@ -1,12 +1,9 @@
 //! The CPU half of `tutorial13.cpp`'s set-up, in its order: `loadOBJ`, `computeTangentBasis`,
 //! `indexVBO_TBN`. Its options are the tutorial's experiments, so a switch re-runs only this part.
 
-use std::path::Path;
-
-use crate::objloader::{load_obj, TriangleSoup};
-use crate::tangentspace::{compute_tangent_basis, TangentOptions};
-use crate::vboindexer::{index_vbo_tbn, IndexOptions, IndexedMesh};
-use crate::Result;
+use crate::common::objloader::TriangleSoup;
+use crate::common::tangentspace::{compute_tangent_basis, TangentOptions};
+use crate::common::vboindexer::{index_vbo_tbn, IndexOptions, IndexedMesh};
 
 /// Every switch of the CPU pipeline.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -21,17 +18,16 @@ pub fn build_mesh(soup: &TriangleSoup, options: MeshOptions) -> IndexedMesh {
     index_vbo_tbn(soup, &basis, options.indexing)
 }
 
-/// Reads an OBJ and runs the whole CPU pipeline on it.
-pub fn load_mesh(path: &Path, options: MeshOptions) -> Result<IndexedMesh> {
-    Ok(build_mesh(&load_obj(path)?, options))
-}
-
-/// OBJ text of an open cylinder around the y axis (sides only, smooth radial normals), the shape of
-/// the tutorial's: `segments` around, `rings` bands from y = 0 to y = `height`, U wrapping the texture
-/// `u_repeat` times around (growing to the right seen from outside) and V running 0..1 upwards. Faces are counter-clockwise seen from outside.
-/// The seam repeats its positions' UVs at U = `u_repeat`, as the tutorial's file does, so indexing keeps
-/// two vertices there. Used for the project's asset and for the benchmarks' large meshes.
-pub fn cylinder_obj_text(
+/// OBJ text of an open cylinder around the y axis (sides only, smooth radial normals) of any size:
+/// `segments` around, `rings` bands from y = 0 to y = `height`, U wrapping the texture `u_repeat`
+/// times around (growing to the right seen from outside) and V running 0..1 upwards. Faces are
+/// counter-clockwise seen from outside. The seam repeats its positions' UVs at U = `u_repeat`, as the
+/// tutorial's file does, so indexing keeps two vertices there.
+///
+/// Used for the benchmarks' large meshes and for tests that need rings or odd UV scales; the project's
+/// `assets/cylinder.obj` comes from [`crate::assets::tutorial_cylinder_obj_text`], which follows the
+/// tutorial's file layout line for line (one band, its U offsets).
+pub fn grid_cylinder_obj_text(
     segments: u32,
     rings: u32,
     radius: f32,

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 use tutorial13::assets::{
-    brick_height_map, cylinder_obj_text, make_assets, normal_map_from_height, ASSET_FILES,
+    brick_height_map, make_assets, normal_map_from_height, tutorial_cylinder_obj_text, ASSET_FILES,
 };
 
 const SIZE: usize = 1024;
@@ -248,7 +248,7 @@ fn parse_obj(text: &str) -> Obj {
 // and 1 at the top, or a face wound clockwise seen from outside (it would be culled).
 #[test]
 fn cylinder_has_the_tutorials_shape_and_winding() {
-    let obj = parse_obj(&cylinder_obj_text(32));
+    let obj = parse_obj(&tutorial_cylinder_obj_text(32));
     assert_eq!(obj.positions.len(), 64);
     assert_eq!(obj.uvs.len(), 66);
     assert_eq!(obj.normals.len(), 32);
@@ -294,7 +294,7 @@ fn cylinder_has_the_tutorials_shape_and_winding() {
 fn cylinder_matches_the_tutorials_conventions() {
     let text = String::from_utf8(read(&original("cylinder.obj"))).expect("UTF-8");
     let theirs = parse_obj(&text);
-    let ours = parse_obj(&cylinder_obj_text(32));
+    let ours = parse_obj(&tutorial_cylinder_obj_text(32));
     let u_range = |obj: &Obj| {
         let us = obj.uvs.iter().map(|uv| uv[0]);
         (
@@ -432,10 +432,11 @@ fn dds_mortar_lines_up_with_flat_normals() {
 // towards the picture's left (-U). Checked at the front of the cylinder, which faces the camera.
 #[test]
 fn bricks_look_raised_with_the_tutorials_tangent_frame() {
-    let obj = cylinder_obj_text(32);
-    let soup = tutorial13::objloader::load_obj_bytes(obj.as_bytes(), Path::new("cylinder.obj"))
-        .expect("cylinder loads");
-    let basis = tutorial13::tangentspace::compute_tangent_basis(&soup, Default::default());
+    let obj = tutorial_cylinder_obj_text(32);
+    let soup =
+        tutorial13::common::objloader::load_obj_bytes(obj.as_bytes(), Path::new("cylinder.obj"))
+            .expect("cylinder loads");
+    let basis = tutorial13::common::tangentspace::compute_tangent_basis(&soup, Default::default());
     let front = (0..soup.vertices.len())
         .max_by(|&a, &b| soup.vertices[a].z.total_cmp(&soup.vertices[b].z))
         .expect("corners");

@@ -4,9 +4,9 @@
 use std::path::PathBuf;
 
 use glow::HasContext;
-use tutorial13::context::{
-    context_info, gl_errors, write_png, HeadlessContext, OffscreenTarget, Profile,
-};
+use tutorial13::gl::context::{HeadlessContext, OffscreenTarget};
+use tutorial13::gl::image::write_png;
+use tutorial13::gl::{context_info, gl_errors, Profile};
 
 fn software(profile: Profile) -> HeadlessContext {
     HeadlessContext::new(profile, false).unwrap_or_else(|e| panic!("{profile} context: {e}"))

@@ -11,11 +11,12 @@ use std::path::PathBuf;
 use common::{manifest, original_assets, own_assets, H, W};
 use glam::{Mat4, Vec2, Vec3};
 use image::{RgbImage, RgbaImage};
-use tutorial13::context::{gl_errors, Profile};
-use tutorial13::debuglines::{DebugLines, LegacyGl, LineMode};
-use tutorial13::headless::HeadlessRenderer;
-use tutorial13::shader::crate_shader_dir;
-use tutorial13::tutorial13::LIGHT_POSITION_WORLDSPACE;
+use tutorial13::common::shader::crate_shader_dir;
+use tutorial13::debug::lines::{DebugLines, LegacyGl, LineMode};
+use tutorial13::frontends::headless::HeadlessRenderer;
+use tutorial13::gl::{gl_errors, Profile};
+use tutorial13::scenes::cylinder::Cylinder;
+use tutorial13::scenes::tutorial13::LIGHT_POS;
 
 const BLUE: [u8; 3] = [0, 0, 255];
 const RED: [u8; 3] = [255, 0, 0];
@@ -46,7 +47,8 @@ fn lines(r: &HeadlessRenderer, requested: Option<LineMode>) -> DebugLines {
         context.gl(),
         context.info(),
         |name| context.get_proc_address(name),
-        &r.tutorial.scene.mesh,
+        &r.scene_ref::<Cylinder>().tutorial.mesh,
+        LIGHT_POS,
         requested,
         Some(&crate_shader_dir()),
     )
@@ -60,7 +62,7 @@ fn frame(r: &mut HeadlessRenderer, lines: Option<&DebugLines>) -> RgbaImage {
         lines.draw(
             r.controls.projection_matrix(),
             r.controls.view_matrix(),
-            r.tutorial.scene.model_matrix,
+            r.scene_ref::<Cylinder>().tutorial.model_matrix,
         );
     }
     let image = r.target.read_rgba();
@@ -90,7 +92,9 @@ struct Segment {
 
 /// Every line in drawing order (normals, tangents, bitangents over every index; the light's cross),
 /// and for each index the vertex it starts from.
-fn tutorial_segments(mesh: &tutorial13::vboindexer::IndexedMesh) -> Vec<(Segment, Option<usize>)> {
+fn tutorial_segments(
+    mesh: &tutorial13::common::vboindexer::IndexedMesh,
+) -> Vec<(Segment, Option<usize>)> {
     let mut out = Vec::new();
     for (color, directions) in [
         (BLUE, &mesh.normals),
@@ -109,7 +113,7 @@ fn tutorial_segments(mesh: &tutorial13::vboindexer::IndexedMesh) -> Vec<(Segment
             out.push((segment, Some(v)));
         }
     }
-    let l = LIGHT_POSITION_WORLDSPACE;
+    let l = LIGHT_POS;
     for d in [Vec3::X, Vec3::Y] {
         let segment = Segment {
             a: l,
@@ -184,10 +188,11 @@ impl LineCheck {
 /// is never behind it), and at points off the cylinder's surface (a bitangent running down the side
 /// from the top rim lies in the surface and z-fights with it).
 fn check_lines(r: &HeadlessRenderer, with: &RgbImage, without: &RgbImage) -> LineCheck {
-    let mesh = &r.tutorial.scene.mesh;
+    let mesh = &r.scene_ref::<Cylinder>().tutorial.mesh;
     let camera = r.controls.position;
-    let mvp =
-        r.controls.projection_matrix() * r.controls.view_matrix() * r.tutorial.scene.model_matrix;
+    let mvp = r.controls.projection_matrix()
+        * r.controls.view_matrix()
+        * r.scene_ref::<Cylinder>().tutorial.model_matrix;
     let radius = mesh
         .vertices
         .iter()
@@ -571,7 +576,7 @@ fn lines_leave_the_state_and_the_next_frame_as_they_found_them() {
         lines.draw(
             r.controls.projection_matrix(),
             r.controls.view_matrix(),
-            r.tutorial.scene.model_matrix,
+            r.scene_ref::<Cylinder>().tutorial.model_matrix,
         );
         assert_eq!(state(&r), before, "{mode:?}");
         let after = frame(&mut r, None);
@@ -652,10 +657,13 @@ fn rebuild_takes_the_new_mesh() {
     let mut r = renderer(own_assets(), Profile::Compat);
     look_from_above(&mut r);
     let other = std::rc::Rc::new(
-        tutorial13::mesh::load_mesh(&original_assets().join("cylinder.obj"), Default::default())
-            .unwrap(),
+        tutorial13::scenes::tutorial13::load_mesh(
+            &original_assets().join("cylinder.obj"),
+            Default::default(),
+        )
+        .unwrap(),
     );
-    assert_ne!(other, r.tutorial.scene.mesh);
+    assert_ne!(other, r.scene_ref::<Cylinder>().tutorial.mesh);
     for mode in [LineMode::Legacy, LineMode::Shader] {
         let mut rebuilt = lines(&r, Some(mode));
         let old = frame(&mut r, Some(&rebuilt));
@@ -667,6 +675,7 @@ fn rebuild_takes_the_new_mesh() {
             context.info(),
             |name| context.get_proc_address(name),
             &other,
+            LIGHT_POS,
             Some(mode),
             Some(&crate_shader_dir()),
         )
@@ -697,29 +706,30 @@ fn rebuild_takes_the_new_mesh() {
 fn inconsistent_mesh_is_refused() {
     let r = renderer(own_assets(), Profile::Compat);
     let context = &r.context;
-    let make = |mesh: tutorial13::vboindexer::IndexedMesh| {
+    let make = |mesh: tutorial13::common::vboindexer::IndexedMesh| {
         DebugLines::new(
             context.gl(),
             context.info(),
             |name| context.get_proc_address(name),
             &std::rc::Rc::new(mesh),
+            LIGHT_POS,
             None,
             Some(&crate_shader_dir()),
         )
     };
-    let mut short = (*r.tutorial.scene.mesh).clone();
+    let mut short = (*r.scene_ref::<Cylinder>().tutorial.mesh).clone();
     short.normals.pop();
     let error = make(short).expect_err("one normal short");
     assert!(error.to_string().contains("normals"), "{error}");
 
-    let mut past = (*r.tutorial.scene.mesh).clone();
+    let mut past = (*r.scene_ref::<Cylinder>().tutorial.mesh).clone();
     let n = past.vertices.len() as u32;
-    past.indices = tutorial13::vboindexer::Indices::U32(vec![0, 1, n]);
+    past.indices = tutorial13::common::vboindexer::Indices::U32(vec![0, 1, n]);
     let error = make(past).expect_err("index past the end");
     assert!(error.to_string().contains("index"), "{error}");
 
     // Without tangents (a mesh from index_vbo) only the normals are drawn.
-    let mut untangented = (*r.tutorial.scene.mesh).clone();
+    let mut untangented = (*r.scene_ref::<Cylinder>().tutorial.mesh).clone();
     untangented.tangents.clear();
     untangented.bitangents.clear();
     make(untangented).expect("normals only");

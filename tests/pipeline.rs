@@ -5,12 +5,13 @@ use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
-use tutorial13::mesh::{build_mesh, cylinder_obj_text, load_mesh, MeshOptions};
-use tutorial13::objloader::{load_obj, load_obj_bytes, TriangleSoup};
-use tutorial13::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
-use tutorial13::vboindexer::{
+use tutorial13::common::objloader::{load_obj, load_obj_bytes, TriangleSoup};
+use tutorial13::common::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
+use tutorial13::common::vboindexer::{
     index_vbo, index_vbo_tbn, index_vbo_tbn_linear, IndexOptions, Indices,
 };
+use tutorial13::mesh::{build_mesh, grid_cylinder_obj_text, MeshOptions};
+use tutorial13::scenes::tutorial13::load_mesh;
 
 fn original(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -46,7 +47,7 @@ fn tutorial_cylinder_indexes_to_66_vertices() {
 #[test]
 fn generated_cylinder_is_outward_and_seamed() {
     let (segments, rings) = (32, 4);
-    let text = cylinder_obj_text(segments, rings, 1.0, 2.0, 2.3);
+    let text = grid_cylinder_obj_text(segments, rings, 1.0, 2.0, 2.3);
     let soup = load_obj_bytes(text.as_bytes(), Path::new("generated.obj")).unwrap();
     assert_eq!(soup.triangle_count(), (2 * segments * rings) as usize);
     for tri in 0..soup.triangle_count() {
@@ -66,7 +67,7 @@ fn generated_cylinder_is_outward_and_seamed() {
 fn more_than_65535_vertices_use_32_bit_indices_and_lose_nothing() {
     // Radius 40 and height 40 keep neighbouring vertices more than 0.01 apart, so none merge.
     let (segments, rings) = (400, 200);
-    let text = cylinder_obj_text(segments, rings, 40.0, 40.0, 8.0);
+    let text = grid_cylinder_obj_text(segments, rings, 40.0, 40.0, 8.0);
     let soup = load_obj_bytes(text.as_bytes(), Path::new("big.obj")).unwrap();
     let mesh = build_mesh(&soup, MeshOptions::default());
     let expected_vertices = ((segments + 1) * (rings + 1)) as usize;

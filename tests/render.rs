@@ -7,8 +7,8 @@ mod common;
 use common::*;
 use glam::Vec3;
 use image::RgbImage;
-use tutorial13::context::Profile;
-use tutorial13::objloader::load_obj;
+use tutorial13::common::objloader::load_obj;
+use tutorial13::gl::Profile;
 
 // Fails if the program does not link in a 3.3 core context, any GL error is raised in a frame, the
 // clear colour is not the tutorial's (0, 0, 0.4), or the cylinder is missing.

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use tutorial13::texture::{
+use tutorial13::common::texture::{
     dxt_level_size, read_bmp_bytes, read_bmp_custom, read_dds, read_dds_bytes, BmpImage, DxtFormat,
 };
 use tutorial13::Error;

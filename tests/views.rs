@@ -7,22 +7,25 @@ mod common;
 use common::*;
 use glam::{Mat3, Vec3};
 use image::RgbImage;
-use tutorial13::context::Profile;
-use tutorial13::controls::Controls;
-use tutorial13::debuglines::LineMode;
-use tutorial13::headless::HeadlessRenderer;
-use tutorial13::mesh::cylinder_obj_text;
-use tutorial13::objloader::load_obj;
-use tutorial13::tangentspace::{compute_tangent_basis, TangentOptions};
-use tutorial13::tutorial13::{Action, ColorView, ShaderSwitches, LIGHT_POSITION_WORLDSPACE};
-use tutorial13::vboindexer::IndexedMesh;
+use tutorial13::common::controls::Controls;
+use tutorial13::common::objloader::load_obj;
+use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
+use tutorial13::common::vboindexer::IndexedMesh;
+use tutorial13::debug::lines::LineMode;
+use tutorial13::debug::views::{ColorView, ShaderSwitches};
+use tutorial13::frontends::headless::HeadlessRenderer;
+use tutorial13::gl::Profile;
+use tutorial13::mesh::grid_cylinder_obj_text;
+use tutorial13::scenes::cylinder::Action;
+use tutorial13::scenes::cylinder::Cylinder;
+use tutorial13::scenes::tutorial13::LIGHT_POS;
 
 fn view(name: &str) -> ColorView {
     name.parse().unwrap()
 }
 
 fn with_view(renderer: &mut HeadlessRenderer, name: &str) -> RgbImage {
-    renderer.tutorial.scene.switches.view = view(name);
+    renderer.scene_mut::<Cylinder>().switches.view = view(name);
     frame(renderer)
 }
 
@@ -83,7 +86,7 @@ fn debug_program_with_tutorial_switches_equals_tutorial_program() {
     for assets in [own_assets(), original_assets()] {
         let mut renderer = renderer(&options(assets, Profile::Core));
         let tutorial = frame(&mut renderer);
-        renderer.tutorial.scene.use_debug_program = true;
+        renderer.scene_mut::<Cylinder>().use_debug_program = true;
         let debug = frame(&mut renderer);
         assert_eq!(count_differing(&tutorial, &debug), 0);
     }
@@ -124,7 +127,7 @@ fn tangent_space(mesh: &IndexedMesh, i: usize, toward_light: bool) -> Vec3 {
     let p_cam = v.transform_point3(mesh.vertices[i]);
     let eye = -p_cam;
     let direction = if toward_light {
-        v.transform_point3(LIGHT_POSITION_WORLDSPACE) + eye
+        v.transform_point3(LIGHT_POS) + eye
     } else {
         eye
     };
@@ -144,7 +147,7 @@ fn tangent_space(mesh: &IndexedMesh, i: usize, toward_light: bool) -> Vec3 {
 #[test]
 fn light_and_eye_views_follow_their_formulas() {
     let mut renderer = renderer(&options(flat_white_assets("views-light"), Profile::Core));
-    let mesh = renderer.tutorial.scene.mesh.clone();
+    let mesh = renderer.scene_ref::<Cylinder>().tutorial.mesh.clone();
     let find = |target: Vec3| {
         (0..mesh.vertices.len())
             .find(|&i| (mesh.vertices[i] - target).length() < 1e-4)
@@ -187,12 +190,12 @@ fn specular_switch_is_texture_times_point_three_versus_constant() {
     };
     let mut white = renderer(&options(flat_white_assets("views-specular"), Profile::Core));
     let with_texture = frame(&mut white);
-    white.tutorial.scene.switches = off;
+    white.scene_mut::<Cylinder>().switches = off;
     assert!(max_channel_diff(&with_texture, &frame(&mut white)) <= 1);
 
     let mut bricks = renderer(&options(own_assets(), Profile::Core));
     let with_texture = frame(&mut bricks);
-    bricks.tutorial.scene.switches = off;
+    bricks.scene_mut::<Cylinder>().switches = off;
     let without = frame(&mut bricks);
     let changed = count_differing(&with_texture, &without);
     println!("specular texture off changes {changed} pixels of the bricks");
@@ -206,7 +209,7 @@ fn specular_switch_is_texture_times_point_three_versus_constant() {
 fn normalized_tbn_switch_changes_the_lighting() {
     let mut renderer = renderer(&options(own_assets(), Profile::Core));
     let repository = frame(&mut renderer);
-    renderer.tutorial.scene.switches.normalize_tbn = true;
+    renderer.scene_mut::<Cylinder>().switches.normalize_tbn = true;
     let article = frame(&mut renderer);
     let changed = count_differing(&repository, &article);
     println!("normalized TBN changes {changed} pixels");
@@ -216,7 +219,7 @@ fn normalized_tbn_switch_changes_the_lighting() {
 /// A front-facing open cylinder whose U runs the tutorial's way on one half and mirrored on the other
 /// (U = |angle − π| scaled), so that the handedness fix has something to fix on the mirrored half only.
 fn mirrored_cylinder() -> String {
-    let text = cylinder_obj_text(32, 1, 1.0, 2.0, 3.7);
+    let text = grid_cylinder_obj_text(32, 1, 1.0, 2.0, 3.7);
     let segments = 32.0;
     text.lines()
         .map(|line| match line.strip_prefix("vt ") {
@@ -267,9 +270,9 @@ fn handedness_switch_changes_only_the_mirrored_half() {
 
     let mut renderer = renderer(&options(dir, Profile::Core));
     let fixed = frame(&mut renderer);
-    let mut mesh_options = renderer.tutorial.scene.mesh_options();
-    mesh_options.tangents = no_fix;
-    renderer.tutorial.scene.rebuild_mesh(mesh_options).unwrap();
+    let cylinder = renderer.scene_mut::<Cylinder>();
+    cylinder.apply(Action::ToggleHandedness).unwrap();
+    assert_eq!(cylinder.mesh_options().tangents, no_fix);
     let unfixed = frame(&mut renderer);
     // Columns one segment either side of the seam (world x = 0).
     let segment = std::f32::consts::TAU / 32.0;
@@ -331,12 +334,12 @@ fn every_switch_renders_without_gl_errors_in_both_profiles() {
         let start = frame(&mut renderer);
         let mut previous = start.clone();
         for action in actions {
-            renderer.tutorial.apply(action).unwrap();
+            renderer.scene_mut::<Cylinder>().apply(action).unwrap();
             let switched = frame(&mut renderer);
             let changed = count_differing(&previous, &switched);
             println!(
                 "{profile:?} {action:?}: {changed} pixels changed; {}",
-                renderer.tutorial.status()
+                renderer.scene.status()
             );
             // Both line paths draw the same pixels; every other action changes the frame.
             if action != Action::ToggleLineMode {
@@ -352,7 +355,7 @@ fn every_switch_renders_without_gl_errors_in_both_profiles() {
                 _ => 1,
             };
             for _ in 0..presses {
-                renderer.tutorial.apply(action).unwrap();
+                renderer.scene_mut::<Cylinder>().apply(action).unwrap();
             }
         }
         assert_eq!(
@@ -368,21 +371,31 @@ fn every_switch_renders_without_gl_errors_in_both_profiles() {
 #[test]
 fn legacy_lines_in_a_core_context_fall_back_with_a_notice() {
     let mut options = options(own_assets(), Profile::Core);
-    options.scene.debug_lines = true;
-    options.scene.line_mode = Some(LineMode::Legacy);
+    options.scene.cylinder.debug_lines = true;
+    options.scene.cylinder.line_mode = Some(LineMode::Legacy);
     let mut core = renderer(&options);
-    assert_eq!(core.tutorial.line_mode(), Some(LineMode::Shader));
-    let notice = core.tutorial.line_notice().expect("a notice").to_string();
+    assert_eq!(
+        core.scene_mut::<Cylinder>().line_mode(),
+        Some(LineMode::Shader)
+    );
+    let notice = core
+        .scene_mut::<Cylinder>()
+        .line_notice()
+        .expect("a notice")
+        .to_string();
     assert!(notice.contains("compatibility"), "{notice}");
     let with_lines = frame(&mut core);
-    options.scene.debug_lines = false;
+    options.scene.cylinder.debug_lines = false;
     let without = frame(&mut renderer(&options));
     assert!(count_differing(&with_lines, &without) > 500);
     // In a compatibility context the same request draws in immediate mode, with the same pixels.
-    options.scene.debug_lines = true;
+    options.scene.cylinder.debug_lines = true;
     options.profile = Profile::Compat;
     let mut compat = renderer(&options);
-    assert_eq!(compat.tutorial.line_mode(), Some(LineMode::Legacy));
-    assert!(compat.tutorial.line_notice().is_none());
+    assert_eq!(
+        compat.scene_mut::<Cylinder>().line_mode(),
+        Some(LineMode::Legacy)
+    );
+    assert!(compat.scene_mut::<Cylinder>().line_notice().is_none());
     assert_eq!(count_differing(&with_lines, &frame(&mut compat)), 0);
 }

@@ -6,10 +6,10 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 use image::{Rgb, RgbImage, RgbaImage};
 use tutorial13::assets::{encode_bmp, encode_dds_dxt3};
-use tutorial13::context::Profile;
-use tutorial13::controls::Controls;
-use tutorial13::headless::{HeadlessOptions, HeadlessRenderer};
-use tutorial13::tutorial13::SceneOptions;
+use tutorial13::common::controls::Controls;
+use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
+use tutorial13::gl::Profile;
+use tutorial13::scenes::SceneOptions;
 
 pub const W: u32 = 1024;
 pub const H: u32 = 768;
@@ -30,13 +30,13 @@ pub fn original_assets() -> PathBuf {
 pub fn options(assets: PathBuf, profile: Profile) -> HeadlessOptions {
     HeadlessOptions {
         scene: SceneOptions {
-            assets,
+            assets: Some(assets),
             ..Default::default()
         },
         width: W,
         height: H,
         profile,
-        prefer_hardware: false,
+        ..Default::default()
     }
 }
 

@@ -1,18 +1,21 @@
-//! Rendering without a window: an EGL context on Mesa, an offscreen framebuffer, the same frame as the
-//! window's. Used by `--headless`, `--bench` and the tests.
+//! Rendering without a window: an EGL context on Mesa, an offscreen framebuffer, any scene's frame
+//! exactly as the window draws it. Used by `--headless`, `--bench` and the tests.
 
 use std::time::Instant;
 
+use glam::Vec2;
 use glow::HasContext;
 
-use crate::context::{format_errors, gl_errors, HeadlessContext, OffscreenTarget, Profile};
-use crate::controls::{Controls, Input};
-use crate::tutorial13::{SceneOptions, Tutorial13};
-use crate::{Error, Result};
+use crate::common::controls::{Controls, Input};
+use crate::gl::context::{HeadlessContext, OffscreenTarget};
+use crate::gl::{check_gl_errors, Profile};
+use crate::scenes::{FrameInput, Scene, SceneContext, SceneName, SceneOptions};
+use crate::Result;
 
 /// What to render headless.
 #[derive(Debug, Clone)]
 pub struct HeadlessOptions {
+    pub scene_name: SceneName,
     pub scene: SceneOptions,
     pub width: u32,
     pub height: u32,
@@ -21,12 +24,28 @@ pub struct HeadlessOptions {
     pub prefer_hardware: bool,
 }
 
+impl Default for HeadlessOptions {
+    /// The tutorial's frame: the cylinder, 1024×768, core profile, llvmpipe.
+    fn default() -> Self {
+        HeadlessOptions {
+            scene_name: SceneName::default(),
+            scene: SceneOptions::default(),
+            width: 1024,
+            height: 768,
+            profile: Profile::Core,
+            prefer_hardware: false,
+        }
+    }
+}
+
 /// A ready-to-draw headless set-up: context, target, scene, camera at the tutorial's start.
 pub struct HeadlessRenderer {
     // Field order is drop order: GL objects go before the context that owns them.
-    pub tutorial: Tutorial13,
+    pub scene: Box<dyn Scene>,
     pub target: OffscreenTarget,
     pub controls: Controls,
+    /// Where a window's cursor would be (x right, y down, pixels), for scenes that follow it.
+    pub cursor: Option<Vec2>,
     pub context: HeadlessContext,
 }
 
@@ -36,18 +55,48 @@ impl HeadlessRenderer {
         log::debug!("headless context: {}", context.info());
         let gl = context.gl().clone();
         let target = OffscreenTarget::new(&gl, options.width, options.height)?;
-        let tutorial = Tutorial13::new(
-            &gl,
-            context.info(),
-            |name| context.get_proc_address(name),
-            &options.scene,
-        )?;
+        let loader = |name: &std::ffi::CStr| context.get_proc_address(name);
+        let scene_context = SceneContext {
+            gl: &gl,
+            info: context.info(),
+            loader: &loader,
+        };
+        let scene = options.scene_name.build(&scene_context, &options.scene)?;
         Ok(HeadlessRenderer {
-            tutorial,
+            scene,
             target,
             controls: Controls::default(),
+            cursor: None,
             context,
         })
+    }
+
+    /// The scene as its own type, for tests and tools that reach into it. Panics if the renderer
+    /// holds another scene.
+    pub fn scene_mut<S: Scene + 'static>(&mut self) -> &mut S {
+        self.scene
+            .as_any_mut()
+            .downcast_mut()
+            .expect("the renderer holds another scene")
+    }
+
+    /// [`HeadlessRenderer::scene_mut`], shared.
+    pub fn scene_ref<S: Scene + 'static>(&self) -> &S {
+        self.scene
+            .as_any()
+            .downcast_ref()
+            .expect("the renderer holds another scene")
+    }
+
+    /// What the scene is given this frame: the camera, the target's size, time frozen at 0.
+    pub fn frame_input(&self) -> FrameInput {
+        FrameInput {
+            projection: self.controls.projection_matrix(),
+            view: self.controls.view_matrix(),
+            cursor: self.cursor,
+            size: (self.target.width(), self.target.height()),
+            time: 0.0,
+        }
     }
 
     /// One frame with time frozen at 0 and no input, as the original's screenshot test.
@@ -55,7 +104,8 @@ impl HeadlessRenderer {
         self.controls
             .compute_matrices_from_inputs(&Input::default(), 0.0);
         self.target.bind();
-        self.tutorial.render(self.context.gl(), &self.controls);
+        let input = self.frame_input();
+        self.scene.draw(&input);
     }
 
     /// Renders `frames` frames (at least one) and returns the last, top row first. Fails if GL
@@ -71,12 +121,7 @@ impl HeadlessRenderer {
 
     /// Drains GL's error flags: an error is a bug in this program, so it is reported, not ignored.
     pub fn check_errors(&self) -> Result<()> {
-        let errors = gl_errors(self.context.gl());
-        if errors.is_empty() {
-            Ok(())
-        } else {
-            Err(Error::Gl(format!("GL reported {}", format_errors(&errors))))
-        }
+        check_gl_errors(self.context.gl(), "frame")
     }
 
     /// Milliseconds per frame for `frames` frames, each timed to completion (`glFinish`).
@@ -93,13 +138,4 @@ impl HeadlessRenderer {
         self.check_errors()?;
         Ok(times)
     }
-}
-
-/// (min, median) of a list of timings.
-pub fn min_median(times: &[f64]) -> (f64, f64) {
-    let mut sorted = times.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    let min = sorted.first().copied().unwrap_or(f64::NAN);
-    let median = sorted.get(sorted.len() / 2).copied().unwrap_or(f64::NAN);
-    (min, median)
 }

@@ -17,8 +17,8 @@
 use glam::{Vec2, Vec3};
 use rustc_hash::FxHashMap;
 
-use crate::objloader::TriangleSoup;
-use crate::tangentspace::TangentBasis;
+use crate::common::objloader::TriangleSoup;
+use crate::common::tangentspace::TangentBasis;
 
 /// The tutorial's tolerance: two attributes are "near" when every component differs by less.
 pub const NEAR: f32 = 0.01;

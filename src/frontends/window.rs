@@ -1,15 +1,17 @@
-//! The window: glutin + winit in place of the tutorial's GLFW, the same frame as headless.
+//! The window: glutin + winit in place of the tutorial's GLFW, any scene's frame exactly as headless.
 //!
 //! 1024×768, "Tutorial 13 - Normal Mapping", a GL 3.3 context of the asked profile, a config without
 //! multisampling (the original's screenshot test turns MSAA off, and MSAA blurs the debug lines).
-//! The cursor is grabbed and hidden; raw mouse motion turns the camera, the arrow keys move it; Esc or
-//! closing the window quits. Once a second "<x> ms/frame" is printed and shown in the title.
+//! For a scene with mouse look the cursor is grabbed and hidden; raw mouse motion turns the camera,
+//! the arrow keys move it; Esc or closing the window quits. Letter keys go to the scene. Once a
+//! second "<x> ms/frame" is printed and shown in the title, beside the scene's status.
 
 use std::ffi::CString;
 use std::num::NonZeroU32;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
+use glam::Vec2;
 use glow::HasContext;
 use glutin::config::{Config, ConfigTemplateBuilder, GlConfig};
 use glutin::context::{
@@ -27,11 +29,11 @@ use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{CursorGrabMode, Window, WindowId};
 
-use crate::context::{
-    context_info, format_errors, gl_errors, read_pixels_rgba, write_screenshot, Gl, Profile,
-};
-use crate::controls::{Controls, Input};
-use crate::tutorial13::{Action, SceneOptions, Tutorial13};
+use super::FrameTimer;
+use crate::common::controls::{Controls, Input};
+use crate::gl::image::{read_pixels_rgba, write_screenshot};
+use crate::gl::{check_gl_errors, context_info, Gl, Profile};
+use crate::scenes::{FrameInput, MouseMode, Scene, SceneContext, SceneName, SceneOptions};
 use crate::{Error, Result};
 
 pub const TITLE: &str = "Tutorial 13 - Normal Mapping";
@@ -39,6 +41,7 @@ pub const TITLE: &str = "Tutorial 13 - Normal Mapping";
 /// The command line's window-mode settings.
 #[derive(Debug, Clone)]
 pub struct WindowOptions {
+    pub scene_name: SceneName,
     pub scene: SceneOptions,
     pub size: (u32, u32),
     pub profile: Profile,
@@ -60,11 +63,12 @@ pub fn no_display_message(reason: &str) -> String {
 pub fn run_window(options: WindowOptions) -> Result<()> {
     let no_var = |name: &str| std::env::var_os(name).is_none_or(|v| v.is_empty());
     if no_var("DISPLAY") && no_var("WAYLAND_DISPLAY") {
-        return Err(Error::Gl(no_display_message(
+        return Err(Error::Window(no_display_message(
             "neither DISPLAY nor WAYLAND_DISPLAY is set",
         )));
     }
-    let event_loop = EventLoop::new().map_err(|e| Error::Gl(no_display_message(&e.to_string())))?;
+    let event_loop =
+        EventLoop::new().map_err(|e| Error::Window(no_display_message(&e.to_string())))?;
     let mut app = App {
         options,
         running: None,
@@ -72,7 +76,7 @@ pub fn run_window(options: WindowOptions) -> Result<()> {
     };
     event_loop
         .run_app(&mut app)
-        .map_err(|e| Error::Gl(format!("window event loop: {e}")))?;
+        .map_err(|e| Error::Window(format!("event loop: {e}")))?;
     app.outcome
 }
 
@@ -85,13 +89,16 @@ struct App {
 /// Everything alive while the window is open. Field order is drop order: the GL objects first, then
 /// the surface and context, then the window.
 struct Running {
-    tutorial: Tutorial13,
+    scene: Box<dyn Scene>,
     gl: Gl,
     surface: Surface<WindowSurface>,
     context: PossiblyCurrentContext,
     window: Window,
     controls: Controls,
     input: Input,
+    /// The cursor in window pixels, for scenes that follow it.
+    cursor: Option<Vec2>,
+    start: Instant,
     last_time: Instant,
     frames_drawn: u32,
     timer: FrameTimer,
@@ -155,12 +162,13 @@ impl ApplicationHandler for App {
                         }
                     }
                     _ if pressed => {
-                        if let Some(action) = action_for_key(code) {
-                            match running.tutorial.apply(action) {
-                                Ok(()) => {
-                                    log::info!("{}", running.tutorial.status());
+                        if let Some(key) = key_char(code) {
+                            match running.scene.key(key) {
+                                Ok(true) => {
+                                    log::info!("{}", running.scene.status());
                                     running.update_title();
                                 }
+                                Ok(false) => {}
                                 Err(e) => log::error!("{e}"),
                             }
                         }
@@ -168,6 +176,10 @@ impl ApplicationHandler for App {
                     _ => {}
                 }
             }
+            WindowEvent::CursorMoved { position, .. } => {
+                running.cursor = Some(Vec2::new(position.x as f32, position.y as f32));
+            }
+            WindowEvent::CursorLeft { .. } => running.cursor = None,
             WindowEvent::Resized(size) => {
                 running
                     .window
@@ -192,7 +204,8 @@ impl ApplicationHandler for App {
                     }
                     Ok(()) => {
                         if let Err(e) = running.surface.swap_buffers(&running.context) {
-                            return self.fail(event_loop, Error::Gl(format!("swap buffers: {e}")));
+                            let error = Error::Window(format!("swap buffers: {e}"));
+                            return self.fail(event_loop, error);
                         }
                         running.window.request_redraw();
                     }
@@ -227,37 +240,56 @@ impl ApplicationHandler for App {
     }
 }
 
-/// The keys of the tutorial's switches (Esc, arrows and P are handled by the window itself).
-pub fn action_for_key(code: KeyCode) -> Option<Action> {
-    Some(match code {
-        KeyCode::KeyL => Action::ToggleLines,
-        KeyCode::KeyM => Action::ToggleLineMode,
-        KeyCode::KeyV => Action::NextView,
-        KeyCode::KeyC => Action::NextComponent,
-        KeyCode::KeyN => Action::ToggleNormalizeBeforeSum,
-        KeyCode::KeyG => Action::ToggleGramSchmidt,
-        KeyCode::KeyH => Action::ToggleHandedness,
-        KeyCode::KeyS => Action::ToggleSpecularTexture,
-        KeyCode::KeyT => Action::ToggleNormalizedTbn,
-        _ => return None,
-    })
+/// The character a scene's key list names for `code`: letters upper-case, digits.
+pub fn key_char(code: KeyCode) -> Option<char> {
+    const LETTERS: [KeyCode; 26] = [
+        KeyCode::KeyA,
+        KeyCode::KeyB,
+        KeyCode::KeyC,
+        KeyCode::KeyD,
+        KeyCode::KeyE,
+        KeyCode::KeyF,
+        KeyCode::KeyG,
+        KeyCode::KeyH,
+        KeyCode::KeyI,
+        KeyCode::KeyJ,
+        KeyCode::KeyK,
+        KeyCode::KeyL,
+        KeyCode::KeyM,
+        KeyCode::KeyN,
+        KeyCode::KeyO,
+        KeyCode::KeyP,
+        KeyCode::KeyQ,
+        KeyCode::KeyR,
+        KeyCode::KeyS,
+        KeyCode::KeyT,
+        KeyCode::KeyU,
+        KeyCode::KeyV,
+        KeyCode::KeyW,
+        KeyCode::KeyX,
+        KeyCode::KeyY,
+        KeyCode::KeyZ,
+    ];
+    const DIGITS: [KeyCode; 10] = [
+        KeyCode::Digit0,
+        KeyCode::Digit1,
+        KeyCode::Digit2,
+        KeyCode::Digit3,
+        KeyCode::Digit4,
+        KeyCode::Digit5,
+        KeyCode::Digit6,
+        KeyCode::Digit7,
+        KeyCode::Digit8,
+        KeyCode::Digit9,
+    ];
+    if let Some(i) = LETTERS.iter().position(|&c| c == code) {
+        return Some((b'A' + i as u8) as char);
+    }
+    DIGITS
+        .iter()
+        .position(|&c| c == code)
+        .map(|i| (b'0' + i as u8) as char)
 }
-
-/// Printed at start and in `--help`.
-pub const KEYS: &str = "Keys (window):
-  mouse           look around (the cursor is grabbed and hidden)
-  arrow keys      move forward / back, strafe left / right
-  L               TBN debug lines on / off (normals blue, tangents red, bitangents green)
-  M               debug lines: immediate mode (compatibility profile) / line shader
-  V               colour view: lit, light, light01, eye, eye01, normal, normal01
-  C               colour view component: all, x, y, z
-  N               normalize tangents before summing them (exercise 1)
-  G               Gram-Schmidt on / off
-  H               handedness fix on / off
-  S               specular texture / constant 0.3
-  T               TBN as summed (repository shader) / normalized (article)
-  P               save a screenshot (tutorial13-N.png in the current folder)
-  Esc             quit (closing the window quits too)";
 
 /// glutin's example picks the config with the most samples; the tutorial's frame wants none, and a
 /// 24-bit depth buffer (GLFW's default) where there is one.
@@ -287,8 +319,8 @@ fn build_window(
     }));
     std::panic::set_hook(previous_hook);
     match built {
-        Ok(result) => result.map_err(|e| Error::Gl(no_display_message(&e.to_string()))),
-        Err(payload) if payload.is::<NoConfig>() => Err(Error::Gl(
+        Ok(result) => result.map_err(|e| Error::Window(no_display_message(&e.to_string()))),
+        Err(payload) if payload.is::<NoConfig>() => Err(Error::Window(
             "the display offers no OpenGL framebuffer configuration".into(),
         )),
         Err(payload) => std::panic::resume_unwind(payload),
@@ -302,11 +334,11 @@ impl Running {
             .with_title(TITLE)
             .with_inner_size(PhysicalSize::new(width, height));
         let (window, config) = build_window(event_loop, attributes)?;
-        let window = window.ok_or_else(|| Error::Gl("the window could not be created".into()))?;
+        let window = window.ok_or_else(|| Error::Window("it could not be created".into()))?;
         let display = config.display();
         let handle = window
             .window_handle()
-            .map_err(|e| Error::Gl(format!("window handle: {e}")))?
+            .map_err(|e| Error::Window(format!("window handle: {e}")))?
             .as_raw();
         let profile = match options.profile {
             Profile::Core => GlProfile::Core,
@@ -318,20 +350,20 @@ impl Running {
             .build(Some(handle));
         // SAFETY: the handle belongs to `window`, which outlives the context (field order).
         let not_current = unsafe { display.create_context(&config, &attributes) }.map_err(|e| {
-            Error::Gl(format!(
+            Error::Context(format!(
                 "no OpenGL 3.3 {} context on this display: {e}",
                 options.profile
             ))
         })?;
         let surface_attributes = window
             .build_surface_attributes(Default::default())
-            .map_err(|e| Error::Gl(format!("window surface: {e}")))?;
+            .map_err(|e| Error::Window(format!("surface: {e}")))?;
         // SAFETY: as above, the window outlives the surface.
         let surface = unsafe { display.create_window_surface(&config, &surface_attributes) }
-            .map_err(|e| Error::Gl(format!("window surface: {e}")))?;
+            .map_err(|e| Error::Window(format!("surface: {e}")))?;
         let context = not_current
             .make_current(&surface)
-            .map_err(|e| Error::Gl(format!("make the context current: {e}")))?;
+            .map_err(|e| Error::Context(format!("cannot make it current: {e}")))?;
         // SAFETY: the loader returns entry points of the current context's display.
         let gl: Gl = std::rc::Rc::new(unsafe {
             glow::Context::from_loader_function(|name| {
@@ -341,7 +373,7 @@ impl Running {
         });
         let info = context_info(&gl);
         if !info.at_least(3, 3) || info.profile != options.profile {
-            return Err(Error::Gl(format!(
+            return Err(Error::Context(format!(
                 "OpenGL 3.3 {} is needed, the display gave {info}",
                 options.profile
             )));
@@ -352,7 +384,15 @@ impl Running {
             config.depth_size()
         );
 
-        if options.frames.is_none() {
+        let loader = |name: &std::ffi::CStr| display.get_proc_address(name);
+        let scene_context = SceneContext {
+            gl: &gl,
+            info: &info,
+            loader: &loader,
+        };
+        let scene = options.scene_name.build(&scene_context, &options.scene)?;
+        log::info!("{}", scene.status());
+        if options.frames.is_none() && scene.mouse_mode() == MouseMode::Look {
             window.set_cursor_visible(false);
             let grabbed = window
                 .set_cursor_grab(CursorGrabMode::Locked)
@@ -363,22 +403,18 @@ impl Running {
                 );
             }
         }
-        let tutorial = Tutorial13::new(
-            &gl,
-            &info,
-            |name| display.get_proc_address(name),
-            &options.scene,
-        )?;
-        log::info!("{}", tutorial.status());
+        let now = Instant::now();
         let running = Running {
-            tutorial,
+            scene,
             gl,
             surface,
             context,
             window,
             controls: Controls::default(),
             input: Input::default(),
-            last_time: Instant::now(),
+            cursor: None,
+            start: now,
+            last_time: now,
             frames_drawn: 0,
             timer: FrameTimer::new(),
             ms_per_frame: None,
@@ -388,13 +424,14 @@ impl Running {
         Ok(running)
     }
 
-    /// "Tutorial 13 - Normal Mapping - 3.2 ms/frame - view lit | lines off | ...".
+    /// "Tutorial 13 - Normal Mapping - 3.2 ms/frame - view lit | lines off | ...": the figure and
+    /// the scene's switches together, so that neither hides the other.
     fn update_title(&self) {
         let ms = self
             .ms_per_frame
             .map_or(String::new(), |ms| format!(" - {ms:.3} ms/frame"));
         self.window
-            .set_title(&format!("{TITLE}{ms} - {}", self.tutorial.status()));
+            .set_title(&format!("{TITLE}{ms} - {}", self.scene.status()));
     }
 
     /// `P`: tutorial13-1.png, tutorial13-2.png, ... in the current folder, never overwriting.
@@ -430,16 +467,24 @@ impl Running {
             self.gl
                 .viewport(0, 0, size.width as i32, size.height as i32)
         };
-        self.tutorial.render(&self.gl, &self.controls);
-        let errors = gl_errors(&self.gl);
-        if !errors.is_empty() {
-            return Err(Error::Gl(format!("GL reported {}", format_errors(&errors))));
-        }
+        let time = if frozen {
+            0.0
+        } else {
+            (now - self.start).as_secs_f32()
+        };
+        self.scene.draw(&FrameInput {
+            projection: self.controls.projection_matrix(),
+            view: self.controls.view_matrix(),
+            cursor: self.cursor,
+            size: (size.width, size.height),
+            time,
+        });
+        check_gl_errors(&self.gl, "frame")?;
         self.frames_drawn += 1;
         if let Some(ms) = self.timer.tick(now) {
             println!("{ms:.3} ms/frame");
-            self.window
-                .set_title(&format!("{TITLE} - {ms:.3} ms/frame"));
+            self.ms_per_frame = Some(ms);
+            self.update_title();
         }
         Ok(())
     }
@@ -458,69 +503,33 @@ impl Running {
     }
 }
 
-/// The tutorial's once-a-second "ms/frame" figure.
-pub struct FrameTimer {
-    since: Instant,
-    frames: u32,
-}
-
-impl FrameTimer {
-    pub fn new() -> Self {
-        FrameTimer {
-            since: Instant::now(),
-            frames: 0,
-        }
-    }
-
-    /// Counts a frame; once a second or more has passed, returns the mean ms/frame and restarts.
-    pub fn tick(&mut self, now: Instant) -> Option<f64> {
-        self.frames += 1;
-        let elapsed = now.duration_since(self.since);
-        if elapsed < Duration::from_secs(1) {
-            return None;
-        }
-        let ms = elapsed.as_secs_f64() * 1000.0 / self.frames as f64;
-        self.since = now;
-        self.frames = 0;
-        Some(ms)
-    }
-}
-
-impl Default for FrameTimer {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scenes::SceneName;
 
-    // Fails if a key listed in KEYS has no action, or two keys share one.
+    // Fails if a key a scene lists cannot be typed: every listed key must map back from a key code.
     #[test]
-    fn every_listed_switch_key_has_its_own_action() {
-        let keys = [
-            (KeyCode::KeyL, 'L'),
-            (KeyCode::KeyM, 'M'),
-            (KeyCode::KeyV, 'V'),
-            (KeyCode::KeyC, 'C'),
-            (KeyCode::KeyN, 'N'),
-            (KeyCode::KeyG, 'G'),
-            (KeyCode::KeyH, 'H'),
-            (KeyCode::KeyS, 'S'),
-            (KeyCode::KeyT, 'T'),
-        ];
-        let mut actions = Vec::new();
-        for (code, letter) in keys {
-            let action = action_for_key(code).unwrap_or_else(|| panic!("{letter} has no action"));
-            assert!(!actions.contains(&action), "{letter} repeats {action:?}");
-            actions.push(action);
-            assert!(
-                KEYS.lines()
-                    .any(|l| l.trim_start().starts_with(&format!("{letter} "))),
-                "{letter} is not listed in KEYS"
-            );
+    fn every_listed_scene_key_can_be_typed() {
+        let typeable: Vec<char> = [
+            KeyCode::KeyA,
+            KeyCode::KeyZ,
+            KeyCode::Digit0,
+            KeyCode::Digit9,
+        ]
+        .into_iter()
+        .filter_map(key_char)
+        .collect();
+        assert_eq!(typeable, ['A', 'Z', '0', '9']);
+        assert_eq!(key_char(KeyCode::Escape), None);
+        for &scene in SceneName::ALL {
+            for help in scene.keys() {
+                assert!(
+                    help.key.is_ascii_uppercase() || help.key.is_ascii_digit(),
+                    "{scene}: key {:?} cannot be typed",
+                    help.key
+                );
+            }
         }
-        assert_eq!(action_for_key(KeyCode::KeyQ), None);
     }
 }

@@ -12,7 +12,7 @@
 
 use glam::{Vec2, Vec3};
 
-use crate::objloader::TriangleSoup;
+use crate::common::objloader::TriangleSoup;
 
 /// The steps of the per-corner pass, as switches: the tutorial asks its reader to try without them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -12,7 +12,7 @@ use std::path::Path;
 
 use glow::HasContext;
 
-use crate::context::Gl;
+use crate::common::Gl;
 use crate::{Error, Result};
 
 /// Largest width or height accepted. GL drivers cap textures well below anything larger, and it
@@ -450,7 +450,7 @@ pub fn upload_dds(gl: &Gl, dds: &DdsImage, path: &Path) -> Result<Texture> {
     // SAFETY: plain GL calls on the current context; each level's data has the size GL expects for
     // its dimensions and format (checked by `read_dds`).
     unsafe {
-        let id = gl.create_texture().map_err(Error::Gl)?;
+        let id = gl.create_texture().map_err(|e| Error::gl("texture", e))?;
         let texture = Texture { gl: gl.clone(), id };
         gl.bind_texture(glow::TEXTURE_2D, Some(id));
         gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
@@ -484,7 +484,7 @@ pub fn load_bmp_custom(gl: &Gl, path: &Path) -> Result<Texture> {
 pub fn upload_bmp(gl: &Gl, bmp: &BmpImage) -> Result<Texture> {
     // SAFETY: `bgr` holds width × height tightly packed texels, matching UNPACK_ALIGNMENT 1.
     unsafe {
-        let id = gl.create_texture().map_err(Error::Gl)?;
+        let id = gl.create_texture().map_err(|e| Error::gl("texture", e))?;
         let texture = Texture { gl: gl.clone(), id };
         gl.bind_texture(glow::TEXTURE_2D, Some(id));
         gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);

@@ -21,11 +21,13 @@ use std::rc::Rc;
 use glam::{Mat4, Vec3};
 use glow::HasContext;
 
-use crate::context::{ContextInfo, Gl, Profile};
-use crate::shader::{load_program, Program};
-use crate::tutorial13::LIGHT_POSITION_WORLDSPACE;
-use crate::vboindexer::IndexedMesh;
+use crate::common::shader::{load_program, Program};
+use crate::common::vboindexer::IndexedMesh;
+use crate::gl::{ContextInfo, Gl, Profile};
 use crate::{Error, Result};
+
+/// Names this part in errors.
+const PART: &str = "debug lines";
 
 /// Length of every debug line, in model-space units (`p += o*0.1f`).
 pub const LINE_LENGTH: f32 = 0.1;
@@ -82,16 +84,30 @@ impl std::fmt::Debug for LegacyGl {
 fn lookup(loader: &mut impl FnMut(&CStr) -> *const c_void, name: &CStr) -> Result<*const c_void> {
     let ptr = loader(name);
     if ptr.is_null() {
-        Err(Error::Gl(format!(
-            "the driver has no {} (needed for the immediate-mode debug lines)",
-            name.to_string_lossy()
-        )))
+        Err(Error::gl(
+            PART,
+            format!(
+                "the driver has no {} (needed for immediate mode)",
+                name.to_string_lossy()
+            ),
+        ))
     } else {
         Ok(ptr)
     }
 }
 
 impl LegacyGl {
+    /// [`LegacyGl::load`], or the reason this context has no immediate mode (for the notice).
+    pub fn load_or_reason(
+        info: &ContextInfo,
+        loader: impl FnMut(&CStr) -> *const c_void,
+    ) -> std::result::Result<Self, String> {
+        Self::load(info, loader).map_err(|e| match e {
+            Error::Gl { reason, .. } => reason,
+            other => other.to_string(),
+        })
+    }
+
     /// Loads the immediate-mode entry points of the context described by `info`.
     ///
     /// Availability is decided by the profile, not by null pointers: Mesa hands out these pointers in
@@ -101,11 +117,14 @@ impl LegacyGl {
         mut loader: impl FnMut(&CStr) -> *const c_void,
     ) -> Result<Self> {
         if info.profile != Profile::Compat {
-            return Err(Error::Gl(format!(
-                "the tutorial's immediate-mode debug lines need a compatibility-profile context, \
-                 and this is a {} profile one (OpenGL {}.{} on {})",
-                info.profile, info.version.0, info.version.1, info.renderer
-            )));
+            return Err(Error::gl(
+                PART,
+                format!(
+                    "the tutorial's immediate mode needs a compatibility-profile context, \
+                     and this is a {} profile one (OpenGL {}.{} on {})",
+                    info.profile, info.version.0, info.version.1, info.renderer
+                ),
+            ));
         }
         macro_rules! entry {
             ($name:literal, $ty:ty) => {{
@@ -139,8 +158,7 @@ fn line_end(p: Vec3, v: Vec3) -> Vec3 {
 
 /// The light's cross as the tutorial draws it, by moving `lightPos` back and forth: four vertices,
 /// two lines.
-fn light_cross() -> [Vec3; 4] {
-    let mut light_pos = LIGHT_POSITION_WORLDSPACE;
+fn light_cross(mut light_pos: Vec3) -> [Vec3; 4] {
     let a = light_pos;
     light_pos += Vec3::X * LINE_LENGTH;
     let b = light_pos;
@@ -151,15 +169,16 @@ fn light_cross() -> [Vec3; 4] {
 }
 
 /// What the lines are drawn from: the scene's CPU mesh, shared (not copied), checked once so that
-/// drawing never indexes out of bounds. Its tangents are empty for a mesh from `index_vbo` (then no
-/// red and green lines).
+/// drawing never indexes out of bounds, and the light's position (world space). Its tangents are
+/// empty for a mesh from `index_vbo` (then no red and green lines).
 #[derive(Debug, Clone)]
 struct TbnSource {
     mesh: Rc<IndexedMesh>,
+    light_position_worldspace: Vec3,
 }
 
 impl TbnSource {
-    fn new(mesh: &Rc<IndexedMesh>) -> Result<Self> {
+    fn new(mesh: &Rc<IndexedMesh>, light_position_worldspace: Vec3) -> Result<Self> {
         let n = mesh.vertices.len();
         for (name, len) in [
             ("normals", mesh.normals.len()),
@@ -167,8 +186,8 @@ impl TbnSource {
             ("bitangents", mesh.bitangents.len()),
         ] {
             if len != n && !(len == 0 && name != "normals") {
-                return Err(Error::Gl(format!(
-                    "debug lines: the mesh has {n} vertices but {len} {name}"
+                return Err(Error::Mesh(format!(
+                    "debug lines: {n} vertices but {len} {name}"
                 )));
             }
         }
@@ -177,11 +196,14 @@ impl TbnSource {
             .map(|i| indices.get(i))
             .find(|&i| i as usize >= n)
         {
-            return Err(Error::Gl(format!(
-                "debug lines: index {bad} is past the mesh's {n} vertices"
+            return Err(Error::Mesh(format!(
+                "debug lines: index {bad} is past the {n} vertices"
             )));
         }
-        Ok(TbnSource { mesh: mesh.clone() })
+        Ok(TbnSource {
+            mesh: mesh.clone(),
+            light_position_worldspace,
+        })
     }
 
     /// The three sets of lines in the tutorial's order; sets the mesh does not have are left out.
@@ -216,7 +238,8 @@ impl TbnSource {
                 out.push(LineVertex::new(line_end(p, directions[index]), color));
             }
         }
-        out.extend(light_cross().map(|p| LineVertex::new(p, LIGHT_COLOR)));
+        let cross = light_cross(self.light_position_worldspace);
+        out.extend(cross.map(|p| LineVertex::new(p, LIGHT_COLOR)));
         out
     }
 }
@@ -272,12 +295,12 @@ impl ShaderLines {
         let mvp = program.uniform("MVP");
         // SAFETY: objects are created on the current context; the previous VAO binding is restored.
         let (vao, buffer) = unsafe {
-            let vao = gl.create_vertex_array().map_err(Error::Gl)?;
+            let vao = gl.create_vertex_array().map_err(|e| Error::gl(PART, e))?;
             let buffer = match gl.create_buffer() {
                 Ok(buffer) => buffer,
                 Err(e) => {
                     gl.delete_vertex_array(vao);
-                    return Err(Error::Gl(e));
+                    return Err(Error::gl(PART, e));
                 }
             };
             let previous_vao = gl.get_parameter_vertex_array(glow::VERTEX_ARRAY_BINDING);
@@ -308,7 +331,7 @@ impl ShaderLines {
     fn upload(&mut self, source: &TbnSource) -> Result<()> {
         let vertices = source.line_vertices();
         let count = i32::try_from(vertices.len()).map_err(|_| {
-            Error::Gl(format!(
+            Error::Mesh(format!(
                 "debug lines: {} line vertices are more than one glDrawArrays can draw",
                 vertices.len()
             ))
@@ -387,11 +410,13 @@ impl DebugLines {
         info: &ContextInfo,
         loader: impl FnMut(&CStr) -> *const c_void,
         mesh: &Rc<IndexedMesh>,
+        light_position_worldspace: Vec3,
         requested: Option<LineMode>,
         shader_dir: Option<&Path>,
     ) -> Result<Self> {
-        let legacy = LegacyGl::load(info, loader).map_err(|e| e.to_string());
-        Self::with_legacy(gl, legacy, mesh, requested, shader_dir)
+        let legacy = LegacyGl::load_or_reason(info, loader);
+        let light = light_position_worldspace;
+        Self::with_legacy(gl, legacy, mesh, light, requested, shader_dir)
     }
 
     /// [`DebugLines::new`] with the immediate-mode table already loaded (or the reason it is not),
@@ -400,12 +425,13 @@ impl DebugLines {
         gl: &Gl,
         legacy: std::result::Result<LegacyGl, String>,
         mesh: &Rc<IndexedMesh>,
+        light_position_worldspace: Vec3,
         requested: Option<LineMode>,
         shader_dir: Option<&Path>,
     ) -> Result<Self> {
         let mut lines = DebugLines {
             gl: gl.clone(),
-            source: TbnSource::new(mesh)?,
+            source: TbnSource::new(mesh, light_position_worldspace)?,
             legacy,
             shader: None,
             shader_dir: shader_dir.map(Path::to_path_buf),
@@ -456,7 +482,7 @@ impl DebugLines {
 
     /// Takes the lines from another mesh (e.g. after the scene re-ran its CPU pipeline).
     pub fn rebuild(&mut self, mesh: &Rc<IndexedMesh>) -> Result<()> {
-        let source = TbnSource::new(mesh)?;
+        let source = TbnSource::new(mesh, self.source.light_position_worldspace)?;
         if let Some(shader) = &mut self.shader {
             shader.upload(&source)?;
         }
@@ -514,7 +540,7 @@ impl DebugLines {
             let [r, g, b] = LIGHT_COLOR;
             (legacy.color_3f)(r, g, b);
             (legacy.begin)(glow::LINES);
-            for p in light_cross() {
+            for p in light_cross(self.source.light_position_worldspace) {
                 (legacy.vertex_3fv)(p.to_array().as_ptr());
             }
             (legacy.end)();

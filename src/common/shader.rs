@@ -9,13 +9,13 @@ use std::path::{Path, PathBuf};
 
 use glow::HasContext;
 
-use crate::context::Gl;
+use crate::common::Gl;
 use crate::{Error, Result};
 
 /// `(name, text)` of a file in the crate's shaders/ folder, embedded at build time.
 macro_rules! embedded {
     ($name:literal) => {
-        ($name, include_str!(concat!("../shaders/", $name)))
+        ($name, include_str!(concat!("../../shaders/", $name)))
     };
 }
 
@@ -104,7 +104,9 @@ pub fn load_shaders(gl: &Gl, vertex: &ShaderFile, fragment: &ShaderFile) -> Resu
                 return Err(e);
             }
         };
-        let id = gl.create_program().map_err(Error::Gl)?;
+        let id = gl
+            .create_program()
+            .map_err(|e| Error::gl("shader program", e))?;
         gl.attach_shader(id, vs);
         gl.attach_shader(id, fs);
         gl.link_program(id);
@@ -134,7 +136,7 @@ pub fn load_shaders(gl: &Gl, vertex: &ShaderFile, fragment: &ShaderFile) -> Resu
 }
 
 unsafe fn compile(gl: &Gl, kind: u32, file: &ShaderFile) -> Result<glow::Shader> {
-    let shader = gl.create_shader(kind).map_err(Error::Gl)?;
+    let shader = gl.create_shader(kind).map_err(|e| Error::gl("shader", e))?;
     gl.shader_source(shader, &file.source);
     gl.compile_shader(shader);
     if gl.get_shader_compile_status(shader) {

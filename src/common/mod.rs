@@ -1,0 +1,23 @@
+//! The tutorial's `common/` folder, one module per file, named after it; functions keep the C++
+//! names in snake_case. Nothing here knows of windows or scenes.
+//!
+//! | tutorial file             | module           | what it does                                  |
+//! |---------------------------|------------------|-----------------------------------------------|
+//! | `common/objloader.cpp`    | [`objloader`]    | OBJ → triangle soup, V negated                |
+//! | `common/tangentspace.cpp` | [`tangentspace`] | per-triangle tangent and bitangent            |
+//! | `common/vboindexer.cpp`   | [`vboindexer`]   | merge near-identical corners, sum their tangents |
+//! | `common/texture.cpp`      | [`texture`]      | DDS (DXT1/3/5) and 24-bit BMP files           |
+//! | `common/shader.cpp`       | [`shader`]       | compile and link the two shader files         |
+//! | `common/controls.cpp`     | [`controls`]     | the first-person camera's matrices            |
+
+pub mod controls;
+pub mod objloader;
+pub mod shader;
+pub mod tangentspace;
+pub mod texture;
+pub mod vboindexer;
+
+/// The GL function table the loaders take, shared by the objects they make (textures, programs) so
+/// that each deletes itself on drop. Defined at the bottom layer so the ports need nothing above
+/// them; [`crate::gl::Gl`] is the same type.
+pub type Gl = std::rc::Rc<glow::Context>;

@@ -1,0 +1,82 @@
+//! The front ends: the window (glutin + winit, in place of the tutorial's GLFW) and headless
+//! rendering (EGL + an offscreen target), which also serves `--bench`, screenshots and the tests.
+//! Both drive any [`Scene`](crate::scenes::Scene) through the same seam, so a test's pixels are the
+//! window's pixels.
+
+pub mod headless;
+pub mod window;
+
+use std::time::{Duration, Instant};
+
+use crate::scenes::SceneName;
+
+/// The window's own keys, whatever the scene (the scene's follow them in the list).
+pub const WINDOW_KEYS: &[(&str, &str)] = &[
+    ("mouse", "look around (the cursor is grabbed and hidden)"),
+    ("arrow keys", "move forward / back, strafe left / right"),
+    (
+        "P",
+        "save a screenshot (tutorial13-N.png in the current folder)",
+    ),
+    ("Esc", "quit (closing the window quits too)"),
+];
+
+/// How many of [`WINDOW_KEYS`] come before the scene's keys in the list.
+const KEYS_BEFORE_SCENE: usize = 2;
+
+/// The key list printed at start and by `--help`: the window's keys, then the scene's.
+pub fn key_list(scene: SceneName) -> String {
+    let (before, after) = WINDOW_KEYS.split_at(KEYS_BEFORE_SCENE);
+    let own = |keys: &'static [(&str, &'static str)]| {
+        keys.iter().map(|&(key, help)| (key.to_string(), help))
+    };
+    let scene_keys = scene.keys().iter().map(|k| (k.key.to_string(), k.help));
+    let mut text = format!("Keys (window, scene {scene}):");
+    for (key, help) in own(before).chain(scene_keys).chain(own(after)) {
+        text.push_str(&format!("\n  {key:<15} {help}"));
+    }
+    text
+}
+
+/// The tutorial's once-a-second "ms/frame" figure.
+pub struct FrameTimer {
+    since: Instant,
+    frames: u32,
+}
+
+impl FrameTimer {
+    pub fn new() -> Self {
+        FrameTimer {
+            since: Instant::now(),
+            frames: 0,
+        }
+    }
+
+    /// Counts a frame; once a second or more has passed, returns the mean ms/frame and restarts.
+    pub fn tick(&mut self, now: Instant) -> Option<f64> {
+        self.frames += 1;
+        let elapsed = now.duration_since(self.since);
+        if elapsed < Duration::from_secs(1) {
+            return None;
+        }
+        let ms = elapsed.as_secs_f64() * 1000.0 / self.frames as f64;
+        self.since = now;
+        self.frames = 0;
+        Some(ms)
+    }
+}
+
+impl Default for FrameTimer {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// (min, median) of a list of timings.
+pub fn min_median(times: &[f64]) -> (f64, f64) {
+    let mut sorted = times.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let min = sorted.first().copied().unwrap_or(f64::NAN);
+    let median = sorted.get(sorted.len() / 2).copied().unwrap_or(f64::NAN);
+    (min, median)
+}

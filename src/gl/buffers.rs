@@ -1,0 +1,179 @@
+//! A mesh in GL buffers: one VAO, one buffer per attribute the mesh has, and the element buffer.
+//!
+//! The attribute locations are the tutorial's (0 position, 1 UV, 2 normal, 3 tangent, 4 bitangent)
+//! whatever the mesh holds: a mesh without tangents (e.g. one lit with per-pixel derivatives) gets no
+//! tangent buffers and enables no tangent arrays.
+
+use glow::HasContext;
+
+use crate::common::vboindexer::{IndexedMesh, Indices};
+use crate::gl::Gl;
+use crate::{Error, Result};
+
+/// Attribute locations, as the tutorial's `layout(location = N)`.
+pub const POSITION: u32 = 0;
+pub const UV: u32 = 1;
+pub const NORMAL: u32 = 2;
+pub const TANGENT: u32 = 3;
+pub const BITANGENT: u32 = 4;
+
+/// One attribute buffer: where it goes and how many floats per vertex.
+struct Attribute {
+    location: u32,
+    components: i32,
+    buffer: glow::Buffer,
+}
+
+/// The buffers and the VAO they are drawn through. Deleted with the value.
+pub struct MeshBuffers {
+    gl: Gl,
+    vao: glow::VertexArray,
+    attributes: Vec<Attribute>,
+    elements: glow::Buffer,
+    index_count: i32,
+    index_type: u32,
+}
+
+impl MeshBuffers {
+    /// Uploads every attribute the mesh has (an empty array = not there; positions are required)
+    /// and the indices. Refuses a mesh whose arrays disagree in length or whose indices point past
+    /// its vertices: drawing it would read outside the buffers.
+    pub fn new(gl: &Gl, mesh: &IndexedMesh) -> Result<Self> {
+        let n = mesh.vertices.len();
+        let arrays: [(u32, i32, &str, &[u8], usize); 5] = [
+            (
+                POSITION,
+                3,
+                "positions",
+                bytemuck::cast_slice(&mesh.vertices),
+                n,
+            ),
+            (
+                UV,
+                2,
+                "UVs",
+                bytemuck::cast_slice(&mesh.uvs),
+                mesh.uvs.len(),
+            ),
+            (
+                NORMAL,
+                3,
+                "normals",
+                bytemuck::cast_slice(&mesh.normals),
+                mesh.normals.len(),
+            ),
+            (
+                TANGENT,
+                3,
+                "tangents",
+                bytemuck::cast_slice(&mesh.tangents),
+                mesh.tangents.len(),
+            ),
+            (
+                BITANGENT,
+                3,
+                "bitangents",
+                bytemuck::cast_slice(&mesh.bitangents),
+                mesh.bitangents.len(),
+            ),
+        ];
+        for &(_, _, name, _, len) in &arrays[1..] {
+            if len != 0 && len != n {
+                return Err(Error::Mesh(format!("{n} vertices but {len} {name}")));
+            }
+        }
+        if let Some(bad) = (0..mesh.indices.len())
+            .map(|i| mesh.indices.get(i))
+            .find(|&i| i as usize >= n)
+        {
+            return Err(Error::Mesh(format!("index {bad} is past the {n} vertices")));
+        }
+        let index_count = i32::try_from(mesh.indices.len()).map_err(|_| {
+            Error::Mesh(format!(
+                "{} indices are too many to draw",
+                mesh.indices.len()
+            ))
+        })?;
+        let gl_error = |reason| Error::gl("mesh buffers", reason);
+        // SAFETY: buffers are created and filled on the current context with slices that live
+        // through the calls; every name made is owned by `buffers` from then on, so its Drop
+        // deletes them even if a later step fails.
+        unsafe {
+            let vao = gl.create_vertex_array().map_err(gl_error)?;
+            let elements = match gl.create_buffer() {
+                Ok(buffer) => buffer,
+                Err(e) => {
+                    gl.delete_vertex_array(vao);
+                    return Err(gl_error(e));
+                }
+            };
+            let (index_bytes, index_type): (&[u8], u32) = match &mesh.indices {
+                Indices::U16(v) => (bytemuck::cast_slice(v), glow::UNSIGNED_SHORT),
+                Indices::U32(v) => (bytemuck::cast_slice(v), glow::UNSIGNED_INT),
+            };
+            let mut buffers = MeshBuffers {
+                gl: gl.clone(),
+                vao,
+                attributes: Vec::with_capacity(arrays.len()),
+                elements,
+                index_count,
+                index_type,
+            };
+            gl.bind_vertex_array(Some(vao));
+            for (location, components, _, bytes, len) in arrays {
+                if len == 0 {
+                    continue;
+                }
+                let buffer = gl.create_buffer().map_err(gl_error)?;
+                buffers.attributes.push(Attribute {
+                    location,
+                    components,
+                    buffer,
+                });
+                gl.bind_buffer(glow::ARRAY_BUFFER, Some(buffer));
+                gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
+            }
+            gl.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, Some(elements));
+            gl.buffer_data_u8_slice(glow::ELEMENT_ARRAY_BUFFER, index_bytes, glow::STATIC_DRAW);
+            Ok(buffers)
+        }
+    }
+
+    /// The locations this mesh enables, in order.
+    pub fn locations(&self) -> Vec<u32> {
+        self.attributes.iter().map(|a| a.location).collect()
+    }
+
+    /// The tutorial's draw: enable and point each attribute array, draw the elements, disable.
+    pub fn draw(&self) {
+        let gl = &self.gl;
+        // SAFETY: every buffer belongs to this context; the pointers describe the data uploaded in
+        // `new`, whose indices were checked against the vertex count.
+        unsafe {
+            gl.bind_vertex_array(Some(self.vao));
+            for a in &self.attributes {
+                gl.enable_vertex_attrib_array(a.location);
+                gl.bind_buffer(glow::ARRAY_BUFFER, Some(a.buffer));
+                gl.vertex_attrib_pointer_f32(a.location, a.components, glow::FLOAT, false, 0, 0);
+            }
+            gl.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, Some(self.elements));
+            gl.draw_elements(glow::TRIANGLES, self.index_count, self.index_type, 0);
+            for a in &self.attributes {
+                gl.disable_vertex_attrib_array(a.location);
+            }
+        }
+    }
+}
+
+impl Drop for MeshBuffers {
+    fn drop(&mut self) {
+        // SAFETY: all made by this context, which the shared `Gl` keeps alive; deleted once.
+        unsafe {
+            for a in &self.attributes {
+                self.gl.delete_buffer(a.buffer);
+            }
+            self.gl.delete_buffer(self.elements);
+            self.gl.delete_vertex_array(self.vao);
+        }
+    }
+}

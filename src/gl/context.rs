@@ -1,0 +1,486 @@
+//! The GL context without a window: EGL on Mesa (llvmpipe), and offscreen framebuffers to render
+//! into and read back. The tutorial itself only ever opens a GLFW window; this is what lets the same
+//! frame code run in tests and on machines with no display or GPU.
+//!
+//! The context is created on an EGL *device* (`EGL_EXT_platform_device`) rather than on an X11 or
+//! Wayland display, so no server and no environment variables are needed. Such displays only offer
+//! pbuffer-capable configs, and the context is made current with no surface at all
+//! (`EGL_KHR_surfaceless_context`): every frame goes into an [`OffscreenTarget`].
+
+use std::ffi::{c_void, CStr};
+use std::fmt;
+use std::rc::Rc;
+
+use glow::HasContext;
+use glutin::api::egl::context::PossiblyCurrentContext;
+use glutin::api::egl::device::Device;
+use glutin::api::egl::display::Display;
+use glutin::config::{Api, ConfigSurfaceTypes, ConfigTemplateBuilder};
+use glutin::context::{
+    ContextApi, ContextAttributesBuilder, GlProfile, PossiblyCurrentGlContext, Version,
+};
+use glutin::display::GlDisplay;
+
+use super::image::read_pixels_rgba;
+use super::{check_gl_errors, context_info, ContextInfo, Gl, Profile};
+use crate::{Error, Result};
+
+/// Mesa marks its software rasterizer's EGL device with this extension.
+const SOFTWARE_DEVICE_EXTENSION: &str = "EGL_MESA_device_software";
+
+const INSTALL_HINT: &str = "install Debian's libegl1 libegl-mesa0 libgl1-mesa-dri";
+
+/// An OpenGL context with no window, current on the thread that created it.
+///
+/// Not `Send`: an EGL context is current on one thread, and [`Gl`] is an `Rc`. Objects made through
+/// [`HeadlessContext::gl`] (and [`OffscreenTarget`]s) must be dropped before the context is.
+pub struct HeadlessContext {
+    // Field order is drop order: the function table, then the context, then the display.
+    gl: Gl,
+    info: ContextInfo,
+    device: String,
+    context: PossiblyCurrentContext,
+    display: Display,
+}
+
+impl HeadlessContext {
+    /// Creates a GL 3.3 (or later) context of `profile` on an EGL device and makes it current.
+    ///
+    /// `prefer_hardware`: false = use Mesa's software device (llvmpipe), the deterministic choice for
+    /// tests; true = try the GPU devices first and fall back to the software one.
+    pub fn new(profile: Profile, prefer_hardware: bool) -> Result<Self> {
+        let devices: Vec<Device> = match Device::query_devices() {
+            Ok(devices) => devices.collect(),
+            Err(e) if e.error_kind() == glutin::error::ErrorKind::NotFound => {
+                return Err(Error::Context(format!(
+                    "EGL is not available (libEGL.so.1 could not be loaded): {INSTALL_HINT}"
+                )))
+            }
+            Err(e) => {
+                return Err(Error::Context(format!(
+                    "EGL cannot list its devices ({e}): {INSTALL_HINT}"
+                )))
+            }
+        };
+        log::debug!(
+            "EGL devices: {}",
+            devices
+                .iter()
+                .map(describe_device)
+                .collect::<Vec<_>>()
+                .join("; ")
+        );
+        if devices.is_empty() {
+            return Err(Error::Context(format!(
+                "EGL lists no devices: {INSTALL_HINT}"
+            )));
+        }
+
+        let is_software = |d: &&Device| d.extensions().contains(SOFTWARE_DEVICE_EXTENSION);
+        let software = devices.iter().filter(is_software);
+        let candidates: Vec<&Device> = if prefer_hardware {
+            let hardware = devices.iter().filter(|d| !is_software(d));
+            hardware.chain(software).collect()
+        } else {
+            software.collect()
+        };
+        if candidates.is_empty() {
+            return Err(Error::Context(format!(
+                "no software (llvmpipe) EGL device among {}: {INSTALL_HINT}",
+                devices
+                    .iter()
+                    .map(describe_device)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )));
+        }
+
+        let mut failures = Vec::new();
+        for device in candidates {
+            match Self::on_device(device, profile) {
+                Ok(context) => return Ok(context),
+                Err(e) => {
+                    log::debug!("{}: {e}", describe_device(device));
+                    failures.push(match e {
+                        Error::Context(reason) => reason,
+                        other => other.to_string(),
+                    });
+                }
+            }
+        }
+        // One device is the usual case: its reason alone is the clearest message.
+        Err(Error::Context(failures.join("; ")))
+    }
+
+    fn on_device(device: &Device, profile: Profile) -> Result<Self> {
+        let name = describe_device(device);
+        // SAFETY: no native display handle is passed, which is the documented-safe case.
+        let display = unsafe { Display::with_device(device, None) }
+            .map_err(|e| Error::Context(format!("cannot open an EGL display on {name}: {e}")))?;
+
+        // Device displays have no window system, so ask for no surface type at all: the context will
+        // be made current without a surface and draw into framebuffer objects.
+        let template = ConfigTemplateBuilder::new()
+            .with_surface_type(ConfigSurfaceTypes::empty())
+            .with_api(Api::OPENGL)
+            .build();
+        // SAFETY: the template holds no native window handle.
+        let config = unsafe { display.find_configs(template) }
+            .ok()
+            .and_then(|mut configs| configs.next())
+            .ok_or_else(|| {
+                Error::Context(format!("{name} has no EGL config for desktop OpenGL"))
+            })?;
+
+        let attributes = ContextAttributesBuilder::new()
+            .with_profile(match profile {
+                Profile::Core => GlProfile::Core,
+                Profile::Compat => GlProfile::Compatibility,
+            })
+            .with_context_api(ContextApi::OpenGl(Some(Version::new(3, 3))))
+            .build(None);
+        // SAFETY: the attributes hold no native window handle and share with no other context.
+        let context = unsafe { display.create_context(&config, &attributes) }.map_err(|e| {
+            Error::Context(match profile {
+                Profile::Compat => format!("no compatibility profile on this driver ({name}: {e})"),
+                Profile::Core => format!("cannot create an OpenGL 3.3 core context on {name}: {e}"),
+            })
+        })?;
+        let context = context.make_current_surfaceless().map_err(|e| {
+            Error::Context(format!("cannot make the context current on {name}: {e}"))
+        })?;
+
+        check_gl_version_string(&display)
+            .map_err(|reason| Error::Context(format!("{name}: {reason}")))?;
+        // SAFETY: the context is current on this thread and glGetString(GL_VERSION) was just checked
+        // to return a parsable string, which is what glow's loader otherwise panics on.
+        let gl =
+            unsafe { glow::Context::from_loader_function_cstr(|s| display.get_proc_address(s)) };
+        let info = context_info(&gl);
+        let headless = HeadlessContext {
+            gl: Rc::new(gl),
+            info,
+            device: name,
+            context,
+            display,
+        };
+        let info = &headless.info;
+        if !info.at_least(3, 3) {
+            return Err(Error::Context(format!(
+                "OpenGL 3.3 is needed, {} gives {}.{}",
+                info.renderer, info.version.0, info.version.1
+            )));
+        }
+        if info.profile != profile {
+            return Err(Error::Context(match profile {
+                Profile::Compat => format!(
+                    "no compatibility profile on this driver ({} gave a {} context)",
+                    info.renderer, info.profile
+                ),
+                Profile::Core => format!(
+                    "no core profile on this driver ({} gave a {} context)",
+                    info.renderer, info.profile
+                ),
+            }));
+        }
+        log::debug!("{}: {}", headless.device, headless.info);
+        Ok(headless)
+    }
+
+    /// The GL function table; clone it into objects that must delete themselves.
+    pub fn gl(&self) -> &Gl {
+        &self.gl
+    }
+
+    /// What the context is (version, profile, renderer), as read back from GL.
+    pub fn info(&self) -> &ContextInfo {
+        &self.info
+    }
+
+    /// A short description of the EGL device the context runs on.
+    pub fn device(&self) -> &str {
+        &self.device
+    }
+
+    /// Looks up a GL entry point, e.g. the legacy immediate-mode ones glow does not load.
+    /// Null when the driver does not have it.
+    pub fn get_proc_address(&self, name: &CStr) -> *const c_void {
+        self.display.get_proc_address(name)
+    }
+}
+
+impl Drop for HeadlessContext {
+    fn drop(&mut self) {
+        // EGL only frees a context once no thread has it current: release it now rather than when
+        // the thread exits, but only if it is still the current one (not a context made after it).
+        if self.context.is_current() {
+            let _ = self.context.make_not_current_in_place();
+        }
+    }
+}
+
+impl fmt::Debug for HeadlessContext {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("HeadlessContext")
+            .field("device", &self.device)
+            .field("info", &format_args!("{}", self.info))
+            .finish_non_exhaustive()
+    }
+}
+
+/// "llvmpipe device (software, Mesa)" style description for error messages and logs.
+fn describe_device(device: &Device) -> String {
+    let kind = if device.extensions().contains(SOFTWARE_DEVICE_EXTENSION) {
+        "software".to_string()
+    } else if let Some(node) = device
+        .drm_render_device_node_path()
+        .or_else(|| device.drm_device_node_path())
+    {
+        node.display().to_string()
+    } else {
+        "hardware".to_string()
+    };
+    // Mesa gives its devices no name; the vendor is absent too.
+    let name = device.name().unwrap_or("EGL device");
+    match device.vendor() {
+        Some(vendor) => format!("{name} ({kind}, {vendor})"),
+        None => format!("{name} ({kind})"),
+    }
+}
+
+/// Checks that the current context answers glGetString(GL_VERSION) with something that starts like
+/// "3.3": glow's loader panics on anything else, and a panic is not an error message.
+fn check_gl_version_string(display: &Display) -> std::result::Result<(), String> {
+    let get_string = display.get_proc_address(c"glGetString");
+    if get_string.is_null() {
+        return Err("the driver has no glGetString".into());
+    }
+    // SAFETY: glGetString's signature is `const GLubyte *glGetString(GLenum)` with the platform's
+    // GL calling convention ("system"); the pointer comes from the driver for that exact name.
+    let get_string: unsafe extern "system" fn(u32) -> *const u8 =
+        unsafe { std::mem::transmute(get_string) };
+    // SAFETY: a context is current; the result is null or a NUL-terminated static string.
+    let version = unsafe { get_string(glow::VERSION) };
+    if version.is_null() {
+        return Err("glGetString(GL_VERSION) returned nothing".into());
+    }
+    // SAFETY: non-null, NUL-terminated, owned by the driver for the context's lifetime.
+    let version = unsafe { CStr::from_ptr(version.cast()) };
+    match version.to_str() {
+        Ok(v) if v.starts_with(|c: char| c.is_ascii_digit()) && v.contains('.') => Ok(()),
+        _ => Err(format!("unexpected GL_VERSION {version:?}")),
+    }
+}
+
+/// Where an [`OffscreenTarget`]'s colour goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ColorBuffer {
+    /// A renderbuffer: only read back (headless frames, screenshots).
+    Renderbuffer,
+    /// A texture a later pass can sample (e.g. one half of a comparison view).
+    Texture,
+}
+
+#[derive(Debug)]
+enum Color {
+    Renderbuffer(glow::Renderbuffer),
+    Texture(glow::Texture),
+}
+
+/// An offscreen framebuffer: RGBA8 colour (a renderbuffer or a texture) and a 24-bit depth
+/// renderbuffer of `width × height`.
+///
+/// This is where headless frames go (the surfaceless context has no default framebuffer). Drop it
+/// before its context.
+pub struct OffscreenTarget {
+    gl: Gl,
+    framebuffer: glow::Framebuffer,
+    color: Color,
+    depth: glow::Renderbuffer,
+    width: u32,
+    height: u32,
+}
+
+const PART: &str = "offscreen target";
+
+impl OffscreenTarget {
+    /// A target with a renderbuffer for colour. Checks that the driver accepts it as complete and
+    /// leaves framebuffer 0 bound (call [`OffscreenTarget::bind`] to draw into it).
+    pub fn new(gl: &Gl, width: u32, height: u32) -> Result<Self> {
+        Self::with_color(gl, width, height, ColorBuffer::Renderbuffer)
+    }
+
+    /// A target whose colour is a renderbuffer or a texture.
+    pub fn with_color(gl: &Gl, width: u32, height: u32, color: ColorBuffer) -> Result<Self> {
+        // SAFETY: a plain query on the current context.
+        let max = unsafe { gl.get_parameter_i32(glow::MAX_RENDERBUFFER_SIZE) }.max(0) as u32;
+        if width == 0 || height == 0 || width > max || height > max {
+            return Err(Error::gl(
+                PART,
+                format!("{width}×{height}: each side must be between 1 and {max}"),
+            ));
+        }
+        // Sizes were checked against MAX_RENDERBUFFER_SIZE, so they fit in i32.
+        let (w, h) = (width as i32, height as i32);
+        // SAFETY: object creation on the current context; each name is owned by `target` (or deleted
+        // here) as soon as it exists, so its Drop deletes them even when a later step fails.
+        unsafe {
+            let framebuffer = gl
+                .create_framebuffer()
+                .map_err(|e| Error::gl(PART, format!("glGenFramebuffers failed: {e}")))?;
+            let depth = match gl.create_renderbuffer() {
+                Ok(rb) => rb,
+                Err(e) => {
+                    gl.delete_framebuffer(framebuffer);
+                    return Err(Error::gl(PART, format!("glGenRenderbuffers failed: {e}")));
+                }
+            };
+            let made = match color {
+                ColorBuffer::Renderbuffer => gl.create_renderbuffer().map(Color::Renderbuffer),
+                ColorBuffer::Texture => gl.create_texture().map(Color::Texture),
+            };
+            let color = match made {
+                Ok(color) => color,
+                Err(e) => {
+                    gl.delete_framebuffer(framebuffer);
+                    gl.delete_renderbuffer(depth);
+                    return Err(Error::gl(
+                        PART,
+                        format!("cannot create the colour buffer: {e}"),
+                    ));
+                }
+            };
+            let target = OffscreenTarget {
+                gl: Rc::clone(gl),
+                framebuffer,
+                color,
+                depth,
+                width,
+                height,
+            };
+            gl.bind_renderbuffer(glow::RENDERBUFFER, Some(depth));
+            gl.renderbuffer_storage(glow::RENDERBUFFER, glow::DEPTH_COMPONENT24, w, h);
+            gl.bind_framebuffer(glow::FRAMEBUFFER, Some(framebuffer));
+            match target.color {
+                Color::Renderbuffer(rb) => {
+                    gl.bind_renderbuffer(glow::RENDERBUFFER, Some(rb));
+                    gl.renderbuffer_storage(glow::RENDERBUFFER, glow::RGBA8, w, h);
+                    let (point, target) = (glow::COLOR_ATTACHMENT0, glow::RENDERBUFFER);
+                    gl.framebuffer_renderbuffer(glow::FRAMEBUFFER, point, target, Some(rb));
+                }
+                Color::Texture(texture) => {
+                    let previous = gl.get_parameter_texture(glow::TEXTURE_BINDING_2D);
+                    gl.bind_texture(glow::TEXTURE_2D, Some(texture));
+                    let format = glow::RGBA8 as i32;
+                    let data = glow::PixelUnpackData::Slice(None);
+                    let (rgba, byte) = (glow::RGBA, glow::UNSIGNED_BYTE);
+                    gl.tex_image_2d(glow::TEXTURE_2D, 0, format, w, h, 0, rgba, byte, data);
+                    // One level, sampled 1:1: no mipmaps, nearest texels.
+                    let nearest = glow::NEAREST as i32;
+                    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, nearest);
+                    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAG_FILTER, nearest);
+                    gl.bind_texture(glow::TEXTURE_2D, previous);
+                    let point = glow::COLOR_ATTACHMENT0;
+                    let tex = Some(texture);
+                    gl.framebuffer_texture_2d(glow::FRAMEBUFFER, point, glow::TEXTURE_2D, tex, 0);
+                }
+            }
+            gl.bind_renderbuffer(glow::RENDERBUFFER, None);
+            let point = glow::DEPTH_ATTACHMENT;
+            gl.framebuffer_renderbuffer(glow::FRAMEBUFFER, point, glow::RENDERBUFFER, Some(depth));
+            let status = gl.check_framebuffer_status(glow::FRAMEBUFFER);
+            gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+            if status != glow::FRAMEBUFFER_COMPLETE {
+                return Err(Error::gl(
+                    PART,
+                    format!(
+                        "{width}×{height} is incomplete: {} (0x{status:04X})",
+                        framebuffer_status_name(status)
+                    ),
+                ));
+            }
+            check_gl_errors(gl, PART)?;
+            Ok(target)
+        }
+    }
+
+    /// Binds the framebuffer for drawing and reading, and sets the viewport to cover it.
+    pub fn bind(&self) {
+        // SAFETY: the framebuffer is alive (owned by self); sizes fit in i32 (checked in new).
+        unsafe {
+            self.gl
+                .bind_framebuffer(glow::FRAMEBUFFER, Some(self.framebuffer));
+            self.gl
+                .viewport(0, 0, self.width as i32, self.height as i32);
+        }
+    }
+
+    /// The colour buffer, top row first. The read binding is restored afterwards.
+    pub fn read_rgba(&self) -> image::RgbaImage {
+        // SAFETY: binding queries and binds on the current context; the framebuffer is alive.
+        unsafe {
+            let previous = self
+                .gl
+                .get_parameter_framebuffer(glow::READ_FRAMEBUFFER_BINDING);
+            self.gl
+                .bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.framebuffer));
+            self.gl.read_buffer(glow::COLOR_ATTACHMENT0);
+            let image = read_pixels_rgba(&self.gl, self.width, self.height);
+            self.gl.bind_framebuffer(glow::READ_FRAMEBUFFER, previous);
+            image
+        }
+    }
+
+    /// The colour texture, for a target made with [`ColorBuffer::Texture`].
+    pub fn texture(&self) -> Option<glow::Texture> {
+        match self.color {
+            Color::Texture(texture) => Some(texture),
+            Color::Renderbuffer(_) => None,
+        }
+    }
+
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+}
+
+impl Drop for OffscreenTarget {
+    fn drop(&mut self) {
+        // SAFETY: the names were created by this target on this context and are deleted once.
+        unsafe {
+            self.gl.delete_framebuffer(self.framebuffer);
+            match self.color {
+                Color::Renderbuffer(rb) => self.gl.delete_renderbuffer(rb),
+                Color::Texture(texture) => self.gl.delete_texture(texture),
+            }
+            self.gl.delete_renderbuffer(self.depth);
+        }
+    }
+}
+
+impl fmt::Debug for OffscreenTarget {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("OffscreenTarget")
+            .field("color", &self.color)
+            .field("width", &self.width)
+            .field("height", &self.height)
+            .finish_non_exhaustive()
+    }
+}
+
+fn framebuffer_status_name(status: u32) -> &'static str {
+    match status {
+        glow::FRAMEBUFFER_UNDEFINED => "GL_FRAMEBUFFER_UNDEFINED",
+        glow::FRAMEBUFFER_INCOMPLETE_ATTACHMENT => "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT",
+        glow::FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT => {
+            "GL_FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT"
+        }
+        glow::FRAMEBUFFER_UNSUPPORTED => "GL_FRAMEBUFFER_UNSUPPORTED",
+        glow::FRAMEBUFFER_INCOMPLETE_MULTISAMPLE => "GL_FRAMEBUFFER_INCOMPLETE_MULTISAMPLE",
+        _ => "unknown status",
+    }
+}

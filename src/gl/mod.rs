@@ -1,0 +1,171 @@
+//! GL helpers every scene and front end shares: the `Gl` handle, what the context is ([`ContextInfo`]),
+//! GL error draining, mesh buffers ([`buffers`]), pixel read-back and image files ([`image`]), and the
+//! headless EGL context with its offscreen targets ([`context`]).
+
+pub mod buffers;
+pub mod context;
+pub mod image;
+
+use std::fmt;
+
+use glow::HasContext;
+
+pub use crate::common::Gl;
+use crate::{Error, Result};
+
+/// Which OpenGL profile a context has (or is asked for).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Profile {
+    /// 3.2+ core profile: what the tutorial asks GLFW for.
+    Core,
+    /// Compatibility profile: needed for the fixed-function TBN debug lines.
+    Compat,
+}
+
+impl fmt::Display for Profile {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Profile::Core => "core",
+            Profile::Compat => "compatibility",
+        })
+    }
+}
+
+/// What the context actually is, read back from GL rather than assumed from what was asked for:
+/// drivers may give a higher version than requested, or refuse a profile.
+#[derive(Debug, Clone)]
+pub struct ContextInfo {
+    /// `GL_MAJOR_VERSION`, `GL_MINOR_VERSION`.
+    pub version: (u32, u32),
+    /// From `GL_CONTEXT_PROFILE_MASK`.
+    pub profile: Profile,
+    /// `GL_RENDERER`, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)".
+    pub renderer: String,
+    /// `GL_VENDOR`.
+    pub vendor: String,
+    /// The full `GL_VERSION` string (it names the Mesa release).
+    pub version_string: String,
+    /// Every extension the context reports, sorted.
+    pub extensions: Vec<String>,
+}
+
+impl ContextInfo {
+    /// Whether the context reports `name` (e.g. "GL_EXT_texture_compression_s3tc").
+    pub fn has_extension(&self, name: &str) -> bool {
+        self.extensions
+            .binary_search_by(|e| e.as_str().cmp(name))
+            .is_ok()
+    }
+
+    /// Whether the context is at least `major.minor`.
+    pub fn at_least(&self, major: u32, minor: u32) -> bool {
+        self.version >= (major, minor)
+    }
+}
+
+impl fmt::Display for ContextInfo {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "OpenGL {}.{} {} profile on {} ({})",
+            self.version.0, self.version.1, self.profile, self.renderer, self.vendor
+        )
+    }
+}
+
+// GL_CONTEXT_PROFILE_MASK's core bit; named here because not every GL binding exports it.
+const CONTEXT_CORE_PROFILE_BIT: i32 = 0x1;
+
+/// Reads what the current context is. Reusable for the window's context.
+///
+/// Only queries that are valid for the context's version are made, so this never raises a GL error.
+pub fn context_info(gl: &glow::Context) -> ContextInfo {
+    // glow parsed GL_VERSION when it was loaded; GL_MAJOR/MINOR_VERSION only exist from 3.0 on.
+    let parsed = gl.version();
+    // SAFETY: plain queries on the current context, each valid for the version it is guarded by.
+    unsafe {
+        let version = if parsed.major >= 3 {
+            let major = gl.get_parameter_i32(glow::MAJOR_VERSION);
+            let minor = gl.get_parameter_i32(glow::MINOR_VERSION);
+            (major.max(0) as u32, minor.max(0) as u32)
+        } else {
+            (parsed.major, parsed.minor)
+        };
+        let mut extensions: Vec<String> = gl.supported_extensions().iter().cloned().collect();
+        extensions.sort();
+        let profile = if version >= (3, 2) {
+            let mask = gl.get_parameter_i32(glow::CONTEXT_PROFILE_MASK);
+            if mask & CONTEXT_CORE_PROFILE_BIT != 0 {
+                Profile::Core
+            } else {
+                // The COMPATIBILITY bit (0x2), or (non-conforming) no bit: legacy calls are allowed.
+                Profile::Compat
+            }
+        } else if version >= (3, 1) {
+            // 3.1 has no profiles: legacy entry points exist only with ARB_compatibility.
+            if extensions.iter().any(|e| e == "GL_ARB_compatibility") {
+                Profile::Compat
+            } else {
+                Profile::Core
+            }
+        } else {
+            Profile::Compat
+        };
+        ContextInfo {
+            version,
+            profile,
+            renderer: gl.get_parameter_string(glow::RENDERER),
+            vendor: gl.get_parameter_string(glow::VENDOR),
+            version_string: gl.get_parameter_string(glow::VERSION),
+            extensions,
+        }
+    }
+}
+
+/// Drains glGetError; returns the error codes seen, oldest first (empty = none).
+///
+/// Bounded, because a lost context may keep reporting an error.
+pub fn gl_errors(gl: &glow::Context) -> Vec<u32> {
+    let mut errors = Vec::new();
+    for _ in 0..64 {
+        // SAFETY: glGetError has no preconditions beyond a current context.
+        match unsafe { gl.get_error() } {
+            glow::NO_ERROR => break,
+            e => errors.push(e),
+        }
+    }
+    errors
+}
+
+/// "GL_INVALID_ENUM, GL_INVALID_OPERATION" for messages.
+pub fn format_errors(errors: &[u32]) -> String {
+    errors
+        .iter()
+        .map(|&e| match e {
+            glow::INVALID_ENUM => "GL_INVALID_ENUM".to_string(),
+            glow::INVALID_VALUE => "GL_INVALID_VALUE".to_string(),
+            glow::INVALID_OPERATION => "GL_INVALID_OPERATION".to_string(),
+            glow::INVALID_FRAMEBUFFER_OPERATION => "GL_INVALID_FRAMEBUFFER_OPERATION".to_string(),
+            glow::OUT_OF_MEMORY => "GL_OUT_OF_MEMORY".to_string(),
+            glow::STACK_OVERFLOW => "GL_STACK_OVERFLOW".to_string(),
+            glow::STACK_UNDERFLOW => "GL_STACK_UNDERFLOW".to_string(),
+            glow::CONTEXT_LOST => "GL_CONTEXT_LOST".to_string(),
+            other => format!("0x{other:04X}"),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// [`gl_errors`] as a result: an error flag is a bug in this program, so it is reported with the
+/// `part` that was being drawn, not ignored.
+pub fn check_gl_errors(gl: &glow::Context, part: &'static str) -> Result<()> {
+    let errors = gl_errors(gl);
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        Err(Error::gl(
+            part,
+            format!("GL reported {}", format_errors(&errors)),
+        ))
+    }
+}

@@ -1,0 +1,375 @@
+//! The `cylinder` scene: Tutorial 13 ([`Tutorial13`]) with the article's debugging aids as keys.
+//!
+//! The tutorial's experiments are edits to its source; here they are switches: the colour views and
+//! shader experiments (drawn with `NormalMappingDebug.*`, see [`crate::debug::views`]), the CPU
+//! pipeline's switches (Gram-Schmidt, handedness, normalize before summing: the mesh is rebuilt), and
+//! the TBN debug lines (immediate mode, or the line shader).
+
+use std::any::Any;
+use std::path::{Path, PathBuf};
+
+use glow::HasContext;
+
+use crate::debug::lines::{DebugLines, LegacyGl, LineMode};
+use crate::debug::views::ShaderSwitches;
+use crate::gl::Gl;
+use crate::mesh::MeshOptions;
+use crate::Result;
+
+use super::tutorial13::{NormalMappingProgram, Tutorial13, LIGHT_POS};
+use super::{FrameInput, KeyHelp, Scene, SceneContext, SceneOptions};
+
+/// The cylinder's switches, as the command line sets them.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct CylinderOptions {
+    /// The CPU pipeline's switches (Gram-Schmidt, handedness, normalize before summing).
+    pub mesh: MeshOptions,
+    /// The shader's switches and the colour view.
+    pub switches: ShaderSwitches,
+    /// Start with the TBN debug lines on.
+    pub debug_lines: bool,
+    /// `None`: immediate mode where the context allows it, else the line shader.
+    pub line_mode: Option<LineMode>,
+}
+
+/// What a key (or a test) can change while the program runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Action {
+    /// Show or hide the TBN debug lines.
+    ToggleLines,
+    /// Immediate mode ↔ line shader.
+    ToggleLineMode,
+    /// Next colour view (lit, light, eye, texture normal; raw and (v+1)/2).
+    NextView,
+    /// All components → x → y → z.
+    NextComponent,
+    /// Exercise 1: normalize tangents before summing them (CPU pipeline re-run).
+    ToggleNormalizeBeforeSum,
+    /// Gram-Schmidt on/off (CPU pipeline re-run).
+    ToggleGramSchmidt,
+    /// Handedness fix on/off (CPU pipeline re-run).
+    ToggleHandedness,
+    /// Specular texture ↔ constant 0.3.
+    ToggleSpecularTexture,
+    /// The article's normalized TBN ↔ the repository shader's.
+    ToggleNormalizedTbn,
+}
+
+/// The scene's keys and their actions, in the order they are listed.
+const BINDINGS: [(char, Action, &str); 9] = [
+    (
+        'L',
+        Action::ToggleLines,
+        "TBN debug lines on / off (normals blue, tangents red, bitangents green)",
+    ),
+    (
+        'M',
+        Action::ToggleLineMode,
+        "debug lines: immediate mode (compatibility profile) / line shader",
+    ),
+    (
+        'V',
+        Action::NextView,
+        "colour view: lit, light, light01, eye, eye01, normal, normal01",
+    ),
+    (
+        'C',
+        Action::NextComponent,
+        "colour view component: all, x, y, z",
+    ),
+    (
+        'N',
+        Action::ToggleNormalizeBeforeSum,
+        "normalize tangents before summing them (exercise 1)",
+    ),
+    ('G', Action::ToggleGramSchmidt, "Gram-Schmidt on / off"),
+    ('H', Action::ToggleHandedness, "handedness fix on / off"),
+    (
+        'S',
+        Action::ToggleSpecularTexture,
+        "specular texture / constant 0.3",
+    ),
+    (
+        'T',
+        Action::ToggleNormalizedTbn,
+        "TBN as summed (repository shader) / normalized (article)",
+    ),
+];
+
+/// The key list `--help` and the window print.
+pub const KEYS: &[KeyHelp] = &{
+    let mut keys = [KeyHelp { key: ' ', help: "" }; BINDINGS.len()];
+    let mut i = 0;
+    while i < BINDINGS.len() {
+        keys[i] = KeyHelp {
+            key: BINDINGS[i].0,
+            help: BINDINGS[i].2,
+        };
+        i += 1;
+    }
+    keys
+};
+
+/// The action of a key of [`KEYS`].
+pub fn action_for_key(key: char) -> Option<Action> {
+    BINDINGS
+        .iter()
+        .find(|(k, _, _)| *k == key.to_ascii_uppercase())
+        .map(|&(_, action, _)| action)
+}
+
+/// Tutorial 13 and the state of its debugging aids.
+pub struct Cylinder {
+    // Field order is drop order; all hold GL objects of the same context.
+    /// Built the first time they are shown, so that a run without them neither loads their shader
+    /// nor prints the core-profile notice.
+    lines: Option<DebugLines>,
+    /// `NormalMappingDebug`: the same lighting with the experiments and colour views as uniforms.
+    debug_program: DebugProgram,
+    pub tutorial: Tutorial13,
+    gl: Gl,
+    pub switches: ShaderSwitches,
+    /// Draw through `NormalMappingDebug` even with the tutorial's switches (to compare the two
+    /// programs, which must give the same frame).
+    pub use_debug_program: bool,
+    mesh_options: MeshOptions,
+    show_lines: bool,
+    /// The immediate-mode entry points, or why this context has none.
+    legacy: std::result::Result<LegacyGl, String>,
+    line_mode: Option<LineMode>,
+    obj_path: PathBuf,
+    shader_dir: Option<PathBuf>,
+}
+
+impl Cylinder {
+    pub fn new(context: &SceneContext, options: &SceneOptions) -> Result<Self> {
+        let gl = context.gl;
+        let assets = options.assets_dir();
+        let cylinder = options.cylinder;
+        let tutorial = Tutorial13::new(gl, &assets, options.shader_dir(), cylinder.mesh)?;
+        let debug_program = DebugProgram::load(gl, options.shader_dir())?;
+        let mut scene = Cylinder {
+            lines: None,
+            debug_program,
+            tutorial,
+            gl: gl.clone(),
+            switches: cylinder.switches,
+            use_debug_program: false,
+            mesh_options: cylinder.mesh,
+            show_lines: false,
+            legacy: LegacyGl::load_or_reason(context.info, context.loader),
+            line_mode: cylinder.line_mode,
+            obj_path: assets.join("cylinder.obj"),
+            shader_dir: options.shaders.clone(),
+        };
+        scene.set_show_lines(cylinder.debug_lines)?;
+        Ok(scene)
+    }
+
+    /// The CPU pipeline's current switches.
+    pub fn mesh_options(&self) -> MeshOptions {
+        self.mesh_options
+    }
+
+    /// Whether the TBN lines are shown.
+    pub fn show_lines(&self) -> bool {
+        self.show_lines
+    }
+
+    /// Shows or hides the TBN lines, building them (from the current mesh) the first time.
+    pub fn set_show_lines(&mut self, show: bool) -> Result<()> {
+        if show && self.lines.is_none() {
+            let lines = DebugLines::with_legacy(
+                &self.gl,
+                self.legacy.clone(),
+                &self.tutorial.mesh,
+                LIGHT_POS,
+                self.line_mode,
+                self.shader_dir.as_deref(),
+            )?;
+            self.lines = Some(lines);
+        }
+        self.show_lines = show;
+        Ok(())
+    }
+
+    /// The path the lines are drawn with, once they have been shown.
+    pub fn line_mode(&self) -> Option<LineMode> {
+        self.lines.as_ref().map(DebugLines::mode)
+    }
+
+    /// Why immediate mode is not used, if it was wanted and is not.
+    pub fn line_notice(&self) -> Option<&str> {
+        self.lines.as_ref().and_then(DebugLines::notice)
+    }
+
+    /// Applies one switch, redoing only what it needs: a uniform for shader switches, the CPU
+    /// pipeline and the vertex uploads for mesh switches.
+    pub fn apply(&mut self, action: Action) -> Result<()> {
+        let mut mesh = self.mesh_options;
+        let switches = &mut self.switches;
+        match action {
+            Action::ToggleLines => self.set_show_lines(!self.show_lines)?,
+            Action::ToggleLineMode => {
+                let current = self.line_mode().or(self.line_mode);
+                let next = match current {
+                    Some(LineMode::Shader) => LineMode::Legacy,
+                    // Immediate mode is the default where the context has it.
+                    _ if self.legacy.is_err() => LineMode::Legacy,
+                    _ => LineMode::Shader,
+                };
+                self.line_mode = Some(next);
+                if let Some(lines) = &mut self.lines {
+                    lines.set_mode(next)?;
+                }
+            }
+            Action::NextView => switches.view = switches.view.next_vector(),
+            Action::NextComponent => switches.view = switches.view.next_component(),
+            Action::ToggleSpecularTexture => switches.specular_texture ^= true,
+            Action::ToggleNormalizedTbn => switches.normalize_tbn ^= true,
+            Action::ToggleNormalizeBeforeSum => mesh.indexing.normalize_before_sum ^= true,
+            Action::ToggleGramSchmidt => mesh.tangents.gram_schmidt ^= true,
+            Action::ToggleHandedness => mesh.tangents.handedness ^= true,
+        }
+        if mesh != self.mesh_options {
+            self.tutorial.reload_mesh(&self.obj_path, mesh)?;
+            self.mesh_options = mesh;
+            if let Some(lines) = &mut self.lines {
+                lines.rebuild(&self.tutorial.mesh)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Scene for Cylinder {
+    fn draw(&mut self, frame: &FrameInput) {
+        let lines = self.lines.as_ref().filter(|_| self.show_lines);
+        // The tutorial's own program unless an experiment or a colour view asks for the debug one.
+        if self.switches == ShaderSwitches::default() && !self.use_debug_program {
+            self.tutorial.draw(frame.projection, frame.view, lines);
+        } else {
+            let debug = &self.debug_program;
+            debug.set_switches(self.switches);
+            let (projection, view) = (frame.projection, frame.view);
+            self.tutorial
+                .draw_with(&debug.program, projection, view, lines);
+        }
+    }
+
+    fn key(&mut self, key: char) -> Result<bool> {
+        match action_for_key(key) {
+            Some(action) => self.apply(action).map(|()| true),
+            None => Ok(false),
+        }
+    }
+
+    fn keys(&self) -> &'static [KeyHelp] {
+        KEYS
+    }
+
+    /// View, lines, and every experiment switch.
+    fn status(&self) -> String {
+        let on = |b: bool| if b { "on" } else { "off" };
+        let sw = self.switches;
+        let mesh = self.mesh_options;
+        let lines = match (self.show_lines, self.line_mode()) {
+            (true, Some(LineMode::Legacy)) => "immediate mode",
+            (true, _) => "line shader",
+            (false, _) => "off",
+        };
+        format!(
+            "view {} | lines {lines} | Gram-Schmidt {} | handedness {} | normalize before sum {} | \
+             specular texture {} | TBN {}",
+            sw.view,
+            on(mesh.tangents.gram_schmidt),
+            on(mesh.tangents.handedness),
+            on(mesh.indexing.normalize_before_sum),
+            on(sw.specular_texture),
+            if sw.normalize_tbn { "normalized (article)" } else { "as summed (repository)" },
+        )
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
+    }
+}
+
+/// `NormalMappingDebug`: the tutorial's uniforms plus one per switch.
+pub struct DebugProgram {
+    gl: Gl,
+    pub program: NormalMappingProgram,
+    normalize_tbn: Option<glow::UniformLocation>,
+    specular_texture: Option<glow::UniformLocation>,
+    debug_view: Option<glow::UniformLocation>,
+    debug_mapped: Option<glow::UniformLocation>,
+    debug_component: Option<glow::UniformLocation>,
+}
+
+impl DebugProgram {
+    pub fn load(gl: &Gl, shader_dir: Option<&Path>) -> Result<Self> {
+        let program = NormalMappingProgram::load(
+            gl,
+            "NormalMappingDebug.vertexshader",
+            "NormalMappingDebug.fragmentshader",
+            shader_dir,
+        )?;
+        let uniform = |name| program.program.uniform(name);
+        Ok(DebugProgram {
+            gl: gl.clone(),
+            normalize_tbn: uniform("NormalizeTBN"),
+            specular_texture: uniform("UseSpecularTexture"),
+            debug_view: uniform("DebugView"),
+            debug_mapped: uniform("DebugMapped"),
+            debug_component: uniform("DebugComponent"),
+            program,
+        })
+    }
+
+    /// Makes the program current and sets its switches (the caller then draws with it).
+    pub fn set_switches(&self, switches: ShaderSwitches) {
+        let gl = &self.gl;
+        let view = switches.view;
+        // SAFETY: the program and its uniforms belong to this context.
+        unsafe {
+            gl.use_program(Some(self.program.program.id));
+            gl.uniform_1_i32(self.normalize_tbn.as_ref(), switches.normalize_tbn as i32);
+            gl.uniform_1_i32(
+                self.specular_texture.as_ref(),
+                switches.specular_texture as i32,
+            );
+            gl.uniform_1_i32(self.debug_view.as_ref(), view.vector as i32);
+            gl.uniform_1_i32(self.debug_mapped.as_ref(), view.mapped as i32);
+            let component = view.component.map_or(-1, i32::from);
+            gl.uniform_1_i32(self.debug_component.as_ref(), component);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Fails if two keys share an action, a key has none, or the list and the bindings disagree.
+    #[test]
+    fn every_key_has_its_own_action() {
+        let mut actions = Vec::new();
+        for help in KEYS {
+            let action =
+                action_for_key(help.key).unwrap_or_else(|| panic!("{} has no action", help.key));
+            assert!(
+                !actions.contains(&action),
+                "{} repeats {action:?}",
+                help.key
+            );
+            actions.push(action);
+        }
+        assert_eq!(actions.len(), 9);
+        assert_eq!(action_for_key('l'), Some(Action::ToggleLines));
+        assert_eq!(action_for_key('Q'), None);
+    }
+}

@@ -1,0 +1,217 @@
+//! `tutorial13.cpp`: read it top to bottom beside the C++.
+//!
+//! Set-up, in the C++'s order: the GL state, the program and its uniform handles, the three textures,
+//! the CPU pipeline (`loadOBJ`, `computeTangentBasis`, `indexVBO_TBN`), the buffers. Then the frame
+//! ([`Tutorial13::draw`]): clear, matrices, uniforms, textures, the draw, and the immediate-mode debug
+//! lines. The window and the GLFW loop are the front ends' (`frontends/`); the learner's switches,
+//! colour views and keys are the cylinder scene's ([`super::cylinder`]).
+
+use std::path::Path;
+use std::rc::Rc;
+
+use glam::{Mat3, Mat4, Vec3};
+use glow::HasContext;
+
+use crate::common::objloader::load_obj;
+use crate::common::shader::{load_program, Program};
+use crate::common::tangentspace::compute_tangent_basis;
+use crate::common::texture::{load_bmp_custom, load_dds, Texture};
+use crate::common::vboindexer::{index_vbo_tbn, IndexedMesh};
+use crate::debug::lines::DebugLines;
+use crate::gl::buffers::MeshBuffers;
+use crate::gl::Gl;
+use crate::mesh::MeshOptions;
+use crate::Result;
+
+/// `glClearColor(0.0f, 0.0f, 0.4f, 0.0f)`: dark blue.
+pub const CLEAR_COLOR: [f32; 4] = [0.0, 0.0, 0.4, 0.0];
+
+/// `glm::vec3 lightPos = glm::vec3(0,0,4)`.
+pub const LIGHT_POS: Vec3 = Vec3::new(0.0, 0.0, 4.0);
+
+/// The tutorial's global GL state: dark blue background, depth test (LESS), back faces culled.
+pub fn init_gl_state(gl: &Gl) {
+    let [r, g, b, a] = CLEAR_COLOR;
+    // SAFETY: state-setting calls on the current context.
+    unsafe {
+        gl.clear_color(r, g, b, a);
+        // Enable depth test; accept a fragment if it is closer to the camera than the former one.
+        gl.enable(glow::DEPTH_TEST);
+        gl.depth_func(glow::LESS);
+        // Cull triangles whose normal is not towards the camera.
+        gl.enable(glow::CULL_FACE);
+    }
+}
+
+type Uniform = Option<glow::UniformLocation>;
+
+/// `programID` and the handles the tutorial gets with `glGetUniformLocation`.
+pub struct NormalMappingProgram {
+    pub program: Program,
+    pub matrix_id: Uniform,
+    pub view_matrix_id: Uniform,
+    pub model_matrix_id: Uniform,
+    pub model_view_3x3_matrix_id: Uniform,
+    pub diffuse_texture_id: Uniform,
+    pub normal_texture_id: Uniform,
+    pub specular_texture_id: Uniform,
+    pub light_id: Uniform,
+}
+
+impl NormalMappingProgram {
+    /// `LoadShaders(vertex, fragment)` and every handle. The debugging shaders
+    /// (`NormalMappingDebug.*`) have the same names, plus their own switches.
+    pub fn load(gl: &Gl, vertex: &str, fragment: &str, shader_dir: Option<&Path>) -> Result<Self> {
+        let program = load_program(gl, vertex, fragment, shader_dir)?;
+        Ok(NormalMappingProgram {
+            matrix_id: program.uniform("MVP"),
+            view_matrix_id: program.uniform("V"),
+            model_matrix_id: program.uniform("M"),
+            model_view_3x3_matrix_id: program.uniform("MV3x3"),
+            diffuse_texture_id: program.uniform("DiffuseTextureSampler"),
+            normal_texture_id: program.uniform("NormalTextureSampler"),
+            specular_texture_id: program.uniform("SpecularTextureSampler"),
+            light_id: program.uniform("LightPosition_worldspace"),
+            program,
+        })
+    }
+}
+
+/// What `main` keeps between its set-up and its loop.
+pub struct Tutorial13 {
+    gl: Gl,
+    /// `programID` with its handles: `NormalMapping.vertexshader`, `NormalMapping.fragmentshader`.
+    pub program: NormalMappingProgram,
+    pub diffuse_texture: Texture,
+    pub normal_texture: Texture,
+    pub specular_texture: Texture,
+    /// `indexed_vertices`, `indexed_uvs`, ... and `indices`, shared with the debug lines.
+    pub mesh: Rc<IndexedMesh>,
+    /// `VertexArrayID`, `vertexbuffer` ... `bitangentbuffer`, `elementbuffer`.
+    buffers: MeshBuffers,
+    /// `glm::mat4 ModelMatrix = glm::mat4(1.0)`.
+    pub model_matrix: Mat4,
+}
+
+impl Tutorial13 {
+    /// The set-up before the loop. `assets` holds the tutorial's four files; `mesh_options` are the
+    /// CPU pipeline's switches (the tutorial's code = the default).
+    pub fn new(
+        gl: &Gl,
+        assets: &Path,
+        shader_dir: Option<&Path>,
+        mesh_options: MeshOptions,
+    ) -> Result<Self> {
+        init_gl_state(gl);
+
+        // Create and compile our GLSL program from the shaders, and get the handles.
+        let program = NormalMappingProgram::load(
+            gl,
+            "NormalMapping.vertexshader",
+            "NormalMapping.fragmentshader",
+            shader_dir,
+        )?;
+
+        // Load the textures.
+        let diffuse_texture = load_dds(gl, &assets.join("diffuse.DDS"))?;
+        let normal_texture = load_bmp_custom(gl, &assets.join("normal.bmp"))?;
+        let specular_texture = load_dds(gl, &assets.join("specular.DDS"))?;
+
+        // Read our .obj file, compute the tangents, index the VBO.
+        let mesh = load_mesh(&assets.join("cylinder.obj"), mesh_options)?;
+
+        // Load it into VBOs (and the VAO that draws them).
+        let buffers = MeshBuffers::new(gl, &mesh)?;
+
+        Ok(Tutorial13 {
+            gl: gl.clone(),
+            program,
+            diffuse_texture,
+            normal_texture,
+            specular_texture,
+            mesh: Rc::new(mesh),
+            buffers,
+            model_matrix: Mat4::IDENTITY,
+        })
+    }
+
+    /// Re-runs the CPU pipeline with other switches and reloads the VBOs (the tutorial's experiments
+    /// are edits to this part).
+    pub fn reload_mesh(&mut self, obj_path: &Path, options: MeshOptions) -> Result<()> {
+        let mesh = load_mesh(obj_path, options)?;
+        self.buffers = MeshBuffers::new(&self.gl, &mesh)?;
+        self.mesh = Rc::new(mesh);
+        Ok(())
+    }
+
+    /// One pass of the loop's body with the tutorial's program.
+    pub fn draw(&self, projection_matrix: Mat4, view_matrix: Mat4, lines: Option<&DebugLines>) {
+        self.draw_with(&self.program, projection_matrix, view_matrix, lines);
+    }
+
+    /// One pass of the loop's body, drawing with `program` (the tutorial's, or the debugging one with
+    /// the same uniforms). `projection_matrix` and `view_matrix` are `computeMatricesFromInputs`'.
+    pub fn draw_with(
+        &self,
+        program: &NormalMappingProgram,
+        projection_matrix: Mat4,
+        view_matrix: Mat4,
+        lines: Option<&DebugLines>,
+    ) {
+        let gl = &self.gl;
+        let p = program;
+        let model_matrix = self.model_matrix;
+        let model_view_matrix = view_matrix * model_matrix;
+        // The upper-left 3×3 of the ModelView matrix: it turns directions, not points.
+        let model_view_3x3_matrix = Mat3::from_mat4(model_view_matrix);
+        let mvp = projection_matrix * model_view_matrix;
+        let light_pos = LIGHT_POS;
+        // SAFETY: the program, uniforms and textures all belong to this context.
+        unsafe {
+            // Clear the screen.
+            gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
+
+            // Use our shader.
+            gl.use_program(Some(p.program.id));
+
+            // Send our transformation to the currently bound shader.
+            gl.uniform_matrix_4_f32_slice(p.matrix_id.as_ref(), false, &mvp.to_cols_array());
+            let model = model_matrix.to_cols_array();
+            gl.uniform_matrix_4_f32_slice(p.model_matrix_id.as_ref(), false, &model);
+            let view = view_matrix.to_cols_array();
+            gl.uniform_matrix_4_f32_slice(p.view_matrix_id.as_ref(), false, &view);
+            let mv3x3 = model_view_3x3_matrix.to_cols_array();
+            gl.uniform_matrix_3_f32_slice(p.model_view_3x3_matrix_id.as_ref(), false, &mv3x3);
+
+            gl.uniform_3_f32(p.light_id.as_ref(), light_pos.x, light_pos.y, light_pos.z);
+
+            // Bind the diffuse, normal and specular textures in units 0, 1, 2 and point the
+            // samplers at them.
+            let textures = [
+                (&self.diffuse_texture, &p.diffuse_texture_id),
+                (&self.normal_texture, &p.normal_texture_id),
+                (&self.specular_texture, &p.specular_texture_id),
+            ];
+            for (unit, (texture, sampler)) in textures.into_iter().enumerate() {
+                gl.active_texture(glow::TEXTURE0 + unit as u32);
+                gl.bind_texture(glow::TEXTURE_2D, Some(texture.id));
+                gl.uniform_1_i32(sampler.as_ref(), unit as i32);
+            }
+        }
+
+        // The attribute buffers, the index buffer, glDrawElements.
+        self.buffers.draw();
+
+        // "Debugging with the immediate mode": the TBN lines and the light's cross (at lightPos).
+        if let Some(lines) = lines {
+            lines.draw(projection_matrix, view_matrix, model_matrix);
+        }
+    }
+}
+
+/// `loadOBJ`, `computeTangentBasis`, `indexVBO_TBN`, in that order.
+pub fn load_mesh(obj_path: &Path, options: MeshOptions) -> Result<IndexedMesh> {
+    let soup = load_obj(obj_path)?;
+    let basis = compute_tangent_basis(&soup, options.tangents);
+    Ok(index_vbo_tbn(&soup, &basis, options.indexing))
+}
