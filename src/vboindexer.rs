@@ -119,6 +119,53 @@ struct Builder {
     mesh: IndexedMesh,
     indices: Vec<u32>,
     options: IndexOptions,
+    /// Vertices whose tangent and bitangent sums are stored scaled by 2^-e (see [`SUM_LIMIT`]),
+    /// with the e of each. Empty for any mesh of sane size.
+    scaled: FxHashMap<u32, [i32; 2]>,
+}
+
+/// Largest tangent or bitangent component an output vertex keeps. Each corner's vectors are finite,
+/// but the bitangent is not normalized, so on a mesh with coordinates near f32::MAX the sums would
+/// overflow to infinity (and the shader's normalize give NaN). Where a vertex's tangent or
+/// bitangent sum would reach this limit, that sum (and every later corner added to it) is scaled
+/// by a power of two: exact, direction-keeping, and inert below the limit, so ordinary meshes are
+/// summed bit for bit as the tutorial does. Tangent and bitangent are scaled apart, so that the
+/// smaller one is not pushed to underflow; at 2^40 and beyond, the other two vectors of the TBN
+/// matrix are already below f32's precision beside it, so the lighting does not change either.
+const SUM_LIMIT: f32 = (1u64 << 40) as f32;
+
+/// glam's `normalize_or_zero`, except for vectors whose squared length overflows or underflows
+/// f32 (components beyond about 1e19 or below 1e-19): those still have a direction, taken from a
+/// copy scaled towards 1. Other vectors are normalized exactly as before.
+fn normalize_or_zero(v: Vec3) -> Vec3 {
+    let unit = v.normalize_or_zero();
+    let m = v.abs().max_element();
+    if unit == Vec3::ZERO && m > 0.0 && m.is_finite() {
+        (v / m).normalize_or_zero()
+    } else {
+        unit
+    }
+}
+
+/// `sum + add × 2^-e`, in f64, then halved until every component is under [`SUM_LIMIT`]; gives
+/// the new sum and its e. A corner that is not finite keeps the tutorial's arithmetic (no scaling
+/// can help it).
+fn add_scaled(sum: Vec3, add: Vec3, e: i32) -> (Vec3, i32) {
+    let mut total = sum.as_dvec3() + add.as_dvec3() * 2f64.powi(-e);
+    let mut e = e;
+    if total.is_finite() {
+        while total.abs().max_element() >= SUM_LIMIT as f64 {
+            total *= 0.5;
+            e += 1;
+        }
+    }
+    (total.as_vec3(), e)
+}
+
+/// Whether every component of `t` and `b` is below [`SUM_LIMIT`] in magnitude (false for NaN).
+fn within_limit(t: Vec3, b: Vec3) -> bool {
+    let m = t.abs().max(b.abs());
+    m.x < SUM_LIMIT && m.y < SUM_LIMIT && m.z < SUM_LIMIT
 }
 
 impl Builder {
@@ -138,6 +185,7 @@ impl Builder {
             },
             indices: Vec::with_capacity(corners),
             options,
+            scaled: FxHashMap::default(),
         }
     }
 
@@ -151,7 +199,7 @@ impl Builder {
 
     fn prepare(&self, t: Vec3, b: Vec3) -> (Vec3, Vec3) {
         if self.options.normalize_before_sum {
-            (t.normalize_or_zero(), b.normalize_or_zero())
+            (normalize_or_zero(t), normalize_or_zero(b))
         } else {
             (t, b)
         }
@@ -161,8 +209,33 @@ impl Builder {
     fn reuse(&mut self, index: u32, t: Vec3, b: Vec3) {
         let (t, b) = self.prepare(t, b);
         self.indices.push(index);
-        self.mesh.tangents[index as usize] += t;
-        self.mesh.bitangents[index as usize] += b;
+        let i = index as usize;
+        let (sum_t, sum_b) = (self.mesh.tangents[i] + t, self.mesh.bitangents[i] + b);
+        if within_limit(sum_t, sum_b) && (self.scaled.is_empty() || !self.scaled.contains_key(&index))
+        {
+            self.mesh.tangents[i] = sum_t;
+            self.mesh.bitangents[i] = sum_b;
+        } else {
+            self.store_scaled(index, t, b);
+        }
+    }
+
+    /// The slow path of [`SUM_LIMIT`]: adds `t` and `b` to vertex `index`'s sums (or starts them),
+    /// each at its scale.
+    fn store_scaled(&mut self, index: u32, t: Vec3, b: Vec3) {
+        let i = index as usize;
+        let [et, eb] = self.scaled.get(&index).copied().unwrap_or([0, 0]);
+        if i == self.mesh.tangents.len() {
+            self.mesh.tangents.push(Vec3::ZERO);
+            self.mesh.bitangents.push(Vec3::ZERO);
+        }
+        let (sum_t, et) = add_scaled(self.mesh.tangents[i], t, et);
+        let (sum_b, eb) = add_scaled(self.mesh.bitangents[i], b, eb);
+        self.mesh.tangents[i] = sum_t;
+        self.mesh.bitangents[i] = sum_b;
+        if et > 0 || eb > 0 {
+            self.scaled.insert(index, [et, eb]);
+        }
     }
 
     /// A corner that becomes a new vertex; returns its index.
@@ -172,8 +245,12 @@ impl Builder {
         self.mesh.vertices.push(corner.0);
         self.mesh.uvs.push(corner.1);
         self.mesh.normals.push(corner.2);
-        self.mesh.tangents.push(t);
-        self.mesh.bitangents.push(b);
+        if within_limit(t, b) {
+            self.mesh.tangents.push(t);
+            self.mesh.bitangents.push(b);
+        } else {
+            self.store_scaled(index, t, b);
+        }
         self.indices.push(index);
         index
     }
