@@ -116,16 +116,23 @@ fn orthogonalize_corner(
 
 /// `normalize(t - n * dot(n, t))`. glam's normalize divides by the length, whose square overflows
 /// f32 for components past about 1e19 (giving zero or NaN) and underflows below about 1e-19; such a
-/// tangent still has a direction, so it is taken from a copy scaled towards 1. Ordinary tangents
-/// never reach that path, so they are normalized exactly as the tutorial does.
+/// vector still has a direction, so it is normalized from a copy scaled towards 1 (and if the
+/// products overflow, computed from a scaled copy of t). Ordinary tangents never reach that path,
+/// so they are normalized exactly as the tutorial does. NaN here sends the corner to the fallback.
 fn gram_schmidt(n: Vec3, t: Vec3) -> Vec3 {
-    let unit = (t - n * n.dot(t)).normalize();
+    let v = t - n * n.dot(t);
+    let unit = v.normalize();
     if unit.is_finite() && unit != Vec3::ZERO {
         return unit;
     }
-    // Linear in t: the scaled copy's result has the same direction.
-    let t = unit_scaled(t);
-    (t - n * n.dot(t)).normalize()
+    // v is linear in t: from a scaled copy of t it has the same direction, and may not overflow.
+    let v = if v.is_finite() {
+        v
+    } else {
+        let t = unit_scaled(t);
+        t - n * n.dot(t)
+    };
+    unit_scaled(v).normalize()
 }
 
 /// `v` divided by its largest component's magnitude (unchanged if that is 0 or not finite).

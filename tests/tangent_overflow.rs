@@ -131,3 +131,27 @@ fn huge_corner_tangents_normalize() {
         assert!(side > 0.0, "corner {i}: {t} {b}");
     }
 }
+
+// Fails if a corner normal with a huge component (found by the fuzzer: `vn -0.866 1e38 0.5`, and
+// `vn 4294967297 0 1`) makes Gram-Schmidt's result overflow its squared length and normalize to
+// zero: the tangent must be unit length, or the corner must get the unit fallback frame.
+#[test]
+fn huge_normals_still_give_unit_tangents() {
+    use tutorial13::tangentspace::{compute_tangent_basis, TangentOptions};
+    for normal in [
+        Vec3::new(-0.866, 1e38, 0.5),
+        Vec3::new(4294967297.0, 0.0, 1.0),
+        Vec3::new(3e38, 3e38, 3e38),
+    ] {
+        let soup = TriangleSoup {
+            vertices: vec![Vec3::ZERO, Vec3::X, Vec3::Z],
+            uvs: vec![Vec2::ZERO, Vec2::X, Vec2::Y],
+            normals: vec![normal; 3],
+        };
+        let basis = compute_tangent_basis(&soup, TangentOptions::default());
+        for (t, b) in basis.tangents.iter().zip(&basis.bitangents) {
+            assert!((t.length() - 1.0).abs() < 1e-3, "{normal}: {t}");
+            assert!(b.is_finite(), "{normal}: {b}");
+        }
+    }
+}
