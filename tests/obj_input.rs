@@ -86,7 +86,10 @@ fn polylines_are_dropped() {
     let e = load(&format!("{face}lx 1 2 3\nf 1/1/1 2/2/1 9/3/1\n"))
         .unwrap_err()
         .to_string();
-    assert!(e.contains("line 10") && e.contains("position index 9"), "{e}");
+    assert!(
+        e.contains("line 10") && e.contains("position index 9"),
+        "{e}"
+    );
     let mesh = build_mesh(&expected, MeshOptions::default());
     assert_eq!(mesh.vertices.len(), 3);
 }

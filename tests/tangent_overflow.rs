@@ -117,14 +117,21 @@ fn ordinary_sums_are_untouched() {
 fn huge_corner_tangents_normalize() {
     use tutorial13::tangentspace::{compute_tangent_basis, TangentOptions};
     let soup = TriangleSoup {
-        vertices: vec![Vec3::ZERO, Vec3::new(3e38, 0.0, 0.0), Vec3::new(0.0, 3e38, 0.0)],
+        vertices: vec![
+            Vec3::ZERO,
+            Vec3::new(3e38, 0.0, 0.0),
+            Vec3::new(0.0, 3e38, 0.0),
+        ],
         uvs: vec![Vec2::ZERO, Vec2::X, Vec2::NEG_Y],
         normals: vec![Vec3::Z, Vec3::new(0.0, 0.6, 0.8), Vec3::Z],
     };
     let basis = compute_tangent_basis(&soup, TangentOptions::default());
     for (i, (t, b)) in basis.tangents.iter().zip(&basis.bitangents).enumerate() {
         assert!(t.is_normalized(), "corner {i}: {t}");
-        assert!(t.dot(soup.normals[i].normalize()).abs() < 1e-6, "corner {i}: {t}");
+        assert!(
+            t.dot(soup.normals[i].normalize()).abs() < 1e-6,
+            "corner {i}: {t}"
+        );
         assert!(b.is_finite(), "corner {i}: {b}");
         // Right-handed after the handedness step, whatever the magnitudes.
         let side = soup.normals[i].cross(*t).dot(*b / 3e38);
