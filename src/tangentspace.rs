@@ -122,7 +122,8 @@ fn orthogonalize_corner(
 fn gram_schmidt(n: Vec3, t: Vec3) -> Vec3 {
     let v = t - n * n.dot(t);
     let unit = v.normalize();
-    if unit.is_finite() && unit != Vec3::ZERO {
+    // is_normalized also catches tiny v, whose subnormal squares leave normalize 2 % off.
+    if unit.is_finite() && unit.is_normalized() {
         return unit;
     }
     // v is linear in t: from a scaled copy of t it has the same direction, and may not overflow.
