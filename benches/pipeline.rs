@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use glam::{Vec2, Vec3};
 use tutorial13::common::objloader::{load_obj, TriangleSoup};
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::common::vboindexer::{index_vbo_tbn, index_vbo_tbn_linear, IndexOptions};
@@ -72,6 +73,41 @@ fn indexers(c: &mut Criterion) {
     group.finish();
 }
 
+/// 20k triangles whose 60k corners all stay distinct vertices: UVs on a 0.02 grid (never within
+/// 0.01 of each other), positions either all at `at` (one grid cell) or on the same 0.02 grid.
+fn spread_soup(one_position: Option<Vec3>) -> TriangleSoup {
+    let corners = 60_000;
+    let grid = |i: usize| Vec2::new(0.02 * (i % 250) as f32, 0.02 * (i / 250) as f32);
+    TriangleSoup {
+        vertices: (0..corners)
+            .map(|i| one_position.unwrap_or_else(|| grid(i).extend(0.0)))
+            .collect(),
+        uvs: (0..corners).map(grid).collect(),
+        normals: vec![Vec3::Z; corners],
+    }
+}
+
+/// The worst case of the position grid (every vertex in one cell) against a mesh of the same size
+/// whose positions are all distinct: issue 8 asks for at most 10× between them.
+fn one_cell(c: &mut Criterion) {
+    let mut group = c.benchmark_group("one_cell");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(500));
+    for (label, position) in [
+        ("distinct-positions/20k", None),
+        ("one-position-mid-cell/20k", Some(Vec3::ZERO)),
+        ("one-position-cell-corner/20k", Some(Vec3::splat(0.025))),
+    ] {
+        let soup = spread_soup(position);
+        let basis = compute_tangent_basis(&soup, TangentOptions::default());
+        group.bench_function(label, |b| {
+            b.iter(|| index_vbo_tbn(&soup, &basis, IndexOptions::default()))
+        });
+    }
+    group.finish();
+}
+
 /// The soup as MikkTSpace sees it: faces of three corners.
 struct MikkSoup<'a> {
     soup: &'a TriangleSoup,
@@ -120,5 +156,5 @@ fn tangent_sources(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, whole_pipeline, indexers, tangent_sources);
+criterion_group!(benches, whole_pipeline, indexers, one_cell, tangent_sources);
 criterion_main!(benches);

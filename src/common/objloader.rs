@@ -41,7 +41,15 @@ pub fn load_obj_bytes(bytes: &[u8], path: &Path) -> Result<TriangleSoup> {
     };
     let text = std::str::from_utf8(bytes)
         .map_err(|e| err(format!("not UTF-8 text (byte {})", e.valid_up_to())))?;
-    check_faces(text).map_err(err)?;
+    let has_polylines = check_faces(text).map_err(err)?;
+    // tobj reads `l` lines with its face parser, so a polyline of three or more points would become
+    // a triangle. The tutorial's loader skips lines it does not know, `l` included: drop them here,
+    // keeping the line count so that tobj's view of the file is otherwise the same.
+    let text = if has_polylines {
+        std::borrow::Cow::Owned(drop_polylines(text))
+    } else {
+        std::borrow::Cow::Borrowed(text)
+    };
 
     let options = tobj::LoadOptions {
         triangulate: true,
@@ -97,8 +105,10 @@ pub fn load_obj_bytes(bytes: &[u8], path: &Path) -> Result<TriangleSoup> {
 
 /// Checks every `f` line for what the tutorial needs and tobj does not enforce: at least three
 /// corners, each written `v/vt/vn` with all three indices present, non-zero and in range at that
-/// point of the file (relative indices count back from the elements declared so far).
-fn check_faces(text: &str) -> std::result::Result<(), String> {
+/// point of the file (relative indices count back from the elements declared so far). Returns
+/// whether the file has `l` (polyline) lines, which the caller drops.
+fn check_faces(text: &str) -> std::result::Result<bool, String> {
+    let mut has_polylines = false;
     let mut counts = [0usize; 3]; // v, vt, vn declared so far
     for (line_number, line) in text.lines().enumerate() {
         let line_number = line_number + 1;
@@ -107,6 +117,7 @@ fn check_faces(text: &str) -> std::result::Result<(), String> {
             Some("v") => counts[0] += 1,
             Some("vt") => counts[1] += 1,
             Some("vn") => counts[2] += 1,
+            Some("l") => has_polylines = true,
             Some("f") => {
                 let mut corners = 0;
                 for corner in words {
@@ -124,7 +135,23 @@ fn check_faces(text: &str) -> std::result::Result<(), String> {
             _ => {}
         }
     }
-    Ok(())
+    Ok(has_polylines)
+}
+
+/// `text` with every `l` line emptied (its line break kept). Lines are split as tobj splits them
+/// (on `\n`; a `\r` before it is whitespace to both).
+fn drop_polylines(text: &str) -> String {
+    let mut kept = String::with_capacity(text.len());
+    for line in text.split_inclusive('\n') {
+        if line.split_whitespace().next() == Some("l") {
+            if line.ends_with('\n') {
+                kept.push('\n');
+            }
+        } else {
+            kept.push_str(line);
+        }
+    }
+    kept
 }
 
 fn check_corner(corner: &str, counts: &[usize; 3]) -> std::result::Result<(), String> {
@@ -141,11 +168,13 @@ fn check_corner(corner: &str, counts: &[usize; 3]) -> std::result::Result<(), St
         let index: i64 = part
             .parse()
             .map_err(|_| format!("'{part}' is not an index"))?;
-        let count = counts[k] as i64;
+        // Compared without negating `index`: -i64::MIN overflows, and once wrapped it passed the
+        // check and let tobj's own index arithmetic wrap into a later element.
+        let count = i64::try_from(counts[k]).unwrap_or(i64::MAX);
         let in_range = if index > 0 {
             index <= count
         } else {
-            index < 0 && -index <= count
+            index < 0 && index >= -count
         };
         if !in_range {
             return Err(format!(

@@ -98,12 +98,52 @@ fn orthogonalize_corner(
     options: TangentOptions,
 ) -> Option<(Vec3, Vec3)> {
     if options.gram_schmidt {
-        t = (t - n * n.dot(t)).normalize();
+        t = gram_schmidt(n, t);
     }
-    if options.handedness && n.cross(t).dot(b) < 0.0 {
-        t = -t;
+    if options.handedness {
+        let mut side = n.cross(t).dot(b);
+        if side.is_nan() {
+            // Vectors near f32::MAX overflow the products (inf - inf): the sign is that of the same
+            // test on copies scaled towards 1.
+            side = unit_scaled(n).cross(unit_scaled(t)).dot(unit_scaled(b));
+        }
+        if side < 0.0 {
+            t = -t;
+        }
     }
     t.is_finite().then_some((t, b))
+}
+
+/// `normalize(t - n * dot(n, t))`. glam's normalize divides by the length, whose square overflows
+/// f32 for components past about 1e19 (giving zero or NaN) and underflows below about 1e-19; such a
+/// vector still has a direction, so it is normalized from a copy scaled towards 1 (and if the
+/// products overflow, computed from a scaled copy of t). Ordinary tangents never reach that path,
+/// so they are normalized exactly as the tutorial does. NaN here sends the corner to the fallback.
+fn gram_schmidt(n: Vec3, t: Vec3) -> Vec3 {
+    let v = t - n * n.dot(t);
+    let unit = v.normalize();
+    // is_normalized also catches tiny v, whose subnormal squares leave normalize 2 % off.
+    if unit.is_finite() && unit.is_normalized() {
+        return unit;
+    }
+    // v is linear in t: from a scaled copy of t it has the same direction, and may not overflow.
+    let v = if v.is_finite() {
+        v
+    } else {
+        let t = unit_scaled(t);
+        t - n * n.dot(t)
+    };
+    unit_scaled(v).normalize()
+}
+
+/// `v` divided by its largest component's magnitude (unchanged if that is 0 or not finite).
+fn unit_scaled(v: Vec3) -> Vec3 {
+    let m = v.abs().max_element();
+    if m > 0.0 && m.is_finite() {
+        v / m
+    } else {
+        v
+    }
 }
 
 /// The frame given where the UVs define none. Rule: the unit normal `n` is the corner's normal (the

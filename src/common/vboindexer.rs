@@ -119,6 +119,53 @@ struct Builder {
     mesh: IndexedMesh,
     indices: Vec<u32>,
     options: IndexOptions,
+    /// Vertices whose tangent and bitangent sums are stored scaled by 2^-e (see [`SUM_LIMIT`]),
+    /// with the e of each. Empty for any mesh of sane size.
+    scaled: FxHashMap<u32, [i32; 2]>,
+}
+
+/// Largest tangent or bitangent component an output vertex keeps. Each corner's vectors are finite,
+/// but the bitangent is not normalized, so on a mesh with coordinates near f32::MAX the sums would
+/// overflow to infinity (and the shader's normalize give NaN). Where a vertex's tangent or
+/// bitangent sum would reach this limit, that sum (and every later corner added to it) is scaled
+/// by a power of two: exact, direction-keeping, and inert below the limit, so ordinary meshes are
+/// summed bit for bit as the tutorial does. Tangent and bitangent are scaled apart, so that the
+/// smaller one is not pushed to underflow; at 2^40 and beyond, the other two vectors of the TBN
+/// matrix are already below f32's precision beside it, so the lighting does not change either.
+const SUM_LIMIT: f32 = (1u64 << 40) as f32;
+
+/// glam's `normalize_or_zero`, except for vectors whose squared length overflows or underflows
+/// f32 (components beyond about 1e19 or below 1e-19): those still have a direction, taken from a
+/// copy scaled towards 1. Other vectors are normalized exactly as before.
+fn normalize_or_zero(v: Vec3) -> Vec3 {
+    let unit = v.normalize_or_zero();
+    let m = v.abs().max_element();
+    if unit == Vec3::ZERO && m > 0.0 && m.is_finite() {
+        (v / m).normalize_or_zero()
+    } else {
+        unit
+    }
+}
+
+/// `sum + add × 2^-e`, in f64, then halved until every component is under [`SUM_LIMIT`]; gives
+/// the new sum and its e. A corner that is not finite keeps the tutorial's arithmetic (no scaling
+/// can help it).
+fn add_scaled(sum: Vec3, add: Vec3, e: i32) -> (Vec3, i32) {
+    let mut total = sum.as_dvec3() + add.as_dvec3() * 2f64.powi(-e);
+    let mut e = e;
+    if total.is_finite() {
+        while total.abs().max_element() >= SUM_LIMIT as f64 {
+            total *= 0.5;
+            e += 1;
+        }
+    }
+    (total.as_vec3(), e)
+}
+
+/// Whether every component of `t` and `b` is below [`SUM_LIMIT`] in magnitude (false for NaN).
+fn within_limit(t: Vec3, b: Vec3) -> bool {
+    let m = t.abs().max(b.abs());
+    m.x < SUM_LIMIT && m.y < SUM_LIMIT && m.z < SUM_LIMIT
 }
 
 impl Builder {
@@ -138,6 +185,7 @@ impl Builder {
             },
             indices: Vec::with_capacity(corners),
             options,
+            scaled: FxHashMap::default(),
         }
     }
 
@@ -151,7 +199,7 @@ impl Builder {
 
     fn prepare(&self, t: Vec3, b: Vec3) -> (Vec3, Vec3) {
         if self.options.normalize_before_sum {
-            (t.normalize_or_zero(), b.normalize_or_zero())
+            (normalize_or_zero(t), normalize_or_zero(b))
         } else {
             (t, b)
         }
@@ -161,8 +209,34 @@ impl Builder {
     fn reuse(&mut self, index: u32, t: Vec3, b: Vec3) {
         let (t, b) = self.prepare(t, b);
         self.indices.push(index);
-        self.mesh.tangents[index as usize] += t;
-        self.mesh.bitangents[index as usize] += b;
+        let i = index as usize;
+        let (sum_t, sum_b) = (self.mesh.tangents[i] + t, self.mesh.bitangents[i] + b);
+        if within_limit(sum_t, sum_b)
+            && (self.scaled.is_empty() || !self.scaled.contains_key(&index))
+        {
+            self.mesh.tangents[i] = sum_t;
+            self.mesh.bitangents[i] = sum_b;
+        } else {
+            self.store_scaled(index, t, b);
+        }
+    }
+
+    /// The slow path of [`SUM_LIMIT`]: adds `t` and `b` to vertex `index`'s sums (or starts them),
+    /// each at its scale.
+    fn store_scaled(&mut self, index: u32, t: Vec3, b: Vec3) {
+        let i = index as usize;
+        let [et, eb] = self.scaled.get(&index).copied().unwrap_or([0, 0]);
+        if i == self.mesh.tangents.len() {
+            self.mesh.tangents.push(Vec3::ZERO);
+            self.mesh.bitangents.push(Vec3::ZERO);
+        }
+        let (sum_t, et) = add_scaled(self.mesh.tangents[i], t, et);
+        let (sum_b, eb) = add_scaled(self.mesh.bitangents[i], b, eb);
+        self.mesh.tangents[i] = sum_t;
+        self.mesh.bitangents[i] = sum_b;
+        if et > 0 || eb > 0 {
+            self.scaled.insert(index, [et, eb]);
+        }
     }
 
     /// A corner that becomes a new vertex; returns its index.
@@ -172,8 +246,12 @@ impl Builder {
         self.mesh.vertices.push(corner.0);
         self.mesh.uvs.push(corner.1);
         self.mesh.normals.push(corner.2);
-        self.mesh.tangents.push(t);
-        self.mesh.bitangents.push(b);
+        if within_limit(t, b) {
+            self.mesh.tangents.push(t);
+            self.mesh.bitangents.push(b);
+        } else {
+            self.store_scaled(index, t, b);
+        }
         self.indices.push(index);
         index
     }
@@ -236,11 +314,13 @@ const MARGIN: f64 = 0.0101;
 const NO_ENTRY: u32 = u32::MAX;
 
 /// Cell coordinate along one axis. The float-to-int cast saturates, so huge values share the end
-/// cells; that only adds candidates, never loses one, because the exact test decides.
+/// cells; that only adds candidates, never loses one, because the exact test decides. Cells are
+/// centred on multiples of `CELL` (boundaries at odd multiples of `CELL / 2`), so that the values
+/// files are full of (0, 1, 0.5) sit mid-cell and their neighbourhoods touch one cell, not two.
 fn cell_of(x: f64) -> i64 {
     // floor() by truncation and a correction: the libm call is not inlined on baseline x86-64 and
     // was a tenth of the indexing time. Monotone in x, which is all the grid needs.
-    let q = x * (1.0 / CELL);
+    let q = x * (1.0 / CELL) + 0.5;
     let t = q as i64;
     if (t as f64) > q {
         t.saturating_sub(1)
@@ -256,14 +336,52 @@ fn cell_key(x: i64, y: i64, z: i64) -> u64 {
     (x as u64 & MASK) | (y as u64 & MASK) << 21 | (z as u64 & MASK) << 42
 }
 
+/// A position cell whose search walked past this many vertices is split by UV and normal (see
+/// [`Grid`]). Ordinary meshes never get there: a cell holds a handful of vertices.
+const SPLIT: u32 = 32;
+/// `Bucket::first` of a position cell that has been split: its vertices live in `Grid::fine`.
+const SPLIT_BUCKET: u32 = u32::MAX - 1;
+
+/// The five non-position components of a corner: UV, then normal.
+fn rest_of(uv: Vec2, normal: Vec3) -> [f64; 5] {
+    [uv.x, uv.y, normal.x, normal.y, normal.z].map(|x| x as f64)
+}
+
+/// One key for five cell coordinates, 12 bits each, wrapping (collisions only add candidates).
+fn fine_key(cells: [i64; 5]) -> u64 {
+    cells
+        .iter()
+        .fold(0u64, |key, &c| key << 12 | (c as u64 & 0xFFF))
+}
+
+/// What [`Grid::find`] found.
+#[derive(Default)]
+struct Found {
+    /// The lowest near vertex.
+    vertex: Option<u32>,
+    /// The key of the corner's position cell if its list was long enough to split.
+    split: Option<u64>,
+    /// How many vertices were looked at.
+    steps: u32,
+}
+
 /// Output vertices bucketed by position cell. A vertex is registered in every cell its ±0.01
 /// neighbourhood touches (one to eight), so a corner looks in its own cell only: corners outnumber
 /// vertices about six to one in a typical mesh, so the probing is done on the cheaper side. Each
 /// bucket is a list threaded through `entries`, in increasing vertex order, so the first near vertex
 /// found is the lowest near one, as the linear search would find.
+///
+/// Many vertices in one position cell (a file whose corners share a position but not their UVs)
+/// would make that list long and the search quadratic. So a cell whose search walks past [`SPLIT`]
+/// vertices is split: its vertices, and any registered there later, go to `fine`, keyed on the cell
+/// and on the cell of their UV and normal (registered, the same way, in every such cell their ±0.01
+/// neighbourhood touches), again in increasing vertex order. A corner in a split cell looks in the
+/// one list for its own UV-and-normal cell, which holds every vertex near it.
 struct Grid {
     buckets: FxHashMap<u64, (u32, u32)>, // first, last entry of the bucket
     entries: Vec<(u32, u32)>,            // vertex, next entry of the same bucket
+    fine: FxHashMap<(u64, u64), (u32, u32)>, // (position key, UV/normal key) → first, last entry
+    fine_entries: Vec<(u32, u32)>,
 }
 
 impl Grid {
@@ -275,45 +393,110 @@ impl Grid {
         Grid {
             buckets,
             entries: Vec::with_capacity(corners / 2),
+            fine: FxHashMap::default(),
+            fine_entries: Vec::new(),
         }
     }
 
-    /// Registers output vertex `index` (which must be the newest) at `position`.
-    fn insert(&mut self, index: u32, position: Vec3) {
-        let p = position.to_array().map(|x| x as f64);
+    /// Registers output vertex `index` (which must be the newest) of `out`.
+    fn insert(&mut self, index: u32, out: &IndexedMesh) {
+        let p = out.vertices[index as usize].to_array().map(|x| x as f64);
         let lo = p.map(|x| cell_of(x - MARGIN));
         let hi = p.map(|x| cell_of(x + MARGIN));
         for x in lo[0]..=hi[0] {
             for y in lo[1]..=hi[1] {
                 for z in lo[2]..=hi[2] {
+                    let key = cell_key(x, y, z);
                     let entry = self.entries.len() as u32;
-                    self.entries.push((index, NO_ENTRY));
                     // One hash per registration: the entry API finds or makes the bucket.
-                    let (_, last) = self
-                        .buckets
-                        .entry(cell_key(x, y, z))
-                        .or_insert((entry, NO_ENTRY));
+                    let (_, last) = self.buckets.entry(key).or_insert((entry, NO_ENTRY));
+                    if *last == SPLIT_BUCKET {
+                        self.insert_fine(key, index, out);
+                        continue;
+                    }
                     if *last != NO_ENTRY {
                         self.entries[*last as usize].1 = entry;
                     }
                     *last = entry;
+                    self.entries.push((index, NO_ENTRY));
                 }
             }
         }
     }
 
-    /// The lowest output vertex near corner `i` of `soup`.
-    fn find(&self, soup: &TriangleSoup, i: usize, out: &IndexedMesh) -> Option<u32> {
+    /// Registers vertex `index` of `out` in the split position cell `key`.
+    fn insert_fine(&mut self, key: u64, index: u32, out: &IndexedMesh) {
+        let j = index as usize;
+        let rest = rest_of(out.uvs[j], out.normals[j]);
+        let lo = rest.map(|x| cell_of(x - MARGIN));
+        let hi = rest.map(|x| cell_of(x + MARGIN));
+        // Every cell of the box lo..=hi (one to 32), as an odometer.
+        let mut cells = lo;
+        loop {
+            let entry = self.fine_entries.len() as u32;
+            self.fine_entries.push((index, NO_ENTRY));
+            let (_, last) = self
+                .fine
+                .entry((key, fine_key(cells)))
+                .or_insert((entry, NO_ENTRY));
+            if *last != NO_ENTRY {
+                self.fine_entries[*last as usize].1 = entry;
+            }
+            *last = entry;
+            let mut axis = 0;
+            while axis < 5 && cells[axis] == hi[axis] {
+                cells[axis] = lo[axis];
+                axis += 1;
+            }
+            if axis == 5 {
+                break;
+            }
+            cells[axis] += 1;
+        }
+    }
+
+    /// Splits position cell `key` (see [`Grid`]): its vertices move to `fine`, in order.
+    fn split(&mut self, key: u64, out: &IndexedMesh) {
+        let Some(&(mut entry, last)) = self.buckets.get(&key) else {
+            return;
+        };
+        if last == SPLIT_BUCKET {
+            return;
+        }
+        while entry != NO_ENTRY {
+            let (vertex, next) = self.entries[entry as usize];
+            self.insert_fine(key, vertex, out);
+            entry = next;
+        }
+        self.buckets.insert(key, (SPLIT_BUCKET, SPLIT_BUCKET));
+    }
+
+    /// The lowest output vertex near corner `i` of `soup`, and whether the position cell's list was
+    /// long enough to be worth splitting (then also the cell's key).
+    /// Also gives how many vertices were looked at.
+    fn find(&self, soup: &TriangleSoup, i: usize, out: &IndexedMesh) -> Found {
         let p = soup.vertices[i];
         let key = cell_key(
             cell_of(p.x as f64),
             cell_of(p.y as f64),
             cell_of(p.z as f64),
         );
-        let &(mut entry, _) = self.buckets.get(&key)?;
+        let Some(&(first, last)) = self.buckets.get(&key) else {
+            return Found::default();
+        };
         let (uv, n) = (soup.uvs[i], soup.normals[i]);
+        let (mut entry, entries) = if last == SPLIT_BUCKET {
+            let fine = fine_key(rest_of(uv, n).map(cell_of));
+            match self.fine.get(&(key, fine)) {
+                Some(&(first, _)) => (first, &self.fine_entries),
+                None => return Found::default(),
+            }
+        } else {
+            (first, &self.entries)
+        };
+        let mut steps = 0;
         while entry != NO_ENTRY {
-            let (vertex, next) = self.entries[entry as usize];
+            let (vertex, next) = entries[entry as usize];
             let j = vertex as usize;
             // The tutorial's is_near on all eight components, read in place.
             let (q, quv, qn) = (out.vertices[j], out.uvs[j], out.normals[j]);
@@ -326,11 +509,18 @@ impl Grid {
                 && is_near(n.y, qn.y)
                 && is_near(n.z, qn.z)
             {
-                return Some(vertex);
+                break;
             }
             entry = next;
+            steps += 1;
         }
-        None
+        let found = (entry != NO_ENTRY).then(|| entries[entry as usize].0);
+        let long = steps > SPLIT && last != SPLIT_BUCKET;
+        Found {
+            vertex: found,
+            split: long.then_some(key),
+            steps,
+        }
     }
 }
 
@@ -340,10 +530,20 @@ pub fn index_vbo_tbn(
     basis: &TangentBasis,
     options: IndexOptions,
 ) -> IndexedMesh {
+    index_with_grid(soup, basis, options).0
+}
+
+/// [`index_vbo_tbn`], also giving how many candidate vertices the searches looked at in all.
+fn index_with_grid(
+    soup: &TriangleSoup,
+    basis: &TangentBasis,
+    options: IndexOptions,
+) -> (IndexedMesh, u64) {
     check_lengths(soup, basis);
     let n = soup.vertices.len();
     let mut out = Builder::new(n, options);
     let mut grid = Grid::with_capacity(n);
+    let mut steps = 0u64;
     for i in 0..n {
         let (t, b) = (basis.tangents[i], basis.bitangents[i]);
         // A non-finite component is never near anything (NaN and inf - inf compare false), so such
@@ -355,15 +555,20 @@ pub fn index_vbo_tbn(
             out.push(corner(soup, i), t, b);
             continue;
         }
-        match grid.find(soup, i, &out.mesh) {
+        let found = grid.find(soup, i, &out.mesh);
+        steps += found.steps as u64;
+        if let Some(key) = found.split {
+            grid.split(key, &out.mesh);
+        }
+        match found.vertex {
             Some(j) => out.reuse(j, t, b),
             None => {
                 let index = out.push(corner(soup, i), t, b);
-                grid.insert(index, soup.vertices[i]);
+                grid.insert(index, &out.mesh);
             }
         }
     }
-    out.finish()
+    (out.finish(), steps)
 }
 
 /// The plain `indexVBO`: corners merge only when position, UV and normal are bit-for-bit equal (the
@@ -482,6 +687,23 @@ mod tests {
         let mesh = index_vbo(&soup);
         assert_eq!(mesh.indices.to_u32(), vec![0, 1, 0]);
         assert!(mesh.tangents.is_empty());
+    }
+
+    // Fails if thousands of vertices sharing one position (distinct UVs) stay in one list that
+    // every corner walks: the quadratic case of issue 8. After the split, lists stay short.
+    #[test]
+    fn one_position_cell_is_split() {
+        for position in [Vec3::ZERO, Vec3::splat(0.025)] {
+            let n = 3000;
+            let (mut soup, basis) = soup_of(&vec![position; n]);
+            soup.uvs = (0..n)
+                .map(|i| Vec2::new(0.02 * (i % 50) as f32, 0.02 * (i / 50) as f32))
+                .collect();
+            let (mesh, steps) = index_with_grid(&soup, &basis, IndexOptions::default());
+            assert_eq!(mesh.vertices.len(), n);
+            // Unsplit, every corner walks every earlier vertex: n²/2 = 4.5 million steps.
+            assert!(steps < 20 * n as u64, "{position}: {steps} steps");
+        }
     }
 
     // Fails if the index width rule is off by one at the 16-bit limit.

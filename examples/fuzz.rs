@@ -1,0 +1,192 @@
+//! The fuzz harness's long runs, on the stable toolchain:
+//!
+//!     cargo run --profile fuzz --example fuzz -- --seconds 1800
+//!
+//! Options: `--seconds N` (total, shared equally by the targets; default 60), `--target NAME`
+//! (obj, dds, bmp or pipeline; repeatable; default all), `--seed N` (default: from the clock,
+//! printed), `--slow-ms N` (a case slower than this fails; default 2000), `--replay FILE` (run one
+//! input on the target named before it and print the outcome), `--make-corpus` (rewrite the seed
+//! corpus in fuzz/corpus/ and exit). Failing inputs are saved to fuzz/regressions/<target>/,
+//! which `cargo test` replays. Exit status 1 if anything failed.
+
+#[path = "../fuzz/harness.rs"]
+mod harness;
+
+use std::time::{Duration, Instant};
+
+use harness::{fuzz, Target, TARGETS};
+
+fn main() {
+    let mut seconds = 60u64;
+    let mut targets = Vec::new();
+    let mut seed = None;
+    let mut slow_ms = 2000u64;
+    let mut args = std::env::args().skip(1);
+    while let Some(arg) = args.next() {
+        let mut value = |name: &str| {
+            args.next()
+                .unwrap_or_else(|| usage(&format!("{name} needs a value")))
+        };
+        match arg.as_str() {
+            "--seconds" => seconds = parse(&value("--seconds")),
+            "--seed" => seed = Some(parse(&value("--seed"))),
+            "--slow-ms" => slow_ms = parse(&value("--slow-ms")),
+            "--target" => {
+                let name = value("--target");
+                targets.push(
+                    Target::from_name(&name)
+                        .unwrap_or_else(|| usage(&format!("unknown target {name}"))),
+                );
+            }
+            "--replay" => {
+                // One input, the full outcome (for the target given before it; default pipeline).
+                let path = value("--replay");
+                let bytes = std::fs::read(&path).unwrap_or_else(|e| usage(&format!("{path}: {e}")));
+                let target = targets.last().copied().unwrap_or(Target::Pipeline);
+                let outcome = harness::run_case(target, &bytes, Duration::from_millis(slow_ms));
+                println!("{}: {path}: {outcome:?}", target.name());
+                std::process::exit(i32::from(matches!(outcome, harness::Outcome::Failed(_))));
+            }
+            "--make-corpus" => {
+                make_corpus();
+                return;
+            }
+            other => usage(&format!("unknown argument {other}")),
+        }
+    }
+    if targets.is_empty() {
+        targets = TARGETS.to_vec();
+    }
+    let seed = seed.unwrap_or_else(|| {
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.as_nanos() as u64)
+            .unwrap_or(1)
+    });
+    // Panics are expected and reported by the harness: keep stderr for the summary.
+    std::panic::set_hook(Box::new(|_| {}));
+    let share = Duration::from_secs(seconds) / targets.len() as u32;
+    println!(
+        "fuzz: seed {seed}, {seconds} s over {} target(s)",
+        targets.len()
+    );
+    let mut failed = false;
+    for target in targets {
+        let start = Instant::now();
+        let stats = fuzz(
+            target,
+            seed,
+            Duration::from_millis(slow_ms),
+            Some(&harness::regressions_dir(target)),
+            |_| start.elapsed() >= share,
+        );
+        println!(
+            "{:>8}: {} cases in {:.0} s ({} loaded, {} rejected), {} failure(s)",
+            target.name(),
+            stats.cases,
+            start.elapsed().as_secs_f64(),
+            stats.loaded,
+            stats.rejected,
+            stats.failures.len()
+        );
+        for f in &stats.failures {
+            failed = true;
+            let saved = f
+                .saved
+                .as_ref()
+                .map(|p| p.display().to_string())
+                .unwrap_or_else(|| "(not saved)".into());
+            println!("          {} -> {saved}", f.message);
+        }
+    }
+    std::process::exit(i32::from(failed));
+}
+
+fn parse(s: &str) -> u64 {
+    s.parse()
+        .unwrap_or_else(|_| usage(&format!("'{s}' is not a number")))
+}
+
+fn usage(problem: &str) -> ! {
+    eprintln!(
+        "fuzz: {problem}\nusage: fuzz [--seconds N] [--target obj|dds|bmp|pipeline]... [--seed N] [--slow-ms N] [--replay FILE] [--make-corpus]"
+    );
+    std::process::exit(2);
+}
+
+/// The seed corpus: small files made here (the tutorial's own files are not redistributable).
+fn make_corpus() {
+    use tutorial13::assets::{encode_bmp, encode_dds_dxt3};
+    use tutorial13::mesh::grid_cylinder_obj_text;
+
+    let write = |target: Target, name: &str, bytes: &[u8]| {
+        let dir = harness::corpus_dir(target);
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join(name), bytes).unwrap();
+    };
+    let quad = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n";
+    write(
+        Target::Obj,
+        "triangle.obj",
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\n",
+    );
+    write(
+        Target::Obj,
+        "quad.obj",
+        format!("{quad}f 1/1/1 2/2/1 3/3/1 4/4/1\n").as_bytes(),
+    );
+    write(
+        Target::Obj,
+        "relative.obj",
+        format!(
+            "{quad}o a\nf -4/-4/-1 -3/-3/-1 -2/-2/-1\ng b\ns 1\nf -4/-4/-1 -2/-2/-1 -1/-1/-1\n"
+        )
+        .as_bytes(),
+    );
+    write(
+        Target::Obj,
+        "cylinder.obj",
+        grid_cylinder_obj_text(6, 2, 1.0, 2.0, 1.0).as_bytes(),
+    );
+    write(
+        Target::Obj,
+        "shared-position.obj",
+        b"v 0 0 0\nvt 0 0\nvt 0.5 0\nvt 0 0.5\nvt 0.005 0\nvn 0 0 1\nvn 0 1 0\nf 1/1/1 1/2/1 1/3/1\nf 1/4/2 1/1/1 1/2/2\nf 1/1/1 1/2/1 1/3/1\n",
+    );
+    write(
+        Target::Obj,
+        "large.obj",
+        b"v 1e38 0 0\nv -1e38 3e38 0\nv 3e38 -1e38 1e38\nvt 0 0\nvt 1e-6 0\nvt 0 1e-6\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 2/2/1 3/3/1\n",
+    );
+
+    for (name, side) in [("4x4", 4u32), ("8x8", 8)] {
+        let rgba: Vec<u8> = (0..side * side * 4).map(|i| (i * 37 % 256) as u8).collect();
+        let dxt3 = encode_dds_dxt3(rgba, side).unwrap();
+        write(Target::Dds, &format!("dxt3-{name}.DDS"), &dxt3);
+        // The same header as DXT5 (same block size) and DXT1 (half the data suffices).
+        let mut dxt5 = dxt3.clone();
+        dxt5[84..88].copy_from_slice(b"DXT5");
+        write(Target::Dds, &format!("dxt5-{name}.DDS"), &dxt5);
+        let mut dxt1 = dxt3;
+        dxt1[84..88].copy_from_slice(b"DXT1");
+        write(Target::Dds, &format!("dxt1-{name}.DDS"), &dxt1);
+    }
+    for side in [1u32, 3, 4] {
+        let rgb: Vec<[u8; 3]> = (0..side * side)
+            .map(|i| [i as u8, (i * 7) as u8, (i * 13) as u8])
+            .collect();
+        let bmp = encode_bmp(&rgb, side).unwrap();
+        write(Target::Bmp, &format!("rgb-{side}x{side}.bmp"), &bmp);
+        if side == 3 {
+            // Top-down: negative height.
+            let mut top_down = bmp.clone();
+            let h = -(side as i32);
+            top_down[22..26].copy_from_slice(&h.to_le_bytes());
+            write(Target::Bmp, "rgb-3x3-top-down.bmp", &top_down);
+        }
+    }
+    println!(
+        "fuzz: corpus written to {}",
+        harness::fuzz_dir().join("corpus").display()
+    );
+}

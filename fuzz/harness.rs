@@ -1,0 +1,859 @@
+//! A stable-toolchain fuzz harness for the readers and the CPU pipeline (no libFuzzer, no nightly).
+//!
+//! Shared by `examples/fuzz.rs` (the long runs) and `tests/fuzz.rs` (regression replay and a short
+//! seeded run inside `cargo test`). Each case runs in-process under `catch_unwind`: a panic, a
+//! broken invariant or a case slower than the limit is a failure, and the input is saved to
+//! `fuzz/regressions/<target>/`. Inputs come from a seed corpus (`fuzz/corpus/<target>/`) through a
+//! seeded mutator: byte flips, splices and truncations for every target, plus OBJ-aware edits
+//! (extreme indices, `l`/`p` lines, NaN/inf/1e38 numbers) and header-field edits for DDS and BMP.
+//! There is no coverage feedback; a mutant joins the pool when it loads, or when it fails to load
+//! with an error message of a kind not seen before.
+
+#![allow(dead_code)] // each including crate uses a different part
+
+use std::collections::HashSet;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use tutorial13::common::objloader::{load_obj_bytes, TriangleSoup};
+use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
+use tutorial13::common::texture::{dxt_level_size, read_bmp_bytes, read_dds_bytes};
+use tutorial13::common::vboindexer::{
+    index_vbo_tbn, index_vbo_tbn_linear, IndexOptions, IndexedMesh,
+};
+use tutorial13::mesh::MeshOptions;
+
+/// What is fuzzed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Target {
+    /// `load_obj_bytes`: an error naming the file, or a finite triangle soup.
+    Obj,
+    /// `read_dds_bytes`: an error naming the file, or levels of exactly the tutorial's sizes.
+    Dds,
+    /// `read_bmp_bytes`: an error naming the file, or `width × height` BGR triples.
+    Bmp,
+    /// OBJ text through tangents and indexing, under every switch setting: finite outputs, indices
+    /// in range, and the grid indexer equal to the linear reference on small meshes.
+    Pipeline,
+}
+
+pub const TARGETS: [Target; 4] = [Target::Obj, Target::Dds, Target::Bmp, Target::Pipeline];
+
+/// Meshes up to this many corners are also indexed by the quadratic reference.
+const LINEAR_REFERENCE_MAX_CORNERS: usize = 3000;
+/// Inputs are cut to this size after mutation, so that a case stays quick.
+const MAX_INPUT: usize = 256 * 1024;
+
+impl Target {
+    pub fn name(self) -> &'static str {
+        match self {
+            Target::Obj => "obj",
+            Target::Dds => "dds",
+            Target::Bmp => "bmp",
+            Target::Pipeline => "pipeline",
+        }
+    }
+
+    pub fn from_name(name: &str) -> Option<Target> {
+        TARGETS.into_iter().find(|t| t.name() == name)
+    }
+
+    fn file_name(self) -> &'static str {
+        match self {
+            Target::Obj | Target::Pipeline => "fuzz.obj",
+            Target::Dds => "fuzz.DDS",
+            Target::Bmp => "fuzz.bmp",
+        }
+    }
+
+    fn is_text(self) -> bool {
+        matches!(self, Target::Obj | Target::Pipeline)
+    }
+}
+
+/// The fuzz folder of this crate.
+pub fn fuzz_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz")
+}
+
+pub fn corpus_dir(target: Target) -> PathBuf {
+    // The pipeline reads OBJ text: it shares the OBJ seeds.
+    let name = if target == Target::Pipeline {
+        "obj"
+    } else {
+        target.name()
+    };
+    fuzz_dir().join("corpus").join(name)
+}
+
+pub fn regressions_dir(target: Target) -> PathBuf {
+    fuzz_dir().join("regressions").join(target.name())
+}
+
+/// Every file of `dir` (sorted by name), or nothing if it does not exist.
+pub fn read_dir_files(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut paths: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_file())
+        .collect();
+    paths.sort();
+    paths
+        .into_iter()
+        .filter_map(|p| std::fs::read(&p).ok().map(|b| (p, b)))
+        .collect()
+}
+
+/// How one case went.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Outcome {
+    /// The input loaded (and, for the pipeline, went through every stage).
+    Loaded,
+    /// The reader refused it; the message's kind (digits and quoted text dropped) for the pool.
+    Rejected(String),
+    /// A panic, a broken invariant or a case slower than the limit.
+    Failed(String),
+}
+
+/// Runs `target` on `input` once, catching panics. `slow` is the time limit for one case.
+pub fn run_case(target: Target, input: &[u8], slow: Duration) -> Outcome {
+    let start = Instant::now();
+    let result = catch_unwind(AssertUnwindSafe(|| check(target, input)));
+    let elapsed = start.elapsed();
+    match result {
+        Err(panic) => {
+            let message = panic
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "(non-string panic)".into());
+            Outcome::Failed(format!("panic: {message}"))
+        }
+        Ok(Err(broken)) => Outcome::Failed(broken),
+        Ok(Ok(_)) if elapsed > slow => Outcome::Failed(format!(
+            "slow: {:.2} s for {} bytes",
+            elapsed.as_secs_f64(),
+            input.len()
+        )),
+        Ok(Ok(outcome)) => outcome,
+    }
+}
+
+/// The invariants of one target. `Err` is a broken invariant.
+fn check(target: Target, input: &[u8]) -> Result<Outcome, String> {
+    let path = Path::new(target.file_name());
+    let rejected = |e: tutorial13::Error| -> Result<Outcome, String> {
+        let message = e.to_string();
+        let prefix = format!("{}: ", path.display());
+        if !message.starts_with(&prefix) || message.contains('\n') {
+            return Err(format!(
+                "error does not name the file on one line: {message}"
+            ));
+        }
+        Ok(Outcome::Rejected(message_kind(&message)))
+    };
+    match target {
+        Target::Obj => match load_obj_bytes(input, path) {
+            Err(e) => rejected(e),
+            Ok(soup) => check_soup(&soup).map(|_| Outcome::Loaded),
+        },
+        Target::Pipeline => match load_obj_bytes(input, path) {
+            Err(e) => rejected(e),
+            Ok(soup) => {
+                check_soup(&soup)?;
+                check_pipeline(&soup)?;
+                Ok(Outcome::Loaded)
+            }
+        },
+        Target::Dds => match read_dds_bytes(input, path) {
+            Err(e) => rejected(e),
+            Ok(dds) => {
+                let (mut w, mut h) = (dds.width, dds.height);
+                if dds.levels.is_empty() || w == 0 || h == 0 {
+                    return Err(format!("DDS loaded with no level or size {w}x{h}"));
+                }
+                for (i, level) in dds.levels.iter().enumerate() {
+                    let size = dxt_level_size(dds.format, w, h);
+                    if (level.width, level.height, level.data.len()) != (w, h, size) {
+                        return Err(format!(
+                            "DDS level {i} is {}x{} with {} bytes, expected {w}x{h} with {size}",
+                            level.width,
+                            level.height,
+                            level.data.len()
+                        ));
+                    }
+                    w = (w / 2).max(1);
+                    h = (h / 2).max(1);
+                }
+                Ok(Outcome::Loaded)
+            }
+        },
+        Target::Bmp => match read_bmp_bytes(input, path) {
+            Err(e) => rejected(e),
+            Ok(bmp) => {
+                let expected = bmp.width as usize * bmp.height as usize * 3;
+                if bmp.width == 0 || bmp.height == 0 || bmp.bgr.len() != expected {
+                    return Err(format!(
+                        "BMP loaded as {}x{} with {} bytes",
+                        bmp.width,
+                        bmp.height,
+                        bmp.bgr.len()
+                    ));
+                }
+                Ok(Outcome::Loaded)
+            }
+        },
+    }
+}
+
+/// What `load_obj` promises: three corners per triangle, every number finite.
+fn check_soup(soup: &TriangleSoup) -> Result<(), String> {
+    let n = soup.vertices.len();
+    if n == 0 || n % 3 != 0 || soup.uvs.len() != n || soup.normals.len() != n {
+        return Err(format!(
+            "soup of {n} positions, {} UVs, {} normals",
+            soup.uvs.len(),
+            soup.normals.len()
+        ));
+    }
+    let finite = soup.vertices.iter().all(|v| v.is_finite())
+        && soup.uvs.iter().all(|v| v.is_finite())
+        && soup.normals.iter().all(|v| v.is_finite());
+    if !finite {
+        return Err("soup holds a non-finite number".into());
+    }
+    Ok(())
+}
+
+/// Tangents and indexing under every switch setting.
+fn check_pipeline(soup: &TriangleSoup) -> Result<(), String> {
+    let corners = soup.vertices.len();
+    for bits in 0..8u8 {
+        let options = MeshOptions {
+            tangents: TangentOptions {
+                gram_schmidt: bits & 1 == 0,
+                handedness: bits & 2 == 0,
+            },
+            indexing: IndexOptions {
+                normalize_before_sum: bits & 4 != 0,
+            },
+        };
+        let basis = compute_tangent_basis(soup, options.tangents);
+        if basis.tangents.len() != corners || basis.bitangents.len() != corners {
+            return Err(format!("{options:?}: tangent basis of the wrong length"));
+        }
+        if let Some(i) = (0..corners)
+            .find(|&i| !(basis.tangents[i].is_finite() && basis.bitangents[i].is_finite()))
+        {
+            return Err(format!(
+                "{options:?}: corner {i} has tangent {} bitangent {}",
+                basis.tangents[i], basis.bitangents[i]
+            ));
+        }
+        if options.tangents.gram_schmidt {
+            // Gram-Schmidt ends in a normalize: a unit tangent or the (unit) fallback frame. (Within
+            // 1 %: f32's normalize of a vector with subnormal squares is off by 1e-4.)
+            if let Some(i) = (0..corners).find(|&i| (basis.tangents[i].length() - 1.0).abs() > 0.01)
+            {
+                return Err(format!(
+                    "{options:?}: corner {i} tangent {} is not unit length",
+                    basis.tangents[i]
+                ));
+            }
+        }
+        let mesh = index_vbo_tbn(soup, &basis, options.indexing);
+        check_indexed(&mesh, corners).map_err(|e| format!("{options:?}: {e}"))?;
+        if corners <= LINEAR_REFERENCE_MAX_CORNERS {
+            let reference = index_vbo_tbn_linear(soup, &basis, options.indexing);
+            if mesh != reference {
+                return Err(format!(
+                    "{options:?}: grid indexer differs from the linear reference"
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+fn check_indexed(mesh: &IndexedMesh, corners: usize) -> Result<(), String> {
+    let n = mesh.vertices.len();
+    if mesh.uvs.len() != n
+        || mesh.normals.len() != n
+        || mesh.tangents.len() != n
+        || mesh.bitangents.len() != n
+    {
+        return Err("vertex arrays of different lengths".into());
+    }
+    if mesh.indices.len() != corners {
+        return Err(format!(
+            "{} indices for {corners} corners",
+            mesh.indices.len()
+        ));
+    }
+    if let Some(i) = (0..corners).find(|&i| mesh.indices.get(i) as usize >= n) {
+        return Err(format!(
+            "index {} out of range ({n} vertices)",
+            mesh.indices.get(i)
+        ));
+    }
+    if let Some(j) = (0..n).find(|&j| {
+        !(mesh.vertices[j].is_finite()
+            && mesh.uvs[j].is_finite()
+            && mesh.normals[j].is_finite()
+            && mesh.tangents[j].is_finite()
+            && mesh.bitangents[j].is_finite())
+    }) {
+        return Err(format!(
+            "vertex {j} not finite: tangent {} bitangent {}",
+            mesh.tangents[j], mesh.bitangents[j]
+        ));
+    }
+    // Usable by the shader: sums stay at most 2^40 per component (the indexer's limit).
+    let limit = (1u64 << 40) as f32;
+    if let Some(j) = (0..n).find(|&j| {
+        mesh.tangents[j].abs().max_element() > limit
+            || mesh.bitangents[j].abs().max_element() > limit
+    }) {
+        return Err(format!(
+            "vertex {j} beyond 2^40: tangent {} bitangent {}",
+            mesh.tangents[j], mesh.bitangents[j]
+        ));
+    }
+    Ok(())
+}
+
+/// An error message without its numbers and quoted parts: "what kind of rejection".
+fn message_kind(message: &str) -> String {
+    let mut kind = String::new();
+    let mut quoted = false;
+    for c in message.chars() {
+        if c == '\'' || c == '"' {
+            quoted = !quoted;
+        } else if !quoted && !c.is_ascii_digit() {
+            kind.push(c);
+        }
+    }
+    kind
+}
+
+// -------------------------------------------------------------------------------------------------
+// Randomness and mutation
+
+/// SplitMix64: tiny, seedable, good enough to pick mutations.
+#[derive(Debug, Clone)]
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Self {
+        Rng(seed)
+    }
+
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `0..n` (n > 0; the tiny modulo bias does not matter here).
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.next_u64() % n as u64) as usize
+    }
+
+    pub fn chance(&mut self, one_in: usize) -> bool {
+        self.below(one_in) == 0
+    }
+
+    fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
+        &items[self.below(items.len())]
+    }
+}
+
+/// Numbers that have broken parsers and float code before: index extremes, non-finite and
+/// near-overflow floats, the 0.01 tolerance.
+const NUMBERS: &[&str] = &[
+    "0",
+    "1",
+    "-1",
+    "2",
+    "-2",
+    "3",
+    "-3",
+    "7",
+    "-9223372036854775808",
+    "9223372036854775807",
+    "-9223372036854775807",
+    "-9223372036854775809",
+    "18446744073709551616",
+    "4294967296",
+    "4294967297",
+    "-4294967296",
+    "2147483648",
+    "65536",
+    "65535",
+    "nan",
+    "NaN",
+    "-nan",
+    "inf",
+    "-inf",
+    "infinity",
+    "1e38",
+    "-1e38",
+    "3.4e38",
+    "3.4028235e38",
+    "-3.4028235e38",
+    "1.7e38",
+    "-1.7e38",
+    "1e39",
+    "1e30",
+    "1e20",
+    "1e-45",
+    "1e-38",
+    "-0",
+    "0.01",
+    "0.0099",
+    "0.0101",
+    "0.005",
+    "1e-30",
+    "0x10",
+    "+1",
+    "1.",
+    ".5",
+];
+
+/// Whole lines worth inserting into OBJ text.
+const LINES: &[&str] = &[
+    "l 1 2 3",
+    "l 1/-3/1 1/1/1 1/1/1",
+    "l 1 2",
+    "l",
+    "p 1",
+    "p 1 2 3",
+    "f 1/1/1 1/1/1 1/1/1",
+    "f -1/-1/-1 -2/-2/-1 -3/-3/-1",
+    "f 1//1 2//1 3//1",
+    "f 1/1/1 2/2/1",
+    "f 1/1/1 2/2/1 3/3/1 4/4/1 5/5/1",
+    "f 1/1 2/2 3/3",
+    "f",
+    "v 1e38 1e38 1e38",
+    "v 3.4e38 -3.4e38 0",
+    "v -3.4e38 3.4e38 3.4e38",
+    "v 0 0 0",
+    "v 1 2 3 0",
+    "v 1 2 3 1e-40",
+    "v 1 2 3 0.5 0.5 0.5",
+    "v 1 2",
+    "vt 0 0",
+    "vt 0.005 0",
+    "vt 1e-30 0",
+    "vt 0 0 0",
+    "vn 0 0 1",
+    "vn 0 0 0",
+    "vn 1e38 1e38 1e38",
+    "o x",
+    "o",
+    "g group",
+    "g",
+    "s off",
+    "s 1",
+    "usemtl m",
+    "mtllib m.mtl",
+    "# comment",
+    "\\",
+    "",
+];
+
+/// Offsets of header fields: DDS (size, flags, height, width, pitch, depth, mipmap count, pixel
+/// format size/flags/FourCC/bits, caps, the DX10 header) and BMP (file size, data offset, DIB size,
+/// width, height, planes, bits per pixel, compression, image size).
+const DDS_FIELDS: &[usize] = &[4, 8, 12, 16, 20, 24, 28, 76, 80, 84, 88, 108, 112, 128, 132];
+const BMP_FIELDS: &[usize] = &[2, 10, 14, 18, 22, 26, 28, 30, 34];
+const U32S: &[u32] = &[
+    0,
+    1,
+    2,
+    3,
+    4,
+    5,
+    8,
+    15,
+    16,
+    17,
+    31,
+    32,
+    124,
+    0x7FFF_FFFF,
+    0x8000_0000,
+    0xFFFF_FFFF,
+    0xFFFF_FFFE,
+    0xFFFF,
+    0x1_0000,
+    16384,
+    16385,
+    24,
+    40,
+    54,
+    0x3154_5844,
+    0x3354_5844,
+    0x3554_5844,
+    0x3031_5844,
+];
+
+/// One random input derived from `base` (and maybe a second pool entry for splices).
+pub fn mutate(target: Target, rng: &mut Rng, base: &[u8], pool: &[Vec<u8>]) -> Vec<u8> {
+    let mut data = base.to_vec();
+    let rounds = 1 + rng.below(4);
+    for _ in 0..rounds {
+        let text_op = target.is_text() && rng.below(3) != 0;
+        if text_op {
+            mutate_text(rng, &mut data);
+        } else if !target.is_text() && rng.chance(2) {
+            mutate_header(target, rng, &mut data);
+        } else {
+            mutate_bytes(rng, &mut data, pool);
+        }
+    }
+    data.truncate(MAX_INPUT);
+    data
+}
+
+fn mutate_bytes(rng: &mut Rng, data: &mut Vec<u8>, pool: &[Vec<u8>]) {
+    let len = data.len();
+    match rng.below(8) {
+        0 if len > 0 => {
+            let i = rng.below(len);
+            data[i] ^= 1 << rng.below(8);
+        }
+        1 if len > 0 => {
+            let i = rng.below(len);
+            data[i] = *rng.pick(&[0u8, 0xFF, 0x7F, 0x80, 1, b'\n', b'/', b'-', b' ', b'9']);
+        }
+        2 if len > 0 => {
+            // Delete a range.
+            let start = rng.below(len);
+            let end = (start + 1 + rng.below(64)).min(len);
+            data.drain(start..end);
+        }
+        3 if len > 0 => {
+            // Copy a range elsewhere.
+            let start = rng.below(len);
+            let end = (start + 1 + rng.below(256)).min(len);
+            let piece = data[start..end].to_vec();
+            let at = rng.below(len + 1);
+            data.splice(at..at, piece);
+        }
+        4 => {
+            let at = rng.below(len + 1);
+            let count = 1 + rng.below(16);
+            let bytes: Vec<u8> = (0..count).map(|_| rng.next_u64() as u8).collect();
+            data.splice(at..at, bytes);
+        }
+        5 if len > 0 => data.truncate(rng.below(len)),
+        6 if !pool.is_empty() => {
+            // Splice: a prefix of this input, a suffix of another.
+            let other = rng.pick(pool);
+            let cut = rng.below(len + 1);
+            let from = rng.below(other.len() + 1);
+            data.truncate(cut);
+            data.extend_from_slice(&other[from..]);
+        }
+        _ if len > 0 => {
+            let i = rng.below(len);
+            data[i] = data[i].wrapping_add(rng.below(5) as u8).wrapping_sub(2);
+        }
+        _ => data.extend_from_slice(b"v 0 0 0\n"),
+    }
+}
+
+fn mutate_header(target: Target, rng: &mut Rng, data: &mut Vec<u8>) {
+    let fields = if target == Target::Dds {
+        DDS_FIELDS
+    } else {
+        BMP_FIELDS
+    };
+    let at = *rng.pick(fields);
+    let value = if rng.chance(4) {
+        rng.next_u64() as u32 >> rng.below(32)
+    } else {
+        *rng.pick(U32S)
+    };
+    if data.len() < at + 4 {
+        data.resize(at + 4, 0);
+    }
+    if rng.chance(3) {
+        // Negative sizes (BMP top-down), small signed values.
+        let v = -(rng.below(70000) as i32);
+        data[at..at + 4].copy_from_slice(&v.to_le_bytes());
+    } else {
+        data[at..at + 4].copy_from_slice(&value.to_le_bytes());
+    }
+}
+
+/// Number tokens of `text`: byte ranges of runs of digits, signs, dots, exponents, letters of
+/// nan/inf.
+fn number_spans(text: &[u8]) -> Vec<(usize, usize)> {
+    let mut spans = Vec::new();
+    let mut i = 0;
+    while i < text.len() {
+        if text[i].is_ascii_digit() || text[i] == b'-' || text[i] == b'.' {
+            let start = i;
+            while i < text.len()
+                && (text[i].is_ascii_alphanumeric() || matches!(text[i], b'-' | b'+' | b'.'))
+            {
+                i += 1;
+            }
+            spans.push((start, i));
+        } else {
+            i += 1;
+        }
+    }
+    spans
+}
+
+fn line_starts(text: &[u8]) -> Vec<usize> {
+    let mut starts = vec![0];
+    starts.extend(
+        text.iter()
+            .enumerate()
+            .filter(|&(_, &b)| b == b'\n')
+            .map(|(i, _)| i + 1),
+    );
+    starts
+}
+
+fn mutate_text(rng: &mut Rng, data: &mut Vec<u8>) {
+    match rng.below(7) {
+        0 | 1 => {
+            // Replace a number with an interesting one.
+            let spans = number_spans(data);
+            if spans.is_empty() {
+                return;
+            }
+            let (start, end) = *rng.pick(&spans);
+            let number = if rng.chance(4) {
+                format!("{}", rng.next_u64() as i64 >> rng.below(64))
+            } else {
+                rng.pick(NUMBERS).to_string()
+            };
+            data.splice(start..end, number.into_bytes());
+        }
+        2 => {
+            // Insert a line.
+            let starts = line_starts(data);
+            let at = *rng.pick(&starts);
+            let line = if rng.chance(2) {
+                random_face(rng)
+            } else {
+                rng.pick(LINES).to_string()
+            };
+            data.splice(at..at, format!("{line}\n").into_bytes());
+        }
+        3 => {
+            // Repeat a line (grows the mesh, makes duplicates for the indexer).
+            let starts = line_starts(data);
+            let i = rng.below(starts.len());
+            let end = starts.get(i + 1).copied().unwrap_or(data.len());
+            let line = data[starts[i]..end].to_vec();
+            let most = if rng.chance(8) { 500 } else { 8 };
+            let times = 1 + rng.below(most);
+            let mut piece = Vec::new();
+            for _ in 0..times {
+                piece.extend_from_slice(&line);
+                if !line.ends_with(b"\n") {
+                    piece.push(b'\n');
+                }
+            }
+            data.splice(end..end, piece);
+        }
+        4 => {
+            // Delete or swap lines.
+            let starts = line_starts(data);
+            if starts.len() < 2 {
+                return;
+            }
+            let i = rng.below(starts.len() - 1);
+            let line = data[starts[i]..starts[i + 1]].to_vec();
+            data.drain(starts[i]..starts[i + 1]);
+            if rng.chance(2) {
+                let starts = line_starts(data);
+                let at = *rng.pick(&starts);
+                data.splice(at..at, line);
+            }
+        }
+        5 => {
+            // Separators and line ends the two parsers might split differently.
+            if data.is_empty() {
+                return;
+            }
+            let i = rng.below(data.len());
+            const SEPARATORS: &[&[u8]] = &[
+                b"\r\n",
+                b"\r",
+                b"\t",
+                b"\x0b",
+                b"\x0c",
+                "\u{a0}".as_bytes(),
+                "\u{2003}".as_bytes(),
+                b"/",
+                b"//",
+                b" ",
+                b"\\\n",
+                b"#",
+            ];
+            let with = *rng.pick(SEPARATORS);
+            data.splice(i..i + 1, with.iter().copied());
+        }
+        _ => {
+            // Change a keyword.
+            let starts = line_starts(data);
+            let at = *rng.pick(&starts);
+            const KEYWORDS: &[&[u8]] = &[b"l ", b"p ", b"f ", b"v ", b"vt ", b"vn ", b"o "];
+            let keyword = *rng.pick(KEYWORDS);
+            data.splice(at..at, keyword.iter().copied());
+        }
+    }
+}
+
+/// An `f` line of 1–6 corners with random (often extreme) indices and random slash layouts.
+fn random_face(rng: &mut Rng) -> String {
+    let corners = 1 + rng.below(6);
+    let index = |rng: &mut Rng| -> String {
+        match rng.below(4) {
+            0 => rng.pick(NUMBERS).to_string(),
+            1 => format!("-{}", 1 + rng.below(8)),
+            _ => format!("{}", 1 + rng.below(8)),
+        }
+    };
+    let mut line = String::from(if rng.chance(5) { "l" } else { "f" });
+    for _ in 0..corners {
+        let (v, t, n) = (index(rng), index(rng), index(rng));
+        let corner = match rng.below(6) {
+            0 => v,
+            1 => format!("{v}/{t}"),
+            2 => format!("{v}//{n}"),
+            _ => format!("{v}/{t}/{n}"),
+        };
+        line.push(' ');
+        line.push_str(&corner);
+    }
+    line
+}
+
+// -------------------------------------------------------------------------------------------------
+// Running
+
+/// A failing input, saved.
+#[derive(Debug, Clone)]
+pub struct Failure {
+    pub target: Target,
+    pub message: String,
+    pub saved: Option<PathBuf>,
+}
+
+/// Totals of one run of one target.
+#[derive(Debug, Clone, Default)]
+pub struct Stats {
+    pub cases: u64,
+    pub loaded: u64,
+    pub rejected: u64,
+    pub failures: Vec<Failure>,
+}
+
+/// A file name for `input` that is the same for the same bytes (FNV-1a, 64 bits).
+pub fn input_name(input: &[u8]) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in input {
+        h = (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01B3);
+    }
+    format!("{h:016x}")
+}
+
+/// Fuzzes `target` until `stop` says so. Failing inputs go to `save_to` when given (each distinct
+/// failure message once per run, so that one bug does not fill the folder).
+pub fn fuzz(
+    target: Target,
+    seed: u64,
+    slow: Duration,
+    save_to: Option<&Path>,
+    mut stop: impl FnMut(&Stats) -> bool,
+) -> Stats {
+    let mut rng = Rng::new(seed ^ (target as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    // Two pools: inputs that load (mutated further, they reach the deeper code) and inputs
+    // rejected in a new way (they explore the error paths). Three bases in four are loading ones.
+    let mut loading: Vec<Vec<u8>> = Vec::new();
+    let mut rejected: Vec<Vec<u8>> = vec![Vec::new()];
+    for (_, bytes) in read_dir_files(&corpus_dir(target))
+        .into_iter()
+        .chain(read_dir_files(&regressions_dir(target)))
+    {
+        match run_case(target, &bytes, slow) {
+            Outcome::Loaded => loading.push(bytes),
+            _ => rejected.push(bytes),
+        }
+    }
+    let mut kinds: HashSet<String> = HashSet::new();
+    let mut reported: HashSet<String> = HashSet::new();
+    let mut stats = Stats::default();
+    while !stop(&stats) {
+        let pool = if !loading.is_empty() && rng.below(4) != 0 {
+            &loading
+        } else {
+            &rejected
+        };
+        let base = rng.pick(pool).clone();
+        let input = mutate(target, &mut rng, &base, pool);
+        stats.cases += 1;
+        match run_case(target, &input, slow) {
+            Outcome::Loaded => {
+                stats.loaded += 1;
+                if rng.chance(4) {
+                    add_to_pool(&mut loading, &mut rng, input);
+                }
+            }
+            Outcome::Rejected(kind) => {
+                stats.rejected += 1;
+                if kinds.insert(kind) {
+                    add_to_pool(&mut rejected, &mut rng, input);
+                }
+            }
+            Outcome::Failed(message) => {
+                let first_line: String = message
+                    .lines()
+                    .next()
+                    .unwrap_or("")
+                    .chars()
+                    .take(160)
+                    .collect();
+                if reported.insert(message_kind(&first_line)) {
+                    let saved = save_to.and_then(|dir| {
+                        std::fs::create_dir_all(dir).ok()?;
+                        let path = dir.join(input_name(&input));
+                        std::fs::write(&path, &input).ok()?;
+                        Some(path)
+                    });
+                    stats.failures.push(Failure {
+                        target,
+                        message: first_line,
+                        saved,
+                    });
+                }
+            }
+        }
+    }
+    stats
+}
+
+fn add_to_pool(pool: &mut Vec<Vec<u8>>, rng: &mut Rng, input: Vec<u8>) {
+    const POOL_MAX: usize = 1000;
+    if pool.len() < POOL_MAX {
+        pool.push(input);
+    } else {
+        let i = rng.below(pool.len());
+        pool[i] = input;
+    }
+}
