@@ -81,9 +81,35 @@ fn offscreen_clear_reads_back_exactly() {
 #[test]
 fn read_back_is_top_row_first() {
     let ctx = software(Profile::Core);
-    let (w, h) = (64u32, 48u32);
-    let target = OffscreenTarget::new(ctx.gl(), w, h).unwrap();
-    clear(&ctx, &target, [0.0, 0.0, 0.0, 1.0]);
+    let target = OffscreenTarget::new(ctx.gl(), 64, 48).unwrap();
+    assert!(!target.flipped_y());
+    assert_top_row_first(&ctx, &target);
+}
+
+// Fails if a target stored like a window (GL_MESA_framebuffer_flip_y) reads back upside down: GL's
+// coordinates keep their bottom-left origin whatever the storage, so read_rgba needs no change.
+#[test]
+fn window_oriented_target_reads_back_top_row_first() {
+    let ctx = software(Profile::Core);
+    let info = ctx.info();
+    let target = OffscreenTarget::with_window_orientation(ctx.gl(), 64, 48, info, |name| {
+        ctx.get_proc_address(name)
+    })
+    .unwrap();
+    // Flipped exactly when the context has the extension (Mesa 22.3 has it on desktop GL).
+    assert_eq!(
+        target.flipped_y(),
+        info.has_extension("GL_MESA_framebuffer_flip_y"),
+        "{info}"
+    );
+    assert_top_row_first(&ctx, &target);
+}
+
+/// Paints the bottom-left quadrant (in GL's coordinates) red on black and checks that it comes back
+/// as the bottom-left of the image, whose row 0 is the top.
+fn assert_top_row_first(ctx: &HeadlessContext, target: &OffscreenTarget) {
+    let (w, h) = (target.width(), target.height());
+    clear(ctx, target, [0.0, 0.0, 0.0, 1.0]);
     let gl = ctx.gl();
     unsafe {
         // GL's window coordinates start at the bottom-left: paint that quadrant red.

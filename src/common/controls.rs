@@ -4,9 +4,8 @@
 //! second) along the view direction and the right vector. The projection keeps the tutorial's fixed
 //! 4:3 aspect, whatever the window's shape. The angles use 3.14 where π would do, as the original.
 
-use glam::camera::rh::proj::opengl::perspective;
 use glam::camera::rh::view::look_at_mat4;
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec3, Vec4};
 
 /// The tutorial writes 3.14 for π (start angle, and the quarter turn of `right`); keeping its value
 /// keeps its first frame.
@@ -101,7 +100,8 @@ impl Controls {
         }
 
         // 4:3 whatever the window is, as the original (the viewport follows the window instead).
-        self.projection_matrix = perspective(self.initial_fov.to_radians(), 4.0 / 3.0, 0.1, 100.0);
+        self.projection_matrix =
+            perspective_as_glm(radians_as_glm(self.initial_fov), 4.0 / 3.0, 0.1, 100.0);
         self.view_matrix = look_at_mat4(self.position, self.position + direction, up);
     }
 
@@ -112,6 +112,28 @@ impl Controls {
     pub fn projection_matrix(&self) -> Mat4 {
         self.projection_matrix
     }
+}
+
+/// `glm::radians` for a float: degrees times GLM's constant rounded to f32.
+pub fn radians_as_glm(degrees: f32) -> f32 {
+    #[allow(clippy::excessive_precision)]
+    const GLM_DEGREES_TO_RADIANS: f32 = 0.01745329251994329576923690768489;
+    degrees * GLM_DEGREES_TO_RADIANS
+}
+
+/// `glm::perspective` (right-handed, clip depth −1..1, what the tutorial's GLM 0.9.9 uses) with GLM's
+/// operations in GLM's order, so that every element rounds as in the C++ original: 1/(aspect·tan(fovy/2)),
+/// 1/tan(fovy/2), −(far+near)/(far−near), −(2·far·near)/(far−near). glam's `perspective` gives the same
+/// matrix up to the last bit of a few elements (it multiplies by reciprocals in another order), which
+/// moves a few edge pixels of the frame.
+pub fn perspective_as_glm(fovy: f32, aspect: f32, z_near: f32, z_far: f32) -> Mat4 {
+    let tan_half_fovy = (fovy / 2.0).tan();
+    Mat4::from_cols(
+        Vec4::new(1.0 / (aspect * tan_half_fovy), 0.0, 0.0, 0.0),
+        Vec4::new(0.0, 1.0 / tan_half_fovy, 0.0, 0.0),
+        Vec4::new(0.0, 0.0, -(z_far + z_near) / (z_far - z_near), -1.0),
+        Vec4::new(0.0, 0.0, -(2.0 * z_far * z_near) / (z_far - z_near), 0.0),
+    )
 }
 
 #[cfg(test)]
@@ -158,6 +180,17 @@ mod tests {
         let near = p.project_point3(Vec3::new(0.0, 0.0, -0.1));
         let far = p.project_point3(Vec3::new(0.0, 0.0, -100.0));
         assert!((near.z + 1.0).abs() < 1e-5 && (far.z - 1.0).abs() < 1e-4);
+    }
+
+    // Fails if the projection in GLM's order is not glam's perspective matrix up to rounding (the
+    // orders differ only in the last bits, which is the point of keeping GLM's).
+    #[test]
+    fn glm_order_projection_is_glams_up_to_rounding() {
+        let ours = perspective_as_glm(radians_as_glm(45.0), 4.0 / 3.0, 0.1, 100.0);
+        let glams =
+            glam::camera::rh::proj::opengl::perspective(45f32.to_radians(), 4.0 / 3.0, 0.1, 100.0);
+        assert!(close(ours, glams, 1e-5), "{ours} {glams}");
+        assert!((radians_as_glm(45.0) - 45f32.to_radians()).abs() < 1e-7);
     }
 
     // Fails if the mouse does not turn by mouse_speed × pixels with the original's signs.

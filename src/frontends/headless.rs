@@ -54,7 +54,14 @@ impl HeadlessRenderer {
         let context = HeadlessContext::new(options.profile, options.prefer_hardware)?;
         log::debug!("headless context: {}", context.info());
         let gl = context.gl().clone();
-        let target = OffscreenTarget::new(&gl, options.width, options.height)?;
+        // Stored like a window's buffers, so that the headless frame is the window's frame.
+        let target = OffscreenTarget::with_window_orientation(
+            &gl,
+            options.width,
+            options.height,
+            context.info(),
+            |name| context.get_proc_address(name),
+        )?;
         let loader = |name: &std::ffi::CStr| context.get_proc_address(name);
         let scene_context = SceneContext {
             gl: &gl,

@@ -299,9 +299,18 @@ pub struct OffscreenTarget {
     depth: glow::Renderbuffer,
     width: u32,
     height: u32,
+    /// `GL_FRAMEBUFFER_FLIP_Y_MESA` is set: stored top row first, as Mesa stores a window.
+    flipped_y: bool,
 }
 
 const PART: &str = "offscreen target";
+
+/// `GL_MESA_framebuffer_flip_y`'s framebuffer parameter (glow has neither it nor the call that sets it).
+const FRAMEBUFFER_FLIP_Y_MESA: u32 = 0x8BBB;
+const FLIP_Y_EXTENSION: &str = "GL_MESA_framebuffer_flip_y";
+
+/// The missing extension is reported once per process, not once per target.
+static FLIP_Y_MISSING_LOGGED: std::sync::Once = std::sync::Once::new();
 
 impl OffscreenTarget {
     /// A target with a renderbuffer for colour. Checks that the driver accepts it as complete and
@@ -357,6 +366,7 @@ impl OffscreenTarget {
                 depth,
                 width,
                 height,
+                flipped_y: false,
             };
             gl.bind_renderbuffer(glow::RENDERBUFFER, Some(depth));
             gl.renderbuffer_storage(glow::RENDERBUFFER, glow::DEPTH_COMPONENT24, w, h);
@@ -402,6 +412,77 @@ impl OffscreenTarget {
             check_gl_errors(gl, PART)?;
             Ok(target)
         }
+    }
+
+    /// Like [`OffscreenTarget::new`], but stored y-flipped as Mesa stores a window's buffers, so that
+    /// a frame drawn into it is the window's frame bit for bit.
+    ///
+    /// Mesa keeps window buffers top row first, and llvmpipe's rasterization rules (which pixel an
+    /// edge or a line covers) follow that storage: a plain framebuffer object gets a few edge pixels
+    /// and line pixels different from a window. `GL_MESA_framebuffer_flip_y` makes a framebuffer
+    /// object stored like a window. Where the context lacks the extension this is a plain target
+    /// (said once in the log), and [`OffscreenTarget::flipped_y`] is false. `get_proc_address` loads
+    /// `glFramebufferParameteri`, which glow does not wrap.
+    pub fn with_window_orientation(
+        gl: &Gl,
+        width: u32,
+        height: u32,
+        info: &ContextInfo,
+        get_proc_address: impl FnMut(&CStr) -> *const c_void,
+    ) -> Result<Self> {
+        let mut target = Self::new(gl, width, height)?;
+        target.set_window_orientation(info, get_proc_address)?;
+        Ok(target)
+    }
+
+    /// Stores this target like a window (see [`OffscreenTarget::with_window_orientation`]); returns
+    /// whether the extension was there to do it. A texture target flipped this way is also stored
+    /// top row first, so a pass that samples it must flip its texture coordinates' v.
+    pub fn set_window_orientation(
+        &mut self,
+        info: &ContextInfo,
+        mut get_proc_address: impl FnMut(&CStr) -> *const c_void,
+    ) -> Result<bool> {
+        if !info.has_extension(FLIP_Y_EXTENSION) {
+            FLIP_Y_MISSING_LOGGED.call_once(|| {
+                log::warn!(
+                    "{} has no {FLIP_Y_EXTENSION}: headless frames may differ from a window's in \
+                     a few edge pixels",
+                    info.renderer
+                )
+            });
+            return Ok(false);
+        }
+        let pointer = get_proc_address(c"glFramebufferParameteri");
+        if pointer.is_null() {
+            return Err(Error::gl(
+                PART,
+                format!(
+                    "{} lists {FLIP_Y_EXTENSION} but has no glFramebufferParameteri",
+                    info.renderer
+                ),
+            ));
+        }
+        // SAFETY: a non-null address the context gives for glFramebufferParameteri, whose C signature
+        // is `void (GLenum target, GLenum pname, GLint param)` with the GL calling convention.
+        let framebuffer_parameter_i: unsafe extern "system" fn(u32, u32, i32) =
+            unsafe { std::mem::transmute::<*const c_void, _>(pointer) };
+        // SAFETY: the framebuffer is alive (owned by self); the extension allows this parameter on
+        // GL_FRAMEBUFFER; framebuffer 0 is bound again afterwards, as `new` leaves it.
+        unsafe {
+            self.gl
+                .bind_framebuffer(glow::FRAMEBUFFER, Some(self.framebuffer));
+            framebuffer_parameter_i(glow::FRAMEBUFFER, FRAMEBUFFER_FLIP_Y_MESA, 1);
+            self.gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+        }
+        check_gl_errors(&self.gl, "offscreen target (GL_FRAMEBUFFER_FLIP_Y_MESA)")?;
+        self.flipped_y = true;
+        Ok(true)
+    }
+
+    /// Whether the target is stored y-flipped like a window.
+    pub fn flipped_y(&self) -> bool {
+        self.flipped_y
     }
 
     /// Binds the framebuffer for drawing and reading, and sets the viewport to cover it.
@@ -468,6 +549,7 @@ impl fmt::Debug for OffscreenTarget {
             .field("color", &self.color)
             .field("width", &self.width)
             .field("height", &self.height)
+            .field("flipped_y", &self.flipped_y)
             .finish_non_exhaustive()
     }
 }

@@ -8,7 +8,7 @@ use image::{Rgb, RgbImage, RgbaImage};
 use tutorial13::assets::{encode_bmp, encode_dds_dxt3};
 use tutorial13::common::controls::Controls;
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
-use tutorial13::gl::Profile;
+use tutorial13::gl::{ContextInfo, Profile};
 use tutorial13::scenes::SceneOptions;
 
 pub const W: u32 = 1024;
@@ -25,6 +25,48 @@ pub fn own_assets() -> PathBuf {
 
 pub fn original_assets() -> PathBuf {
     manifest().join("../shared/tutorial13-original")
+}
+
+/// The renderer the bit-for-bit comparisons were measured on (the C++ original's frames in
+/// ../shared/tutorial13-original were taken on it): GL_RENDERER and GL_VERSION must contain these.
+pub const REFERENCE_RENDERER: &str = "llvmpipe (LLVM 15.0.6";
+pub const REFERENCE_MESA: &str = "Mesa 22.3.6";
+
+/// `None` on the reference renderer; otherwise why a bit-for-bit comparison does not apply here
+/// (rasterization and float rounding are only known to agree on the Mesa and LLVM they were measured on).
+pub fn not_reference_renderer(info: &ContextInfo) -> Option<String> {
+    if info.renderer.contains(REFERENCE_RENDERER) && info.version_string.contains(REFERENCE_MESA) {
+        None
+    } else {
+        Some(format!(
+            "this is {} with GL_VERSION {:?}; the frames are known to agree bit for bit only on \
+             {REFERENCE_RENDERER}, …) from {REFERENCE_MESA}",
+            info.renderer, info.version_string
+        ))
+    }
+}
+
+/// An inclusive rectangle of pixels: (x0, y0, x1, y1).
+pub type PixelRect = (u32, u32, u32, u32);
+
+/// How many pixels differ, the largest channel difference, and the rectangle that holds every
+/// differing pixel.
+pub fn pixel_diff(a: &RgbImage, b: &RgbImage) -> (usize, u8, Option<PixelRect>) {
+    assert_eq!(a.dimensions(), b.dimensions(), "frames of different sizes");
+    let (mut differing, mut max) = (0, 0u8);
+    let mut bbox: Option<PixelRect> = None;
+    for ((x, y, p), q) in a.enumerate_pixels().zip(b.pixels()) {
+        let m = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap();
+        if m > 0 {
+            differing += 1;
+            max = max.max(m);
+            bbox = Some(match bbox {
+                None => (x, y, x, y),
+                Some((x0, y0, x1, y1)) => (x0.min(x), y0.min(y), x1.max(x), y1.max(y)),
+            });
+        }
+    }
+    (differing, max, bbox)
 }
 
 pub fn options(assets: PathBuf, profile: Profile) -> HeadlessOptions {
