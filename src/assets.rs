@@ -31,8 +31,9 @@
 //!   lit from above has bright top edges (checked in `tests/assets.rs` with the crate's own tangent
 //!   code). The tutorial's own `normal.bmp` agrees on red but has green the other way round.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
+use crate::files::write_bytes_atomically;
 use crate::{Error, Result};
 
 /// The files [`make_assets`] writes, as the tutorial names them.
@@ -50,41 +51,77 @@ const NORMAL_STRENGTH: f32 = 14.0;
 const U_START: f64 = 2.2407;
 const U_TURNS: f64 = 3.7134;
 
+/// What [`make_assets`] did with each file.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct AssetsWritten {
+    /// Files that were not there, now written.
+    pub created: Vec<PathBuf>,
+    /// Files that were there with the same bytes, left untouched.
+    pub unchanged: Vec<PathBuf>,
+    /// Files that were there with other bytes, replaced (only with `force`).
+    pub replaced: Vec<PathBuf>,
+}
+
 /// Writes the four files into `out_dir` (creating it). Deterministic: same bytes every run, on any
 /// machine.
-pub fn make_assets(out_dir: &Path) -> Result<()> {
+///
+/// A file already there with other bytes (say the tutorial's own `normal.bmp`) is never replaced
+/// unless `force` is set: without it, nothing at all is written and the error names every such file.
+/// Each file is written atomically, so an interrupted run leaves whole files only.
+pub fn make_assets(out_dir: &Path, force: bool) -> Result<AssetsWritten> {
+    let files = generate_assets()?;
+    let mut written = AssetsWritten::default();
+    let mut differing = Vec::new();
+    let mut to_write = Vec::new();
+    for (name, bytes) in &files {
+        let path = out_dir.join(name);
+        match std::fs::read(&path) {
+            Ok(existing) if existing == *bytes => written.unchanged.push(path),
+            Ok(_) => {
+                differing.push(path.clone());
+                to_write.push((path, bytes));
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => to_write.push((path, bytes)),
+            Err(e) => return Err(Error::io(&path, e)),
+        }
+    }
+    if !differing.is_empty() && !force {
+        return Err(Error::WouldOverwrite { paths: differing });
+    }
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    for (path, bytes) in to_write {
+        write_bytes_atomically(&path, bytes)?;
+        if differing.contains(&path) {
+            written.replaced.push(path);
+        } else {
+            written.created.push(path);
+        }
+    }
+    Ok(written)
+}
+
+/// The four files' bytes, in [`ASSET_FILES`] order, made in memory before anything is written.
+pub fn generate_assets() -> Result<Vec<(&'static str, Vec<u8>)>> {
     let wall = BrickWall::new(TEXTURE_SIZE);
-
-    let path = out_dir.join("cylinder.obj");
-    write_file(
-        &path,
-        tutorial_cylinder_obj_text(CYLINDER_SEGMENTS).as_bytes(),
-    )?;
-
-    let path = out_dir.join("normal.bmp");
+    let [obj, diffuse, normal, specular] = ASSET_FILES;
+    let cylinder = tutorial_cylinder_obj_text(CYLINDER_SEGMENTS).into_bytes();
     let normals = normal_map_from_height(&wall.heights(), TEXTURE_SIZE, NORMAL_STRENGTH);
-    let bmp = encode_bmp(&normals, TEXTURE_SIZE).map_err(|reason| write_error(&path, reason))?;
-    write_file(&path, &bmp)?;
-
-    let path = out_dir.join("diffuse.DDS");
-    let dds = encode_dds_dxt3(wall.diffuse_rgba(), TEXTURE_SIZE)
-        .map_err(|reason| write_error(&path, reason))?;
-    write_file(&path, &dds)?;
-
-    let path = out_dir.join("specular.DDS");
-    let dds = encode_dds_dxt3(wall.specular_rgba(), TEXTURE_SIZE)
-        .map_err(|reason| write_error(&path, reason))?;
-    write_file(&path, &dds)
+    let bmp = encode_bmp(&normals, TEXTURE_SIZE).map_err(|reason| write_error(normal, reason))?;
+    let diffuse_dds = encode_dds_dxt3(wall.diffuse_rgba(), TEXTURE_SIZE)
+        .map_err(|reason| write_error(diffuse, reason))?;
+    let specular_dds = encode_dds_dxt3(wall.specular_rgba(), TEXTURE_SIZE)
+        .map_err(|reason| write_error(specular, reason))?;
+    Ok(vec![
+        (obj, cylinder),
+        (diffuse, diffuse_dds),
+        (normal, bmp),
+        (specular, specular_dds),
+    ])
 }
 
-fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
-    std::fs::write(path, bytes).map_err(|e| Error::io(path, e))
-}
-
-fn write_error(path: &Path, reason: String) -> Error {
+fn write_error(path: impl Into<PathBuf>, reason: String) -> Error {
     Error::Write {
-        path: path.to_path_buf(),
+        path: path.into(),
         reason,
     }
 }

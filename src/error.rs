@@ -44,6 +44,13 @@ pub enum Error {
     /// A mesh the GL side refuses: arrays of different lengths, or indices past its vertices.
     #[error("mesh: {0}")]
     Mesh(String),
+    /// `make-assets` would replace files that differ from the ones it makes.
+    #[error(
+        "{}: already there with other contents; nothing was written (pass --force to replace {})",
+        list_paths(paths),
+        if paths.len() == 1 { "it" } else { "them" }
+    )]
+    WouldOverwrite { paths: Vec<PathBuf> },
     /// Writing a generated asset failed for a reason other than I/O (e.g. the encoder refused).
     #[error("{}: cannot write: {reason}", path.display())]
     Write { path: PathBuf, reason: String },
@@ -59,6 +66,7 @@ impl Error {
             | Error::Bmp { path, .. }
             | Error::Shader { path, .. }
             | Error::Write { path, .. } => Some(path),
+            Error::WouldOverwrite { paths } => paths.first().map(PathBuf::as_path),
             Error::Context(_) | Error::Window(_) | Error::Gl { .. } | Error::Mesh(_) => None,
         }
     }
@@ -76,4 +84,9 @@ impl Error {
             error,
         }
     }
+}
+
+fn list_paths(paths: &[PathBuf]) -> String {
+    let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    names.join(", ")
 }

@@ -4,6 +4,7 @@
 //!
 //! | layer               | module        | what lives there                                              |
 //! |---------------------|---------------|---------------------------------------------------------------|
+//! | errors and files  | [`error`], [`files`] | the crate's error type; atomic file writing         |
 //! | the tutorial's `common/` | [`common`] | objloader, tangentspace, vboindexer, texture, shader, controls |
 //! | CPU helpers         | [`mesh`], [`assets`] | the CPU pipeline's switches, mesh generators, the project's own assets |
 //! | GL helpers          | [`gl`]        | the `Gl` handle, context info, error draining, mesh buffers, read-back and image files, the headless context and offscreen targets |
@@ -18,6 +19,7 @@ pub mod assets;
 pub mod common;
 pub mod debug;
 pub mod error;
+pub mod files;
 pub mod frontends;
 pub mod gl;
 pub mod mesh;

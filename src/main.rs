@@ -48,11 +48,11 @@ struct Cli {
     #[arg(long)]
     headless: bool,
 
-    /// Render N frames with time frozen at 0, then exit
-    #[arg(long, value_name = "N")]
+    /// Render N frames (N ≥ 1) with time frozen at 0, then exit
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     frames: Option<u32>,
 
-    /// Write the last frame to this PNG (top row first)
+    /// Write the last frame to this file: .png, .bmp or .tga by its extension
     #[arg(long, value_name = "FILE.png")]
     screenshot: Option<PathBuf>,
 
@@ -97,8 +97,8 @@ struct Cli {
     #[arg(long)]
     normalize_tbn: bool,
 
-    /// Render K headless frames, each timed to completion, and print min/median ms/frame
-    #[arg(long, value_name = "K")]
+    /// Render K headless frames (K ≥ 1), each timed to completion, and print min/median ms/frame
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(1..))]
     bench: Option<u32>,
 
     /// Headless: use a GPU's EGL device where there is one instead of Mesa's llvmpipe
@@ -134,6 +134,10 @@ enum Command {
         /// Output folder (created if missing)
         #[arg(long, value_name = "DIR", default_value = "assets")]
         out: PathBuf,
+        /// Replace files that are already there with other contents (e.g. the tutorial's own files);
+        /// without it such files are named and nothing is written
+        #[arg(long)]
+        force: bool,
     },
 }
 
@@ -178,10 +182,37 @@ fn main() -> ExitCode {
 }
 
 fn run(cli: Cli) -> Result<()> {
-    if let Some(Command::MakeAssets { out }) = &cli.command {
-        tutorial13::assets::make_assets(out)?;
-        println!("wrote {}", out.display());
+    if let Some(Command::MakeAssets { out, force }) = &cli.command {
+        let written = tutorial13::assets::make_assets(out, *force)?;
+        let names = |paths: &[PathBuf]| {
+            let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+            names.join(", ")
+        };
+        for (what, paths) in [
+            ("created", &written.created),
+            ("replaced", &written.replaced),
+            ("unchanged", &written.unchanged),
+        ] {
+            if !paths.is_empty() {
+                println!("{what}: {}", names(paths));
+            }
+        }
         return Ok(());
+    }
+    // Refused before rendering, not after a frame (or a whole window session) has been drawn.
+    if let Some(path) = &cli.screenshot {
+        tutorial13::gl::image::ImageFormat::from_path(path)?;
+    }
+    // A mistyped folder would otherwise fall back silently (--shaders) or fail later on one file.
+    for (flag, dir) in [("--assets", &cli.assets), ("--shaders", &cli.shaders)] {
+        if let Some(dir) = dir.as_deref().filter(|dir| !dir.is_dir()) {
+            let reason = if dir.exists() {
+                "not a folder"
+            } else {
+                "no such folder"
+            };
+            anyhow::bail!("{flag} {}: {reason}", dir.display());
+        }
     }
     let scene = SceneOptions {
         assets: cli.assets.clone(),
@@ -211,7 +242,7 @@ fn run(cli: Cli) -> Result<()> {
     if cli.headless || cli.bench.is_some() {
         run_headless(&cli, scene)
     } else {
-        println!("{}", key_list(cli.scene));
+        // The key list is printed once the window is up (a failure before prints its error alone).
         run_window(WindowOptions {
             scene_name: cli.scene,
             scene,
@@ -236,7 +267,7 @@ fn run_headless(cli: &Cli, scene: SceneOptions) -> Result<()> {
     })?;
     log::info!("{}", renderer.context.info());
     if let Some(k) = cli.bench {
-        let times = renderer.bench(k.max(1))?;
+        let times = renderer.bench(k)?;
         let (min, median) = min_median(&times);
         println!(
             "{k} frames at {width}x{height}: min {min:.3} ms/frame, median {median:.3} ms/frame"

@@ -56,7 +56,7 @@ fn make_assets_reproduces_the_committed_files() {
         .unwrap_or(0);
     let dir =
         std::env::temp_dir().join(format!("tutorial13-assets-{}-{nanos}", std::process::id()));
-    make_assets(&dir).expect("make_assets succeeds");
+    make_assets(&dir, false).expect("make_assets succeeds");
     for name in ASSET_FILES {
         let made = read(&dir.join(name));
         let kept = read(&committed(name));
@@ -77,7 +77,7 @@ fn make_assets_creates_nested_folders() {
         "tutorial13-assets-nested-{}/a/b",
         std::process::id()
     ));
-    make_assets(&dir).expect("make_assets succeeds");
+    make_assets(&dir, false).expect("make_assets succeeds");
     for name in ASSET_FILES {
         assert!(dir.join(name).is_file(), "{name} missing");
     }

@@ -1,8 +1,10 @@
 //! `common/controls.cpp`: the tutorial's first-person camera.
 //!
 //! The mouse turns the camera (0.005 rad per pixel of motion), the arrow keys move it (3 units per
-//! second) along the view direction and the right vector. The projection keeps the tutorial's fixed
-//! 4:3 aspect, whatever the window's shape. The angles use 3.14 where π would do, as the original.
+//! second) along the view direction and the right vector. The projection's aspect is the tutorial's 4:3
+//! until a front end gives the viewport's (the original keeps 4:3 whatever the window's shape, which
+//! stretches a resized window; 1024×768 gives the same float, so the tutorial's frame is unchanged).
+//! The angles use 3.14 where π would do, as the original.
 
 use glam::camera::rh::view::look_at_mat4;
 use glam::{Mat4, Vec3, Vec4};
@@ -40,6 +42,8 @@ pub struct Controls {
     pub speed: f32,
     /// Radians per pixel.
     pub mouse_speed: f32,
+    /// Width / height of the projection; the tutorial's `4.0f / 3.0f` by default.
+    pub aspect: f32,
     view_matrix: Mat4,
     projection_matrix: Mat4,
 }
@@ -53,6 +57,7 @@ impl Default for Controls {
             initial_fov: 45.0,
             speed: 3.0,
             mouse_speed: 0.005,
+            aspect: 4.0 / 3.0,
             view_matrix: Mat4::IDENTITY,
             projection_matrix: Mat4::IDENTITY,
         };
@@ -62,6 +67,22 @@ impl Default for Controls {
 }
 
 impl Controls {
+    /// The tutorial's start camera with the projection's aspect from a viewport of `width × height`.
+    pub fn for_viewport(width: u32, height: u32) -> Self {
+        let mut controls = Controls::default();
+        controls.set_viewport(width, height);
+        controls.compute_matrices_from_inputs(&Input::default(), 0.0);
+        controls
+    }
+
+    /// Makes the projection follow a viewport of `width × height` (nothing changes for an empty
+    /// one, e.g. a minimized window). Takes effect at the next `compute_matrices_from_inputs`.
+    pub fn set_viewport(&mut self, width: u32, height: u32) {
+        if width > 0 && height > 0 {
+            self.aspect = width as f32 / height as f32;
+        }
+    }
+
     /// Spherical angles to a direction, as the tutorial's `direction` vector.
     pub fn direction(&self) -> Vec3 {
         let (h, v) = (self.horizontal_angle, self.vertical_angle);
@@ -99,9 +120,9 @@ impl Controls {
             self.position -= right * step;
         }
 
-        // 4:3 whatever the window is, as the original (the viewport follows the window instead).
+        // The original's 4.0f / 3.0f, or the viewport's aspect (1024 / 768 is the same float).
         self.projection_matrix =
-            perspective_as_glm(radians_as_glm(self.initial_fov), 4.0 / 3.0, 0.1, 100.0);
+            perspective_as_glm(radians_as_glm(self.initial_fov), self.aspect, 0.1, 100.0);
         self.view_matrix = look_at_mat4(self.position, self.position + direction, up);
     }
 
@@ -180,6 +201,29 @@ mod tests {
         let near = p.project_point3(Vec3::new(0.0, 0.0, -0.1));
         let far = p.project_point3(Vec3::new(0.0, 0.0, -100.0));
         assert!((near.z + 1.0).abs() < 1e-5 && (far.z - 1.0).abs() < 1e-4);
+    }
+
+    // Fails if a viewport's aspect does not reach the projection, or if 1024×768 does not give the
+    // tutorial's 4:3 matrix bit for bit (its first frame depends on it).
+    #[test]
+    fn projection_follows_the_viewport() {
+        let tutorial = Controls::default().projection_matrix();
+        assert_eq!(
+            Controls::for_viewport(1024, 768).projection_matrix(),
+            tutorial
+        );
+        assert_eq!(
+            Controls::for_viewport(640, 480).projection_matrix(),
+            tutorial
+        );
+        let wide = Controls::for_viewport(1920, 1080).projection_matrix();
+        assert_eq!(wide.y_axis.y, tutorial.y_axis.y);
+        assert!((wide.x_axis.x * 16.0 / 9.0 - wide.y_axis.y).abs() < 1e-6);
+        // A minimized window (0 × 0) keeps the last aspect instead of dividing by zero.
+        let mut c = Controls::for_viewport(1920, 1080);
+        c.set_viewport(0, 0);
+        c.compute_matrices_from_inputs(&Input::default(), 0.0);
+        assert_eq!(c.projection_matrix(), wide);
     }
 
     // Fails if the projection in GLM's order is not glam's perspective matrix up to rounding (the

@@ -72,7 +72,7 @@ impl HeadlessRenderer {
         Ok(HeadlessRenderer {
             scene,
             target,
-            controls: Controls::default(),
+            controls: Controls::for_viewport(options.width, options.height),
             cursor: None,
             context,
         })

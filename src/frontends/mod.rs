@@ -14,6 +14,11 @@ use crate::scenes::SceneName;
 pub const WINDOW_KEYS: &[(&str, &str)] = &[
     ("mouse", "look around (the cursor is grabbed and hidden)"),
     ("arrow keys", "move forward / back, strafe left / right"),
+    ("R", "camera back to the tutorial's start"),
+    (
+        "Tab",
+        "release the cursor (losing focus does too); a click grabs it again",
+    ),
     (
         "P",
         "save a screenshot (tutorial13-N.png in the current folder)",
@@ -79,4 +84,28 @@ pub fn min_median(times: &[f64]) -> (f64, f64) {
     let min = sorted.first().copied().unwrap_or(f64::NAN);
     let median = sorted.get(sorted.len() / 2).copied().unwrap_or(f64::NAN);
     (min, median)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Fails if a scene binds a key the window already uses (the window would take it first and the
+    // scene's action could never be reached), or if the key list leaves out a window or scene key.
+    #[test]
+    fn scene_keys_are_free_and_listed() {
+        for &scene in SceneName::ALL {
+            let list = key_list(scene);
+            for help in scene.keys() {
+                let taken = WINDOW_KEYS
+                    .iter()
+                    .any(|&(key, _)| key == help.key.to_string());
+                assert!(!taken, "{scene}: key {} is the window's", help.key);
+                assert!(list.contains(&format!("\n  {:<15} {}", help.key, help.help)));
+            }
+            for &(key, help) in WINDOW_KEYS {
+                assert!(list.contains(&format!("\n  {key:<15} {help}")), "{key}");
+            }
+        }
+    }
 }

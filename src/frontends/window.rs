@@ -3,8 +3,10 @@
 //! 1024×768, "Tutorial 13 - Normal Mapping", a GL 3.3 context of the asked profile, a config without
 //! multisampling (the original's screenshot test turns MSAA off, and MSAA blurs the debug lines).
 //! For a scene with mouse look the cursor is grabbed and hidden; raw mouse motion turns the camera,
-//! the arrow keys move it; Esc or closing the window quits. Letter keys go to the scene. Once a
-//! second "<x> ms/frame" is printed and shown in the title, beside the scene's status.
+//! the arrow keys move it; Tab or losing focus releases the cursor and a click grabs it again; R puts
+//! the camera back at the tutorial's start; Esc or closing the window quits. Letter keys go to the
+//! scene. The projection's aspect and the viewport follow the window's size. Once a second
+//! "<x> ms/frame" is printed and shown in the title, beside the scene's status.
 
 use std::ffi::CString;
 use std::num::NonZeroU32;
@@ -24,12 +26,12 @@ use glutin_winit::{DisplayBuilder, GlWindow};
 use raw_window_handle::HasWindowHandle;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
-use winit::event::{DeviceEvent, DeviceId, ElementState, KeyEvent, WindowEvent};
+use winit::event::{DeviceEvent, DeviceId, ElementState, KeyEvent, MouseButton, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{CursorGrabMode, Window, WindowId};
 
-use super::FrameTimer;
+use super::{key_list, FrameTimer};
 use crate::common::controls::{Controls, Input};
 use crate::gl::image::{read_pixels_rgba, write_screenshot};
 use crate::gl::{check_gl_errors, context_info, Gl, Profile};
@@ -54,9 +56,26 @@ pub struct WindowOptions {
 /// The message for a machine without a display, with the command that works there.
 pub fn no_display_message(reason: &str) -> String {
     format!(
-        "no display to open a window on ({reason}); render without one: \
-         tutorial13 --headless --frames 1 --screenshot frame.png"
+        "no display to open a window on ({}); render without one: \
+         tutorial13 --headless --frames 1 --screenshot frame.png",
+        without_source_location(reason)
     )
+}
+
+/// winit's OS errors read "os error at /home/.../winit-0.30/src/...rs:788: Failed to open ...": the
+/// user needs the reason, not where in winit's source it was raised.
+fn without_source_location(reason: &str) -> String {
+    const MARK: &str = "os error at ";
+    match reason.find(MARK) {
+        Some(start) => match reason[start + MARK.len()..].find(": ") {
+            Some(end) => {
+                let rest = &reason[start + MARK.len() + end + 2..];
+                format!("{}{rest}", &reason[..start])
+            }
+            None => reason.to_string(),
+        },
+        None => reason.to_string(),
+    }
 }
 
 /// Opens the window and runs until Esc, a close, or `frames` frames.
@@ -105,6 +124,8 @@ struct Running {
     /// The last "ms/frame" figure, kept for the title.
     ms_per_frame: Option<f64>,
     screenshots_taken: u32,
+    /// The cursor is grabbed and hidden for mouse look (only in a scene that wants it).
+    grabbed: bool,
 }
 
 impl App {
@@ -125,6 +146,8 @@ impl ApplicationHandler for App {
         }
         match Running::new(event_loop, &self.options) {
             Ok(running) => {
+                // Only now: a failure before this point prints its error alone, not after the keys.
+                println!("{}", key_list(self.options.scene_name));
                 running.window.request_redraw();
                 self.running = Some(running);
             }
@@ -151,6 +174,11 @@ impl ApplicationHandler for App {
                 let pressed = state == ElementState::Pressed;
                 match code {
                     KeyCode::Escape if pressed => event_loop.exit(),
+                    KeyCode::Tab if pressed => running.set_cursor_grab(false),
+                    KeyCode::KeyR if pressed => {
+                        running.controls = Controls::default();
+                        log::info!("camera back at the tutorial's start");
+                    }
                     KeyCode::ArrowUp => running.input.up = pressed,
                     KeyCode::ArrowDown => running.input.down = pressed,
                     KeyCode::ArrowLeft => running.input.left = pressed,
@@ -180,6 +208,12 @@ impl ApplicationHandler for App {
                 running.cursor = Some(Vec2::new(position.x as f32, position.y as f32));
             }
             WindowEvent::CursorLeft { .. } => running.cursor = None,
+            WindowEvent::Focused(false) => running.set_cursor_grab(false),
+            WindowEvent::MouseInput {
+                state: ElementState::Pressed,
+                button: MouseButton::Left,
+                ..
+            } if !frozen => running.set_cursor_grab(true),
             WindowEvent::Resized(size) => {
                 running
                     .window
@@ -216,9 +250,13 @@ impl ApplicationHandler for App {
     }
 
     fn device_event(&mut self, _: &ActiveEventLoop, _: DeviceId, event: DeviceEvent) {
-        // Raw motion: the same pixel deltas the tutorial reads after re-centring the cursor.
+        // Raw motion: the same pixel deltas the tutorial reads after re-centring the cursor. Only
+        // while the cursor is grabbed: a released cursor moves freely without turning the camera.
         if let (Some(running), DeviceEvent::MouseMotion { delta }) = (self.running.as_mut(), event)
         {
+            if !running.grabbed {
+                return;
+            }
             running.input.mouse_dx += delta.0;
             running.input.mouse_dy += delta.1;
         }
@@ -392,19 +430,8 @@ impl Running {
         };
         let scene = options.scene_name.build(&scene_context, &options.scene)?;
         log::info!("{}", scene.status());
-        if options.frames.is_none() && scene.mouse_mode() == MouseMode::Look {
-            window.set_cursor_visible(false);
-            let grabbed = window
-                .set_cursor_grab(CursorGrabMode::Locked)
-                .or_else(|_| window.set_cursor_grab(CursorGrabMode::Confined));
-            if let Err(e) = grabbed {
-                log::warn!(
-                    "cursor not grabbed ({e}): mouse look still works while it is over the window"
-                );
-            }
-        }
         let now = Instant::now();
-        let running = Running {
+        let mut running = Running {
             scene,
             gl,
             surface,
@@ -419,9 +446,42 @@ impl Running {
             timer: FrameTimer::new(),
             ms_per_frame: None,
             screenshots_taken: 0,
+            grabbed: false,
         };
+        if options.frames.is_none() {
+            running.set_cursor_grab(true);
+        }
         running.update_title();
         Ok(running)
+    }
+
+    /// Grabs (and hides) the cursor for mouse look, or releases it. A scene that follows the absolute
+    /// cursor is never grabbed.
+    fn set_cursor_grab(&mut self, grab: bool) {
+        let grab = grab && self.scene.mouse_mode() == MouseMode::Look;
+        if grab == self.grabbed {
+            return;
+        }
+        if grab {
+            let grabbed = self
+                .window
+                .set_cursor_grab(CursorGrabMode::Locked)
+                .or_else(|_| self.window.set_cursor_grab(CursorGrabMode::Confined));
+            if let Err(e) = grabbed {
+                log::warn!(
+                    "cursor not grabbed ({e}): mouse look still works while it is over the window"
+                );
+            }
+        } else {
+            if let Err(e) = self.window.set_cursor_grab(CursorGrabMode::None) {
+                log::warn!("cursor not released: {e}");
+            }
+            log::info!("cursor released: click the window to look around again");
+        }
+        self.window.set_cursor_visible(!grab);
+        self.input.mouse_dx = 0.0;
+        self.input.mouse_dy = 0.0;
+        self.grabbed = grab;
     }
 
     /// "Tutorial 13 - Normal Mapping - 3.2 ms/frame - view lit | lines off | ...": the figure and
@@ -456,13 +516,15 @@ impl Running {
         };
         self.last_time = now;
         let input = if frozen { Input::default() } else { self.input };
+        let size = self.window.inner_size();
+        // The viewport and the projection's aspect follow the window (1024×768 is the tutorial's 4:3).
+        self.controls.set_viewport(size.width, size.height);
         self.controls
             .compute_matrices_from_inputs(&input, delta_time);
         self.input.mouse_dx = 0.0;
         self.input.mouse_dy = 0.0;
 
-        let size = self.window.inner_size();
-        // SAFETY: the viewport follows the window; the projection stays 4:3 as the tutorial's.
+        // SAFETY: a viewport of the window's size on the current context.
         unsafe {
             self.gl
                 .viewport(0, 0, size.width as i32, size.height as i32)
@@ -507,6 +569,25 @@ impl Running {
 mod tests {
     use super::*;
     use crate::scenes::SceneName;
+
+    // Fails if winit's source path reaches the user's error line, or if other reasons are altered.
+    #[test]
+    fn display_errors_drop_winits_source_path() {
+        let winit =
+            "os error at /root/.cargo/registry/src/x/winit-0.30.13/src/platform_impl/linux/\
+                     mod.rs:788: Failed to open connection to X server";
+        let message = no_display_message(winit);
+        assert!(
+            message.contains("(Failed to open connection to X server)"),
+            "{message}"
+        );
+        assert!(
+            !message.contains(".rs:") && !message.contains("cargo"),
+            "{message}"
+        );
+        let plain = "neither DISPLAY nor WAYLAND_DISPLAY is set";
+        assert!(no_display_message(plain).contains(&format!("({plain})")));
+    }
 
     // Fails if a key a scene lists cannot be typed: every listed key must map back from a key code.
     #[test]

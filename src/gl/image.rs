@@ -1,13 +1,12 @@
 //! Frames out of GL and into files: pixel read-back (top row first, as image files are) and atomic
-//! image writing (a temporary file renamed into place, so that a crash never leaves half a file).
+//! image writing (through [`crate::files::write_atomically`], so that a crash never leaves half a file).
 
-use std::fs;
-use std::io::{BufWriter, Write};
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 use glow::HasContext;
+use image::codecs::tga::TgaEncoder;
 
+pub use crate::files::write_atomically;
 use crate::{Error, Result};
 
 /// Reads `width × height` RGBA8 pixels from the bottom-left of the currently bound READ framebuffer
@@ -70,6 +69,7 @@ pub fn read_pixels_rgba(gl: &glow::Context, width: u32, height: u32) -> image::R
 pub enum ImageFormat {
     Png,
     Bmp,
+    Tga,
 }
 
 impl ImageFormat {
@@ -82,11 +82,17 @@ impl ImageFormat {
         match extension.as_deref() {
             Some("png") => Ok(ImageFormat::Png),
             Some("bmp") => Ok(ImageFormat::Bmp),
+            Some("tga") => Ok(ImageFormat::Tga),
             other => Err(Error::Write {
                 path: path.to_path_buf(),
                 reason: match other {
-                    Some(ext) => format!("cannot write .{ext} images: name the file .png or .bmp"),
-                    None => "no extension: name the file .png or .bmp".into(),
+                    Some("jpg" | "jpeg") => {
+                        "JPEG is lossy and not written: name the file .png, .bmp or .tga".into()
+                    }
+                    Some(ext) => {
+                        format!("cannot write .{ext} images: name the file .png, .bmp or .tga")
+                    }
+                    None => "no extension: name the file .png, .bmp or .tga".into(),
                 },
             }),
         }
@@ -96,6 +102,7 @@ impl ImageFormat {
         match self {
             ImageFormat::Png => image::ImageFormat::Png,
             ImageFormat::Bmp => image::ImageFormat::Bmp,
+            ImageFormat::Tga => image::ImageFormat::Tga,
         }
     }
 }
@@ -109,7 +116,7 @@ pub fn write_png(path: &Path, image: &image::RgbaImage) -> Result<()> {
     )
 }
 
-/// Writes a frame as a screenshot in the format `path`'s extension names (PNG or BMP): RGB, alpha
+/// Writes a frame as a screenshot in the format `path`'s extension names (PNG, BMP or TGA): RGB, alpha
 /// dropped, because a frame on screen is opaque (the tutorial clears with alpha 0, which viewers
 /// would show as transparent). Atomic; an unknown extension is refused before anything is written.
 pub fn write_screenshot(path: &Path, image: &image::RgbaImage) -> Result<()> {
@@ -120,56 +127,18 @@ pub fn write_screenshot(path: &Path, image: &image::RgbaImage) -> Result<()> {
 
 fn write_image(path: &Path, format: ImageFormat, image: &image::DynamicImage) -> Result<()> {
     write_atomically(path, |out| {
-        image
-            .write_to(out, format.image_format())
-            .map_err(|e| match e {
-                image::ImageError::IoError(e) => Error::io(path, e),
-                other => Error::Write {
-                    path: path.to_path_buf(),
-                    reason: other.to_string(),
-                },
-            })
+        let written = match format {
+            // Uncompressed: the crate's run-length packets may cross rows, which the TGA spec
+            // forbids and some readers (Pillow) refuse.
+            ImageFormat::Tga => image.write_with_encoder(TgaEncoder::new(out).disable_rle()),
+            _ => image.write_to(out, format.image_format()),
+        };
+        written.map_err(|e| match e {
+            image::ImageError::IoError(e) => Error::io(path, e),
+            other => Error::Write {
+                path: path.to_path_buf(),
+                reason: other.to_string(),
+            },
+        })
     })
-}
-
-/// Distinguishes temporary files of concurrent writers in the same process.
-static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
-
-/// Writes a file atomically: `write` fills a temporary file in the same folder, which is made
-/// durable and then renamed over `path`, so a reader (or a crash) never sees a half-written file.
-/// On failure nothing is left behind.
-pub fn write_atomically(
-    path: &Path,
-    write: impl FnOnce(&mut BufWriter<fs::File>) -> Result<()>,
-) -> Result<()> {
-    let Some(file_name) = path.file_name() else {
-        return Err(Error::Write {
-            path: path.to_path_buf(),
-            reason: "not a file name".into(),
-        });
-    };
-    let folder = match path.parent() {
-        Some(parent) if !parent.as_os_str().is_empty() => parent,
-        _ => Path::new("."),
-    };
-    let temp = folder.join(format!(
-        ".{}.{}-{}.tmp",
-        file_name.to_string_lossy(),
-        std::process::id(),
-        TEMP_COUNTER.fetch_add(1, Ordering::Relaxed)
-    ));
-    let file = fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&temp)
-        .map_err(|e| Error::io(path, e))?;
-    let mut out = BufWriter::new(file);
-    let written = write(&mut out)
-        .and_then(|()| out.flush().map_err(|e| Error::io(path, e)))
-        .and_then(|()| out.get_ref().sync_all().map_err(|e| Error::io(path, e)))
-        .and_then(|()| fs::rename(&temp, path).map_err(|e| Error::io(path, e)));
-    if written.is_err() {
-        let _ = fs::remove_file(&temp);
-    }
-    written
 }
