@@ -93,10 +93,60 @@ pub fn run_window(options: WindowOptions) -> Result<()> {
         running: None,
         outcome: Ok(()),
     };
-    event_loop
-        .run_app(&mut app)
-        .map_err(|e| Error::Window(format!("event loop: {e}")))?;
-    app.outcome
+    // winit 0.30 panics (BadDrawable, "Failed to destroy input context") when another program
+    // destroys the window instead of closing it. That panic is caught here and becomes one error
+    // line; any other panic is re-raised as it was.
+    let previous_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        if !is_window_destroyed_panic(info.payload()) {
+            previous_hook(info);
+        }
+    }));
+    let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        event_loop.run_app(&mut app)
+    }));
+    let _ = std::panic::take_hook(); // back to the default hook
+    let destroyed =
+        || Error::Window("the window was destroyed by another program (not closed)".into());
+    match ran {
+        Ok(Ok(())) => app.outcome,
+        // The same X errors can also come back from the event loop as an error (GLXBadWindow).
+        Ok(Err(e)) if is_window_gone(&e.to_string()) => Err(destroyed()),
+        Ok(Err(e)) => Err(Error::Window(format!(
+            "event loop: {}",
+            without_source_location(&e.to_string())
+        ))),
+        Err(payload) if is_window_destroyed_panic(payload.as_ref()) => {
+            // The GL objects of a window that no longer exists: dropped without touching it.
+            std::mem::forget(app.running.take());
+            Err(destroyed())
+        }
+        Err(payload) => std::panic::resume_unwind(payload),
+    }
+}
+
+/// Whether a panic is winit's on a window destroyed from outside: an X error for a drawable or
+/// window that is gone, raised in its event processing or a geometry query.
+fn is_window_destroyed_panic(payload: &(dyn std::any::Any + Send)) -> bool {
+    let message = payload
+        .downcast_ref::<String>()
+        .map(String::as_str)
+        .or_else(|| payload.downcast_ref::<&str>().copied())
+        .unwrap_or("");
+    is_window_gone(message)
+}
+
+/// Whether an X error message says the window (or its drawable) no longer exists.
+fn is_window_gone(message: &str) -> bool {
+    // Xlib's and GLX's names (BadDrawable, BadWindow, GLXBadWindow) and x11rb's error kinds.
+    [
+        "BadDrawable",
+        "BadWindow",
+        "error_kind: Drawable",
+        "error_kind: Window",
+    ]
+    .iter()
+    .any(|mark| message.contains(mark))
 }
 
 struct App {

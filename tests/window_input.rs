@@ -1,0 +1,277 @@
+//! The window driven as a user drives it: real key presses and mouse motion through the X server's
+//! XTEST extension (`xdotool`), under a private Xvfb. Needs the Debian packages xvfb and xdotool
+//! (.ci/run installs them). Screenshots taken with the window's own P key are compared with the
+//! headless frame, which equals the window's frame bit for bit at the tutorial's start.
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+/// How long a step may take on two busy cores before the test gives up.
+const STEP_TIMEOUT: Duration = Duration::from_secs(60);
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("window-input-{name}"));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A private X server on a display it picks itself (`-displayfd`), killed when dropped. One at a
+/// time: two servers started at once can both pick the same free display number.
+struct Xvfb {
+    child: Child,
+    display: String,
+    _one_at_a_time: std::sync::MutexGuard<'static, ()>,
+}
+
+static ONE_SERVER: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+impl Xvfb {
+    fn start() -> Self {
+        let guard = ONE_SERVER.lock().unwrap_or_else(|e| e.into_inner());
+        let mut child = Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "1280x1024x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap_or_else(|e| panic!("cannot start Xvfb ({e}): apt-get install xvfb"));
+        let stdout = child.stdout.take().unwrap();
+        let (tx, rx) = mpsc::channel();
+        std::thread::spawn(move || {
+            let mut lines = BufReader::new(stdout).lines();
+            let _ = tx.send(lines.next());
+            for _ in lines {}
+        });
+        match rx.recv_timeout(Duration::from_secs(10)) {
+            Ok(Some(Ok(n))) if n.trim().parse::<u32>().is_ok() => Xvfb {
+                child,
+                display: format!(":{}", n.trim()),
+                _one_at_a_time: guard,
+            }
+            .wait_ready(),
+            other => {
+                let _ = child.kill();
+                panic!("Xvfb reported no display within 10 s: {other:?}");
+            }
+        }
+    }
+
+    /// Waits until a client can connect (the display number can come a moment before that).
+    fn wait_ready(self) -> Self {
+        let start = Instant::now();
+        loop {
+            let probe = Command::new("xdotool")
+                .arg("getmouselocation")
+                .env("DISPLAY", &self.display)
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .status()
+                .unwrap_or_else(|e| panic!("cannot run xdotool ({e}): apt-get install xdotool"));
+            if probe.success() {
+                return self;
+            }
+            assert!(
+                start.elapsed() < STEP_TIMEOUT,
+                "no connection to {}",
+                self.display
+            );
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    }
+
+    /// Runs `xdotool ARGS` on this display and returns its stdout.
+    fn xdotool(&self, args: &[&str]) -> String {
+        let out = Command::new("xdotool")
+            .args(args)
+            .env("DISPLAY", &self.display)
+            .output()
+            .unwrap_or_else(|e| panic!("cannot run xdotool ({e}): apt-get install xdotool"));
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    }
+
+    /// The id of the tutorial's window, once it is mapped.
+    fn wait_for_window(&self, app: &mut Child) -> String {
+        let start = Instant::now();
+        loop {
+            let found = self.xdotool(&["search", "--name", "Tutorial 13"]);
+            if let Some(id) = found.lines().next() {
+                return id.to_string();
+            }
+            if app.try_wait().unwrap().is_some() {
+                let (status, stderr) = wait_exit(app);
+                panic!("the program exited ({status}) before its window appeared:\n{stderr}");
+            }
+            assert!(
+                start.elapsed() < STEP_TIMEOUT,
+                "no window after {STEP_TIMEOUT:?}"
+            );
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// The program in a window on `xvfb`, started in `dir` (where P writes tutorial13-N.png).
+fn start_window(xvfb: &Xvfb, dir: &Path) -> Child {
+    Command::new(env!("CARGO_BIN_EXE_tutorial13"))
+        .current_dir(dir)
+        .env("DISPLAY", &xvfb.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("RUST_LOG")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+fn wait_exit(app: &mut Child) -> (std::process::ExitStatus, String) {
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = app.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > STEP_TIMEOUT {
+            let _ = app.kill();
+            panic!("the program did not exit within {STEP_TIMEOUT:?}");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let mut stderr = String::new();
+    use std::io::Read;
+    app.stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut stderr)
+        .unwrap();
+    (status, stderr)
+}
+
+/// Presses P and waits for the numbered screenshot it writes.
+fn screenshot(xvfb: &Xvfb, dir: &Path, n: u32) -> image::RgbImage {
+    xvfb.xdotool(&["key", "p"]);
+    let path = dir.join(format!("tutorial13-{n}.png"));
+    let start = Instant::now();
+    loop {
+        // The file appears by rename, so it is whole once it exists.
+        if let Ok(image) = image::open(&path) {
+            return image.into_rgb8();
+        }
+        assert!(
+            start.elapsed() < STEP_TIMEOUT,
+            "{} not written",
+            path.display()
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+fn headless_first_frame(dir: &Path) -> image::RgbImage {
+    let out = Command::new(env!("CARGO_BIN_EXE_tutorial13"))
+        .args(["--headless", "--screenshot", "headless.png"])
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    image::open(dir.join("headless.png")).unwrap().into_rgb8()
+}
+
+// Fails if mouse motion does not turn the grabbed camera, if R does not bring the camera back to the
+// tutorial's start (the frame must equal the headless first frame bit for bit), if Tab does not
+// release the cursor (motion must then leave the frame alone), or if a click does not grab it again.
+#[test]
+fn mouse_look_reset_release_and_grab() {
+    let dir = scratch("keys");
+    let start_frame = headless_first_frame(&dir);
+    let xvfb = Xvfb::start();
+    let mut app = start_window(&xvfb, &dir);
+    let window = xvfb.wait_for_window(&mut app);
+    xvfb.xdotool(&["windowfocus", "--sync", &window]);
+    // A click grabs the cursor (Xvfb has no window manager, so focus may have come and gone).
+    xvfb.xdotool(&["mousemove", "640", "512", "click", "1"]);
+    std::thread::sleep(Duration::from_millis(300));
+    xvfb.xdotool(&["mousemove_relative", "80", "30"]);
+    std::thread::sleep(Duration::from_millis(300));
+    let turned = screenshot(&xvfb, &dir, 1);
+    assert!(
+        turned != start_frame,
+        "mouse motion did not turn the camera"
+    );
+
+    xvfb.xdotool(&["key", "r"]);
+    let reset = screenshot(&xvfb, &dir, 2);
+    assert!(
+        reset == start_frame,
+        "R did not restore the tutorial's start frame"
+    );
+
+    xvfb.xdotool(&["key", "Tab"]);
+    std::thread::sleep(Duration::from_millis(300));
+    xvfb.xdotool(&["mousemove_relative", "80", "30"]);
+    std::thread::sleep(Duration::from_millis(300));
+    let released = screenshot(&xvfb, &dir, 3);
+    assert!(
+        released == start_frame,
+        "the released cursor still turned the camera"
+    );
+
+    xvfb.xdotool(&["click", "1"]);
+    std::thread::sleep(Duration::from_millis(300));
+    xvfb.xdotool(&["mousemove_relative", "80", "30"]);
+    std::thread::sleep(Duration::from_millis(300));
+    let grabbed = screenshot(&xvfb, &dir, 4);
+    assert!(
+        grabbed != start_frame,
+        "a click did not grab the cursor again"
+    );
+
+    xvfb.xdotool(&["key", "Escape"]);
+    let (status, stderr) = wait_exit(&mut app);
+    assert!(status.success(), "{stderr}");
+}
+
+// Fails if a window destroyed by another program (XDestroyWindow, not a close request) makes the
+// program panic (winit 0.30 raises BadDrawable) instead of exiting with one error line.
+#[test]
+fn a_window_destroyed_from_outside_ends_with_one_line() {
+    let dir = scratch("destroyed");
+    let xvfb = Xvfb::start();
+    let mut app = start_window(&xvfb, &dir);
+    let window = xvfb.wait_for_window(&mut app);
+    std::thread::sleep(Duration::from_millis(500));
+    xvfb.xdotool(&["windowclose", &window]);
+    let (status, stderr) = wait_exit(&mut app);
+    assert_eq!(status.code(), Some(1), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    let errors: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("tutorial13:"))
+        .collect();
+    assert_eq!(errors.len(), 1, "{stderr}");
+    assert!(
+        errors[0].contains("destroyed by another program"),
+        "{stderr}"
+    );
+}
