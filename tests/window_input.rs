@@ -200,7 +200,8 @@ fn headless_first_frame(dir: &Path) -> image::RgbImage {
 
 // Fails if mouse motion does not turn the grabbed camera, if R does not bring the camera back to the
 // tutorial's start (the frame must equal the headless first frame bit for bit), if Tab does not
-// release the cursor (motion must then leave the frame alone), or if a click does not grab it again.
+// release the cursor (motion must then leave the frame alone), if a click does not grab it again, or
+// if the title loses the scene's status when the ms/frame figure arrives.
 #[test]
 fn mouse_look_reset_release_and_grab() {
     let dir = scratch("keys");
@@ -246,6 +247,20 @@ fn mouse_look_reset_release_and_grab() {
         grabbed != start_frame,
         "a click did not grab the cursor again"
     );
+
+    // The once-a-second figure joins the status in the title instead of replacing it.
+    let start = Instant::now();
+    let title = loop {
+        let title = xvfb.xdotool(&["getwindowname", &window]);
+        if title.contains("ms/frame") {
+            break title;
+        }
+        assert!(start.elapsed() < STEP_TIMEOUT, "no ms/frame in the title: {title}");
+        std::thread::sleep(Duration::from_millis(200));
+    };
+    for part in ["Tutorial 13 - Normal Mapping", "view lit", "lines off", "Gram-Schmidt on"] {
+        assert!(title.contains(part), "{part:?} missing from the title {title:?}");
+    }
 
     xvfb.xdotool(&["key", "Escape"]);
     let (status, stderr) = wait_exit(&mut app);
