@@ -34,6 +34,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::files::write_bytes_atomically;
+use crate::normalmap::{normal_map, HeightMap, Kernel, NormalMapOptions};
 use crate::{Error, Result};
 
 /// The files [`make_assets`] writes, as the tutorial names them.
@@ -409,33 +410,30 @@ pub fn brick_height_map(size: u32) -> Vec<f32> {
 // ---------------------------------------------------------------------------------------------
 // Normal map
 
-/// Tangent-space normals of a `size * size` height map (row 0 = top), as RGB, row 0 = top.
+/// Tangent-space normals of a `size * size` height map (row 0 = top), as RGB, row 0 = top: the
+/// height-map tool ([`crate::normalmap`]) with central differences, on the height negated.
 ///
-/// Central differences wrap around, since the texture repeats. With x to the right and y up the
-/// picture, `n = normalize(+dh/dx * strength, +dh/dy * strength, 1)`: the sign that makes bumps
-/// look raised under the tutorial's tangent frame (see the module comment). Encoded as
-/// `round(127.5 * (n + 1))`, so a flat texel is exactly (128, 128, 255).
+/// The tool stores OpenGL's convention, n = normalize(−∂h/∂x, −∂h/∂y, 1) with y up the picture. The
+/// project's maps must be that turned by 180° (red growing with +∂h/∂x, green with +∂h/∂y; see the
+/// module comment), which is exactly the tool's output for −h. Central differences (not the tool's
+/// default Sobel) keep `assets/normal.bmp` the bytes it has always been.
 pub fn normal_map_from_height(height: &[f32], size: u32, strength: f32) -> Vec<[u8; 3]> {
-    let n = size as usize;
     assert_eq!(
         height.len(),
-        n * n,
+        (size as usize).pow(2),
         "height map must hold size * size values"
     );
-    let at = |col: usize, row: usize| height[row * n + col];
-    let mut out = Vec::with_capacity(n * n);
-    for row in 0..n {
-        let (up, down) = ((row + n - 1) % n, (row + 1) % n);
-        for col in 0..n {
-            let (left, right) = ((col + n - 1) % n, (col + 1) % n);
-            let dh_dx = (at(right, row) - at(left, row)) * 0.5;
-            let dh_dy = (at(col, up) - at(col, down)) * 0.5;
-            let v = [dh_dx * strength, dh_dy * strength, 1.0];
-            let inv_len = 1.0 / (v[0] * v[0] + v[1] * v[1] + 1.0).sqrt();
-            out.push(v.map(|c| (127.5 * (c * inv_len + 1.0)).round().clamp(0.0, 255.0) as u8));
-        }
-    }
-    out
+    let negated = HeightMap {
+        width: size,
+        height: size,
+        values: height.iter().map(|h| -h).collect(),
+    };
+    let options = NormalMapOptions {
+        strength,
+        kernel: Kernel::Central,
+        ..Default::default()
+    };
+    normal_map(&negated, options)
 }
 
 /// 24-bit uncompressed BMP (54-byte header, BI_RGB, bottom row first), what `loadBMP_custom` reads.

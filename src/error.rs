@@ -44,6 +44,9 @@ pub enum Error {
     /// A mesh the GL side refuses: arrays of different lengths, or indices past its vertices.
     #[error("mesh: {0}")]
     Mesh(String),
+    /// An image the program reads (a height map) could not be decoded.
+    #[error("{}: {reason}", path.display())]
+    Image { path: PathBuf, reason: String },
     /// `make-assets` would replace files that differ from the ones it makes.
     #[error(
         "{}: already there with other contents; nothing was written (pass --force to replace {})",
@@ -65,6 +68,7 @@ impl Error {
             | Error::Dds { path, .. }
             | Error::Bmp { path, .. }
             | Error::Shader { path, .. }
+            | Error::Image { path, .. }
             | Error::Write { path, .. } => Some(path),
             Error::WouldOverwrite { paths } => paths.first().map(PathBuf::as_path),
             Error::Context(_) | Error::Window(_) | Error::Gl { .. } | Error::Mesh(_) => None,

@@ -139,6 +139,40 @@ enum Command {
         #[arg(long)]
         force: bool,
     },
+    /// Make a tangent-space normal map from a grey-scale height map (white high, black low; any size;
+    /// edges wrap so that tiling maps tile)
+    Normalmap {
+        /// The height map: PNG, BMP or TGA, 8 or 16 bits (colour is read as luma)
+        height: PathBuf,
+        /// Output: .bmp (24-bit, what the tutorial loads) or .png
+        #[arg(short, long, value_name = "FILE")]
+        output: PathBuf,
+        /// Texels of relief that black-to-white stands for (larger = bumpier)
+        #[arg(long, value_name = "S", default_value_t = 8.0)]
+        strength: f32,
+        /// Green channel up the picture (OpenGL, the tutorial) or down (DirectX)
+        #[arg(long, value_enum, default_value_t = GreenArg::Up)]
+        green: GreenArg,
+        /// Store x and y only (blue 0); readers rebuild z = sqrt(1 - x² - y²)
+        #[arg(long)]
+        two_channel: bool,
+        /// Derivative filter
+        #[arg(long, value_enum, default_value_t = KernelArg::Sobel)]
+        kernel: KernelArg,
+    },
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+enum GreenArg {
+    Up,
+    Down,
+}
+
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+enum KernelArg {
+    Sobel,
+    Scharr,
+    Central,
 }
 
 fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
@@ -182,6 +216,43 @@ fn main() -> ExitCode {
 }
 
 fn run(cli: Cli) -> Result<()> {
+    if let Some(Command::Normalmap {
+        height,
+        output,
+        strength,
+        green,
+        two_channel,
+        kernel,
+    }) = &cli.command
+    {
+        use tutorial13::normalmap::{normal_map, write_normal_map, Green, HeightMap, Kernel};
+        if !strength.is_finite() {
+            anyhow::bail!("--strength {strength}: must be a finite number");
+        }
+        let heights = HeightMap::load(height)?;
+        let options = tutorial13::normalmap::NormalMapOptions {
+            strength: *strength,
+            kernel: match kernel {
+                KernelArg::Sobel => Kernel::Sobel,
+                KernelArg::Scharr => Kernel::Scharr,
+                KernelArg::Central => Kernel::Central,
+            },
+            green: match green {
+                GreenArg::Up => Green::Up,
+                GreenArg::Down => Green::Down,
+            },
+            two_channel: *two_channel,
+        };
+        let texels = normal_map(&heights, options);
+        write_normal_map(output, &texels, heights.width, heights.height)?;
+        println!(
+            "wrote {} ({}x{})",
+            output.display(),
+            heights.width,
+            heights.height
+        );
+        return Ok(());
+    }
     if let Some(Command::MakeAssets { out, force }) = &cli.command {
         let written = tutorial13::assets::make_assets(out, *force)?;
         let names = |paths: &[PathBuf]| {

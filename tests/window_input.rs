@@ -255,11 +255,22 @@ fn mouse_look_reset_release_and_grab() {
         if title.contains("ms/frame") {
             break title;
         }
-        assert!(start.elapsed() < STEP_TIMEOUT, "no ms/frame in the title: {title}");
+        assert!(
+            start.elapsed() < STEP_TIMEOUT,
+            "no ms/frame in the title: {title}"
+        );
         std::thread::sleep(Duration::from_millis(200));
     };
-    for part in ["Tutorial 13 - Normal Mapping", "view lit", "lines off", "Gram-Schmidt on"] {
-        assert!(title.contains(part), "{part:?} missing from the title {title:?}");
+    for part in [
+        "Tutorial 13 - Normal Mapping",
+        "view lit",
+        "lines off",
+        "Gram-Schmidt on",
+    ] {
+        assert!(
+            title.contains(part),
+            "{part:?} missing from the title {title:?}"
+        );
     }
 
     xvfb.xdotool(&["key", "Escape"]);

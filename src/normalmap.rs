@@ -1,0 +1,173 @@
+//! Height map → tangent-space normal map: the tutorial's "How to create a normal map", as a tool
+//! (`tutorial13 normalmap HEIGHT.png -o normal.bmp`) and as the function the asset generator calls.
+//!
+//! Heights are 0 (black, low) to 1 (white, high); only their differences matter, so a constant map
+//! (50 % grey or any other) is flat. With x to the right and y up the picture, the surface
+//! z = strength · h(x, y) (in texels) has the normal normalize(−strength · ∂h/∂x, −strength · ∂h/∂y, 1),
+//! which is what "green up" (OpenGL's convention) stores; "green down" (DirectX's) stores −y.
+//! Derivatives wrap around the edges, so that a tiling height map gives a tiling normal map.
+//! Each component c is stored as round(127.5 · (c + 1)): a flat texel is exactly (128, 128, 255).
+
+use std::path::Path;
+
+use crate::{Error, Result};
+
+/// The derivative filter.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Kernel {
+    /// 3×3 Sobel (weights 1 2 1 across the derivative), smooths noise a little.
+    #[default]
+    Sobel,
+    /// 3×3 Scharr (weights 3 10 3): closer to rotation-invariant than Sobel.
+    Scharr,
+    /// Plain central differences (h[x+1] − h[x−1]) / 2: the sharpest; the project's own assets use it.
+    Central,
+}
+
+/// Which way the green channel points.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Green {
+    /// +y up the picture (OpenGL's convention, the tutorial's).
+    #[default]
+    Up,
+    /// +y down the picture (DirectX's convention).
+    Down,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NormalMapOptions {
+    /// Texels of height that the full black-to-white range stands for: larger = bumpier.
+    pub strength: f32,
+    pub kernel: Kernel,
+    pub green: Green,
+    /// Store x and y only (blue 0); a reader rebuilds z = sqrt(1 − x² − y²).
+    pub two_channel: bool,
+}
+
+impl Default for NormalMapOptions {
+    fn default() -> Self {
+        NormalMapOptions {
+            strength: 8.0,
+            kernel: Kernel::default(),
+            green: Green::default(),
+            two_channel: false,
+        }
+    }
+}
+
+/// A grey-scale height field, row 0 at the top of the picture.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeightMap {
+    pub width: u32,
+    pub height: u32,
+    /// `width × height` values, 0 = low, 1 = high.
+    pub values: Vec<f32>,
+}
+
+impl HeightMap {
+    /// Reads any image the crate decodes (PNG, BMP, TGA; 8 or 16 bits; colour is taken as luma).
+    pub fn load(path: &Path) -> Result<Self> {
+        let bad = |reason: String| Error::Image {
+            path: path.to_path_buf(),
+            reason,
+        };
+        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let image = image::load_from_memory(&bytes)
+            .map_err(|e| bad(format!("not a height map this program reads: {e}")))?;
+        let luma = image.into_luma16();
+        let (width, height) = luma.dimensions();
+        let values = luma.pixels().map(|p| f32::from(p.0[0]) / 65535.0).collect();
+        Ok(HeightMap {
+            width,
+            height,
+            values,
+        })
+    }
+
+    fn at(&self, col: usize, row: usize) -> f32 {
+        self.values[row * self.width as usize + col]
+    }
+}
+
+/// The normal map of `heights`, RGB texels in the same order (row 0 at the top).
+pub fn normal_map(heights: &HeightMap, options: NormalMapOptions) -> Vec<[u8; 3]> {
+    let (w, h) = (heights.width as usize, heights.height as usize);
+    assert_eq!(
+        heights.values.len(),
+        w * h,
+        "height map of the wrong length"
+    );
+    let mut out = Vec::with_capacity(w * h);
+    for row in 0..h {
+        // Wrapped neighbours: the texture repeats.
+        let (up, down) = ((row + h - 1) % h, (row + 1) % h);
+        for col in 0..w {
+            let (left, right) = ((col + w - 1) % w, (col + 1) % w);
+            let at = |c, r| heights.at(c, r);
+            // ∂h/∂x to the right and ∂h/∂y up the picture, in height per texel.
+            let (dh_dx, dh_dy) = match options.kernel {
+                Kernel::Central => (
+                    (at(right, row) - at(left, row)) * 0.5,
+                    (at(col, up) - at(col, down)) * 0.5,
+                ),
+                Kernel::Sobel | Kernel::Scharr => {
+                    let (side, middle, sum) = match options.kernel {
+                        Kernel::Sobel => (1.0, 2.0, 8.0),
+                        _ => (3.0, 10.0, 32.0),
+                    };
+                    let column = |c| side * at(c, up) + middle * at(c, row) + side * at(c, down);
+                    let line = |r| side * at(left, r) + middle * at(col, r) + side * at(right, r);
+                    (
+                        (column(right) - column(left)) / sum,
+                        (line(up) - line(down)) / sum,
+                    )
+                }
+            };
+            let y_sign = match options.green {
+                Green::Up => 1.0,
+                Green::Down => -1.0,
+            };
+            let v = [
+                -dh_dx * options.strength,
+                y_sign * -dh_dy * options.strength,
+                1.0,
+            ];
+            let inv_len = 1.0 / (v[0] * v[0] + v[1] * v[1] + 1.0).sqrt();
+            let mut texel =
+                v.map(|c| (127.5 * (c * inv_len + 1.0)).round().clamp(0.0, 255.0) as u8);
+            if options.two_channel {
+                texel[2] = 0;
+            }
+            out.push(texel);
+        }
+    }
+    out
+}
+
+/// Writes `texels` (`width × height`, row 0 at the top) as a 24-bit BMP (what the tutorial's
+/// `loadBMP_custom` reads) or PNG, by `path`'s extension; atomically.
+pub fn write_normal_map(path: &Path, texels: &[[u8; 3]], width: u32, height: u32) -> Result<()> {
+    let bad = |reason: String| Error::Write {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let format = match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("bmp") => image::ImageFormat::Bmp,
+        Some("png") => image::ImageFormat::Png,
+        _ => return Err(bad("name the output .bmp or .png".into())),
+    };
+    let flat: Vec<u8> = texels.iter().flatten().copied().collect();
+    let image = image::RgbImage::from_raw(width, height, flat)
+        .ok_or_else(|| bad(format!("{} texels for {width}×{height}", texels.len())))?;
+    crate::files::write_atomically(path, |out| {
+        image.write_to(out, format).map_err(|e| match e {
+            image::ImageError::IoError(e) => Error::io(path, e),
+            other => bad(other.to_string()),
+        })
+    })
+}
