@@ -42,6 +42,9 @@ impl Default for HeadlessOptions {
 pub struct HeadlessRenderer {
     // Field order is drop order: GL objects go before the context that owns them.
     pub scene: Box<dyn Scene>,
+    /// Which scene [`HeadlessRenderer::scene`] is.
+    pub scene_name: SceneName,
+    scene_options: SceneOptions,
     pub target: OffscreenTarget,
     pub controls: Controls,
     /// Where a window's cursor would be (x right, y down, pixels), for scenes that follow it.
@@ -62,20 +65,25 @@ impl HeadlessRenderer {
             context.info(),
             |name| context.get_proc_address(name),
         )?;
-        let loader = |name: &std::ffi::CStr| context.get_proc_address(name);
-        let scene_context = SceneContext {
-            gl: &gl,
-            info: context.info(),
-            loader: &loader,
-        };
-        let scene = options.scene_name.build(&scene_context, &options.scene)?;
+        let scene = build_scene(&context, options.scene_name, &options.scene)?;
         Ok(HeadlessRenderer {
             scene,
+            scene_name: options.scene_name,
+            scene_options: options.scene.clone(),
             target,
             controls: Controls::for_viewport(options.width, options.height),
             cursor: None,
             context,
         })
+    }
+
+    /// Replaces the scene with `name`, built from the same options (the window's scene key). The new
+    /// scene is built first, so a failure leaves the current one in place; the old one's GL objects
+    /// are deleted when it is dropped.
+    pub fn switch_scene(&mut self, name: SceneName) -> Result<()> {
+        self.scene = build_scene(&self.context, name, &self.scene_options)?;
+        self.scene_name = name;
+        Ok(())
     }
 
     /// The scene as its own type, for tests and tools that reach into it. Panics if the renderer
@@ -145,4 +153,18 @@ impl HeadlessRenderer {
         self.check_errors()?;
         Ok(times)
     }
+}
+
+fn build_scene(
+    context: &HeadlessContext,
+    name: SceneName,
+    options: &SceneOptions,
+) -> Result<Box<dyn Scene>> {
+    let loader = |symbol: &std::ffi::CStr| context.get_proc_address(symbol);
+    let scene_context = SceneContext {
+        gl: context.gl(),
+        info: context.info(),
+        loader: &loader,
+    };
+    name.build(&scene_context, options)
 }

@@ -19,6 +19,7 @@ pub const WINDOW_KEYS: &[(&str, &str)] = &[
         "Tab",
         "release the cursor (losing focus does too); a click grabs it again",
     ),
+    ("Enter", "next scene (see --scene)"),
     (
         "P",
         "save a screenshot (tutorial13-N.png in the current folder)",

@@ -34,7 +34,7 @@ use winit::window::{CursorGrabMode, Window, WindowId};
 use super::{key_list, FrameTimer};
 use crate::common::controls::{Controls, Input};
 use crate::gl::image::{read_pixels_rgba, write_screenshot};
-use crate::gl::{check_gl_errors, context_info, Gl, Profile};
+use crate::gl::{check_gl_errors, context_info, ContextInfo, Gl, Profile};
 use crate::scenes::{FrameInput, MouseMode, Scene, SceneContext, SceneName, SceneOptions};
 use crate::{Error, Result};
 
@@ -159,6 +159,9 @@ struct App {
 /// the surface and context, then the window.
 struct Running {
     scene: Box<dyn Scene>,
+    scene_name: SceneName,
+    scene_options: SceneOptions,
+    info: ContextInfo,
     gl: Gl,
     surface: Surface<WindowSurface>,
     context: PossiblyCurrentContext,
@@ -225,6 +228,11 @@ impl ApplicationHandler for App {
                 match code {
                     KeyCode::Escape if pressed => event_loop.exit(),
                     KeyCode::Tab if pressed => running.set_cursor_grab(false),
+                    KeyCode::Enter if pressed => {
+                        if let Err(e) = running.switch_scene(running.scene_name.next()) {
+                            log::error!("{e}");
+                        }
+                    }
                     KeyCode::KeyR if pressed => {
                         running.controls = Controls::default();
                         log::info!("camera back at the tutorial's start");
@@ -483,6 +491,9 @@ impl Running {
         let now = Instant::now();
         let mut running = Running {
             scene,
+            scene_name: options.scene_name,
+            scene_options: options.scene.clone(),
+            info,
             gl,
             surface,
             context,
@@ -503,6 +514,28 @@ impl Running {
         }
         running.update_title();
         Ok(running)
+    }
+
+    /// The scene key: builds `name` on this context (the current scene stays if that fails), drops
+    /// the old scene's GL objects, and prints the new scene's keys.
+    fn switch_scene(&mut self, name: SceneName) -> Result<()> {
+        let display = self.context.display();
+        let loader = |symbol: &std::ffi::CStr| display.get_proc_address(symbol);
+        let scene_context = SceneContext {
+            gl: &self.gl,
+            info: &self.info,
+            loader: &loader,
+        };
+        let scene = name.build(&scene_context, &self.scene_options)?;
+        self.set_cursor_grab(false);
+        self.scene = scene;
+        self.scene_name = name;
+        self.controls = Controls::default();
+        self.set_cursor_grab(true);
+        println!("{}", key_list(name));
+        log::info!("scene {name}: {}", self.scene.status());
+        self.update_title();
+        Ok(())
     }
 
     /// Grabs (and hides) the cursor for mouse look, or releases it. A scene that follows the absolute
