@@ -3,7 +3,7 @@
 //!     cargo run --profile fuzz --example fuzz -- --seconds 1800
 //!
 //! Options: `--seconds N` (total, shared equally by the targets; default 60), `--target NAME`
-//! (obj, dds, bmp or pipeline; repeatable; default all), `--seed N` (default: from the clock,
+//! (obj, dds, bmp, pipeline or heightmap; repeatable; default all), `--seed N` (default: from the clock,
 //! printed), `--slow-ms N` (a case slower than this fails; default 2000), `--replay FILE` (run one
 //! input on the target named before it and print the outcome), `--make-corpus` (rewrite the seed
 //! corpus in fuzz/corpus/ and exit). Failing inputs are saved to fuzz/regressions/<target>/,
@@ -109,7 +109,7 @@ fn parse(s: &str) -> u64 {
 
 fn usage(problem: &str) -> ! {
     eprintln!(
-        "fuzz: {problem}\nusage: fuzz [--seconds N] [--target obj|dds|bmp|pipeline]... [--seed N] [--slow-ms N] [--replay FILE] [--make-corpus]"
+        "fuzz: {problem}\nusage: fuzz [--seconds N] [--target obj|dds|bmp|pipeline|heightmap]... [--seed N] [--slow-ms N] [--replay FILE] [--make-corpus]"
     );
     std::process::exit(2);
 }
@@ -185,6 +185,36 @@ fn make_corpus() {
             write(Target::Bmp, "rgb-3x3-top-down.bmp", &top_down);
         }
     }
+    // Height maps: 8- and 16-bit grey PNG, colour PNG, grey BMP; odd sizes, one texel.
+    let png = |image: image::DynamicImage| {
+        let mut bytes = Vec::new();
+        image
+            .write_to(
+                &mut std::io::Cursor::new(&mut bytes),
+                image::ImageFormat::Png,
+            )
+            .unwrap();
+        bytes
+    };
+    let grey = image::GrayImage::from_fn(5, 3, |x, y| image::Luma([(x * 50 + y * 20) as u8]));
+    write(Target::Heightmap, "grey-5x3.png", &png(grey.into()));
+    let deep =
+        image::ImageBuffer::from_fn(3, 4, |x, y| image::Luma([(x * 20000 + y * 999) as u16]));
+    write(
+        Target::Heightmap,
+        "grey16-3x4.png",
+        &png(image::DynamicImage::ImageLuma16(deep)),
+    );
+    let rgb = image::RgbImage::from_fn(2, 2, |x, y| image::Rgb([x as u8 * 200, y as u8 * 90, 7]));
+    write(Target::Heightmap, "rgb-2x2.png", &png(rgb.into()));
+    let one = image::GrayImage::from_pixel(1, 1, image::Luma([128]));
+    write(Target::Heightmap, "grey-1x1.png", &png(one.into()));
+    let ramp: Vec<[u8; 3]> = (0..16u8).map(|i| [i * 16; 3]).collect();
+    write(
+        Target::Heightmap,
+        "ramp-4x4.bmp",
+        &encode_bmp(&ramp, 4).unwrap(),
+    );
     println!(
         "fuzz: corpus written to {}",
         harness::fuzz_dir().join("corpus").display()

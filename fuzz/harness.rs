@@ -23,6 +23,7 @@ use tutorial13::common::vboindexer::{
     index_vbo_tbn, index_vbo_tbn_linear, IndexOptions, IndexedMesh,
 };
 use tutorial13::mesh::MeshOptions;
+use tutorial13::normalmap::{normal_map, HeightMap, Kernel, NormalMapOptions};
 
 /// What is fuzzed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -36,9 +37,18 @@ pub enum Target {
     /// OBJ text through tangents and indexing, under every switch setting: finite outputs, indices
     /// in range, and the grid indexer equal to the linear reference on small meshes.
     Pipeline,
+    /// `HeightMap::from_bytes` then `normal_map` with every kernel: an error naming the file, or
+    /// one texel per height texel, each a normal facing out of the surface (blue ≥ 128).
+    Heightmap,
 }
 
-pub const TARGETS: [Target; 4] = [Target::Obj, Target::Dds, Target::Bmp, Target::Pipeline];
+pub const TARGETS: [Target; 5] = [
+    Target::Obj,
+    Target::Dds,
+    Target::Bmp,
+    Target::Pipeline,
+    Target::Heightmap,
+];
 
 /// Meshes up to this many corners are also indexed by the quadratic reference.
 const LINEAR_REFERENCE_MAX_CORNERS: usize = 3000;
@@ -52,6 +62,7 @@ impl Target {
             Target::Dds => "dds",
             Target::Bmp => "bmp",
             Target::Pipeline => "pipeline",
+            Target::Heightmap => "heightmap",
         }
     }
 
@@ -64,6 +75,7 @@ impl Target {
             Target::Obj | Target::Pipeline => "fuzz.obj",
             Target::Dds => "fuzz.DDS",
             Target::Bmp => "fuzz.bmp",
+            Target::Heightmap => "fuzz-height.png",
         }
     }
 
@@ -187,6 +199,37 @@ fn check(target: Target, input: &[u8]) -> Result<Outcome, String> {
                     }
                     w = (w / 2).max(1);
                     h = (h / 2).max(1);
+                }
+                Ok(Outcome::Loaded)
+            }
+        },
+        Target::Heightmap => match HeightMap::from_bytes(input, path) {
+            Err(e) => rejected(e),
+            Ok(heights) => {
+                let texels = heights.width as usize * heights.height as usize;
+                if texels == 0 || heights.values.len() != texels {
+                    return Err(format!(
+                        "height map loaded as {}x{} with {} values",
+                        heights.width,
+                        heights.height,
+                        heights.values.len()
+                    ));
+                }
+                for kernel in [Kernel::Sobel, Kernel::Scharr, Kernel::Central] {
+                    let options = NormalMapOptions {
+                        kernel,
+                        strength: 50.0,
+                        ..Default::default()
+                    };
+                    let normals = normal_map(&heights, options);
+                    if normals.len() != texels {
+                        return Err(format!("{} normals for {texels} texels", normals.len()));
+                    }
+                    if let Some(t) = normals.iter().find(|t| t[2] < 128) {
+                        return Err(format!(
+                            "{kernel:?}: a normal facing into the surface: {t:?}"
+                        ));
+                    }
                 }
                 Ok(Outcome::Loaded)
             }

@@ -12,6 +12,9 @@ use std::path::Path;
 
 use crate::{Error, Result};
 
+/// The largest side [`HeightMap::load`] accepts (as GL's usual largest texture).
+pub const MAX_SIDE: u32 = 16384;
+
 /// The derivative filter.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub enum Kernel {
@@ -67,12 +70,26 @@ pub struct HeightMap {
 impl HeightMap {
     /// Reads any image the crate decodes (PNG, BMP, TGA; 8 or 16 bits; colour is taken as luma).
     pub fn load(path: &Path) -> Result<Self> {
+        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        Self::from_bytes(&bytes, path)
+    }
+
+    /// [`HeightMap::load`] on bytes already read; `path` names them in errors. Sides above 16384
+    /// texels are refused before anything is decoded.
+    pub fn from_bytes(bytes: &[u8], path: &Path) -> Result<Self> {
         let bad = |reason: String| Error::Image {
             path: path.to_path_buf(),
             reason,
         };
-        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-        let image = image::load_from_memory(&bytes)
+        let mut limits = image::Limits::default();
+        limits.max_image_width = Some(MAX_SIDE);
+        limits.max_image_height = Some(MAX_SIDE);
+        let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| bad(e.to_string()))?;
+        reader.limits(limits);
+        let image = reader
+            .decode()
             .map_err(|e| bad(format!("not a height map this program reads: {e}")))?;
         let luma = image.into_luma16();
         let (width, height) = luma.dimensions();
