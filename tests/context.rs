@@ -1,23 +1,15 @@
 //! Headless EGL contexts on Mesa's llvmpipe and the offscreen render target.
 //! Needs libegl1, libegl-mesa0 and libgl1-mesa-dri; no GPU, no X server.
 
-use std::path::PathBuf;
-
 use glow::HasContext;
 use tutorial13::gl::context::{HeadlessContext, OffscreenTarget};
 use tutorial13::gl::image::write_png;
 use tutorial13::gl::{context_info, gl_errors, Profile};
 
+mod common;
+
 fn software(profile: Profile) -> HeadlessContext {
     HeadlessContext::new(profile, false).unwrap_or_else(|e| panic!("{profile} context: {e}"))
-}
-
-/// A fresh, empty folder under Cargo's per-target temp dir.
-fn scratch(name: &str) -> PathBuf {
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("context-{name}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 fn clear(ctx: &HeadlessContext, target: &OffscreenTarget, rgba: [f32; 4]) {
@@ -186,7 +178,7 @@ fn offscreen_target_rejects_bad_sizes() {
 // Fails if the PNG encoder, the colour type or the atomic rename loses or changes pixels.
 #[test]
 fn write_png_round_trip() {
-    let dir = scratch("round-trip");
+    let dir = common::scratch("round-trip");
     let path = dir.join("frame.png");
     let image = image::RgbaImage::from_fn(7, 5, |x, y| {
         image::Rgba([x as u8 * 30, y as u8 * 50, 7, 200])
@@ -206,7 +198,7 @@ fn write_png_round_trip() {
 // Fails if a missing folder panics, gives an error without the path, or leaves a file behind.
 #[test]
 fn write_png_into_missing_folder_is_an_error() {
-    let dir = scratch("missing");
+    let dir = common::scratch("missing");
     let path = dir.join("no-such-folder").join("frame.png");
     let err = write_png(&path, &image::RgbaImage::new(2, 2)).unwrap_err();
     assert_eq!(err.path(), Some(path.as_path()));
@@ -221,7 +213,7 @@ fn write_png_into_missing_folder_is_an_error() {
 // Fails if a failed rename (target is a folder) leaves the temporary file behind.
 #[test]
 fn write_png_failure_leaves_nothing_behind() {
-    let dir = scratch("onto-folder");
+    let dir = common::scratch("onto-folder");
     let path = dir.join("frame.png");
     std::fs::create_dir(&path).unwrap();
     let err = write_png(&path, &image::RgbaImage::new(2, 2)).unwrap_err();

@@ -8,7 +8,7 @@ mod common;
 
 use std::path::PathBuf;
 
-use common::{manifest, original_assets, own_assets, H, W};
+use common::{hybrid_score, original_assets, output_dir, own_assets, H, W};
 use glam::{Mat4, Vec2, Vec3};
 use image::{RgbImage, RgbaImage};
 use tutorial13::common::shader::crate_shader_dir;
@@ -22,12 +22,6 @@ const BLUE: [u8; 3] = [0, 0, 255];
 const RED: [u8; 3] = [255, 0, 0];
 const GREEN: [u8; 3] = [0, 255, 0];
 const WHITE: [u8; 3] = [255, 255, 255];
-
-fn output_dir() -> PathBuf {
-    let out = manifest().join("target/test-output");
-    std::fs::create_dir_all(&out).unwrap();
-    out
-}
 
 fn dump(name: &str, image: &RgbaImage) {
     if std::env::var_os("TUTORIAL13_DUMP").is_some() {
@@ -362,8 +356,9 @@ fn differing_pixels(a: &RgbaImage, b: &RgbaImage) -> usize {
 
 /// Measured on llvmpipe: the two paths give the same image bit for bit (Mesa turns the fixed-function
 /// pipeline into a shader computing the same P × (V × M) × p, and rasterizes both the same). The
-/// margin allows a different Mesa a few pixels of rounding in the transform.
-const MIN_SAME_PIXELS: f64 = 0.999;
+/// margin, relative to the pixels the lines cover (so that a path drawing no lines cannot pass),
+/// allows a different Mesa a few pixels of rounding in the transform.
+const MAX_DIFFERING_FRACTION_OF_LINE_PIXELS: f64 = 0.01;
 
 // Fails if the core-profile path draws other segments, colours, lengths or depths than the tutorial's
 // immediate mode, from either camera.
@@ -387,37 +382,25 @@ fn shader_path_draws_the_same_image_as_immediate_mode() {
         dump(&format!("lines-{camera}-shader.png"), &b);
         let differ = differing_pixels(&a, &b);
         let lines = differing_pixels(&a, &without);
-        let same = 1.0 - differ as f64 / (W * H) as f64;
         println!(
-            "{camera} camera: {differ} of {} pixels differ between immediate mode and the line \
-             shader ({lines} pixels are lines); {:.4}% identical",
-            W * H,
-            same * 100.0
+            "{camera} camera: {differ} pixels differ between immediate mode and the line shader, \
+             of {lines} pixels the lines cover"
         );
-        assert!(lines > 500, "{lines}");
-        assert!(same >= MIN_SAME_PIXELS, "{differ} pixels differ");
+        assert!(
+            lines > 500,
+            "only {lines} line pixels: the lines are missing"
+        );
+        assert!(
+            differ as f64 <= lines as f64 * MAX_DIFFERING_FRACTION_OF_LINE_PIXELS,
+            "{differ} pixels differ, more than {} % of the {lines} line pixels",
+            MAX_DIFFERING_FRACTION_OF_LINE_PIXELS * 100.0
+        );
     }
 }
 
-/// image-compare's hybrid score (SSIM on luma, RMS on chroma; 1 = identical) of a frame against the
-/// tutorial's published screenshot; on a score below `min` the frame and the difference map are
-/// written to target/test-output/.
-fn score_against_reference(frame: &RgbaImage, name: &str, min: f64) -> f64 {
-    let reference = image::open(original_assets().join("ref.png"))
-        .expect("../shared/tutorial13-original/ref.png")
-        .into_rgb8();
-    let result = image_compare::rgb_hybrid_compare(&reference, &rgb(frame)).expect("same size");
-    if result.score < min {
-        let out = output_dir();
-        rgb(frame).save(out.join(format!("{name}.png"))).unwrap();
-        result
-            .image
-            .to_color_map()
-            .save(out.join(format!("{name}.diff.png")))
-            .unwrap();
-        eprintln!("{name}: frame and difference map in {}", out.display());
-    }
-    result.score
+/// The hybrid score (1 = identical) of a frame against the tutorial's published screenshot.
+fn score_against_reference(reference: &RgbImage, frame: &RgbaImage, name: &str, min: f64) -> f64 {
+    hybrid_score(reference, &rgb(frame), name, min)
 }
 
 /// Measured on llvmpipe (Mesa 22.3.6): the tutorial's assets with lines score 0.9977, the same
@@ -431,7 +414,15 @@ const MIN_REFERENCE_SCORE: f64 = 0.995;
 // published first frame, or if the lines do not bring the frame closer to it.
 #[test]
 fn tutorial_assets_with_lines_match_the_published_screenshot() {
-    let mut r = renderer(original_assets(), Profile::Compat);
+    let Some(original) =
+        original_assets("tutorial_assets_with_lines_match_the_published_screenshot")
+    else {
+        return;
+    };
+    let reference = image::open(original.join("ref.png"))
+        .expect("ref.png beside the tutorial's files")
+        .into_rgb8();
+    let mut r = renderer(original, Profile::Compat);
     let legacy = lines(&r, None);
     assert_eq!(legacy.mode(), LineMode::Legacy);
     let with = frame(&mut r, Some(&legacy));
@@ -441,14 +432,20 @@ fn tutorial_assets_with_lines_match_the_published_screenshot() {
     let own_lines = lines(&own, None);
     let own_with = frame(&mut own, Some(&own_lines));
 
-    let score_with = score_against_reference(&with, "original-with-lines", MIN_REFERENCE_SCORE);
-    let score_without = score_against_reference(&without, "original-without-lines", 0.0);
-    let score_own = score_against_reference(&own_with, "own-with-lines", 0.0);
+    let score_with = score_against_reference(
+        &reference,
+        &with,
+        "original-with-lines",
+        MIN_REFERENCE_SCORE,
+    );
+    let score_without =
+        score_against_reference(&reference, &without, "original-without-lines", 0.0);
+    let score_own = score_against_reference(&reference, &own_with, "own-with-lines", 0.0);
     println!(
         "against ref.png (1 = identical): tutorial's assets with lines {score_with:.4}, without \
          lines {score_without:.4}; project's assets with lines {score_own:.4}"
     );
-    let (in_ref, in_both, in_ours) = line_pixel_agreement(&with);
+    let (in_ref, in_both, in_ours) = line_pixel_agreement(&reference, &with);
     println!(
         "pure blue/red/green pixels: {in_ref} in ref.png, {in_ours} in the frame, {in_both} the same \
          in both"
@@ -465,10 +462,7 @@ fn tutorial_assets_with_lines_match_the_published_screenshot() {
 
 /// Pixels of the pure line colours (white left out: the specular highlight saturates to it) in
 /// ref.png, in `frame`, and at the same place in both.
-fn line_pixel_agreement(frame: &RgbaImage) -> (usize, usize, usize) {
-    let reference = image::open(original_assets().join("ref.png"))
-        .unwrap()
-        .into_rgb8();
+fn line_pixel_agreement(reference: &RgbImage, frame: &RgbaImage) -> (usize, usize, usize) {
     let frame = rgb(frame);
     let is_line = |p: &image::Rgb<u8>| [BLUE, RED, GREEN].contains(&p.0);
     let (mut in_ref, mut in_both, mut in_ours) = (0, 0, 0);
@@ -626,9 +620,14 @@ fn core_context_falls_back_to_the_line_shader_with_a_notice() {
     let legacy = lines(&compat, None);
     let with_legacy = frame(&mut compat, Some(&legacy));
     let differ = differing_pixels(&with_core, &with_legacy);
-    println!("core-profile shader lines vs compatibility immediate mode: {differ} pixels differ");
+    let lines = differing_pixels(&with_core, &never);
+    println!(
+        "core-profile shader lines vs compatibility immediate mode: {differ} pixels differ, of \
+         {lines} line pixels"
+    );
+    assert!(lines > 500, "only {lines} line pixels in the core profile");
     assert!(
-        1.0 - differ as f64 / (W * H) as f64 >= MIN_SAME_PIXELS,
+        differ as f64 <= lines as f64 * MAX_DIFFERING_FRACTION_OF_LINE_PIXELS,
         "{differ} pixels differ"
     );
 }
@@ -656,12 +655,11 @@ fn missing_entry_point_is_an_error_naming_it() {
 fn rebuild_takes_the_new_mesh() {
     let mut r = renderer(own_assets(), Profile::Compat);
     look_from_above(&mut r);
+    // Another mesh: the tutorial's cylinder shape with 24 segments instead of 32.
+    let obj = common::scratch("rebuild").join("cylinder.obj");
+    std::fs::write(&obj, tutorial13::assets::tutorial_cylinder_obj_text(24)).unwrap();
     let other = std::rc::Rc::new(
-        tutorial13::scenes::tutorial13::load_mesh(
-            &original_assets().join("cylinder.obj"),
-            Default::default(),
-        )
-        .unwrap(),
+        tutorial13::scenes::tutorial13::load_mesh(&obj, Default::default()).unwrap(),
     );
     assert_ne!(other, r.scene_ref::<Cylinder>().tutorial.mesh);
     for mode in [LineMode::Legacy, LineMode::Shader] {
@@ -694,8 +692,12 @@ fn rebuild_takes_the_new_mesh() {
         };
         assert_eq!(rebuilt.set_mode(other_mode).unwrap(), other_mode);
         let switched = frame(&mut r, Some(&rebuilt));
+        let lines = differing_pixels(&expected, &frame(&mut r, None));
+        let differ = differing_pixels(&switched, &expected);
+        assert!(lines > 500, "{mode:?}: only {lines} line pixels");
         assert!(
-            1.0 - differing_pixels(&switched, &expected) as f64 / (W * H) as f64 >= MIN_SAME_PIXELS
+            differ as f64 <= lines as f64 * MAX_DIFFERING_FRACTION_OF_LINE_PIXELS,
+            "{mode:?}: {differ} pixels differ after switching path, of {lines} line pixels"
         );
     }
 }

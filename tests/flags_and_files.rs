@@ -2,19 +2,13 @@
 //! that follows the viewport (issue "Nothing lost, nothing silently wrong"). Runs the binary as a
 //! user does; the headless runs need Mesa's EGL + llvmpipe.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
 use tutorial13::assets::{make_assets, ASSET_FILES};
 use tutorial13::Error;
 
-/// A fresh, empty folder for one test under Cargo's per-target temp dir.
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("flags-and-files-{name}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+mod common;
 
 fn tutorial13(args: &[&str], dir: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_tutorial13"))
@@ -45,7 +39,7 @@ fn error_line(out: &Output) -> String {
 // the refusal does not name the flag.
 #[test]
 fn zero_frames_and_zero_bench_are_refused() {
-    let dir = scratch("zero");
+    let dir = common::scratch("zero");
     for (args, flag) in [
         (&["--headless", "--frames", "0"][..], "--frames"),
         (&["--bench", "0"][..], "--bench"),
@@ -59,7 +53,7 @@ fn zero_frames_and_zero_bench_are_refused() {
 // Fails if a mistyped --shaders or --assets folder is ignored or reported without its name.
 #[test]
 fn missing_folders_are_refused_by_name() {
-    let dir = scratch("folders");
+    let dir = common::scratch("folders");
     std::fs::write(dir.join("a-file"), "x").unwrap();
     for (args, expected) in [
         (
@@ -81,7 +75,7 @@ fn missing_folders_are_refused_by_name() {
 // same pixels), or if .jpg is accepted, written, or refused only after rendering.
 #[test]
 fn screenshots_are_written_in_the_format_their_extension_names() {
-    let dir = scratch("screenshots");
+    let dir = common::scratch("screenshots");
     let mut frames = Vec::new();
     for name in ["frame.png", "frame.bmp", "frame.TGA"] {
         let out = tutorial13(
@@ -130,7 +124,7 @@ fn screenshots_are_written_in_the_format_their_extension_names() {
 // without --force, writes any file when it refuses, or does not replace with --force.
 #[test]
 fn make_assets_keeps_files_that_differ_unless_forced() {
-    let dir = scratch("make-assets");
+    let dir = common::scratch("make-assets");
     let theirs = b"the learner's own normal map".to_vec();
     std::fs::write(dir.join("normal.bmp"), &theirs).unwrap();
     match make_assets(&dir, false) {
@@ -182,7 +176,7 @@ fn make_assets_keeps_files_that_differ_unless_forced() {
 // help), or if the error shows winit's source path.
 #[test]
 fn a_window_failure_prints_its_error_alone() {
-    let dir = scratch("no-display");
+    let dir = common::scratch("no-display");
     let out = Command::new(env!("CARGO_BIN_EXE_tutorial13"))
         .args(["--frames", "1"])
         .current_dir(&dir)
@@ -220,7 +214,7 @@ fn drawn_box(frame: &image::RgbImage) -> (u32, u32, u32, u32) {
 // i.e. if the cylinder's size in pixels changes with the viewport's width.
 #[test]
 fn a_wider_viewport_shows_more_without_stretching() {
-    let dir = scratch("aspect");
+    let dir = common::scratch("aspect");
     let mut boxes = Vec::new();
     for size in ["1024x768", "1536x768"] {
         let out = tutorial13(

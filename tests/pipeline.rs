@@ -1,7 +1,7 @@
 //! The CPU pipeline end to end: load_obj → compute_tangent_basis → index_vbo_tbn, on the tutorial's
 //! own cylinder, on large generated meshes, and on random soups against the linear-search reference.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
@@ -13,22 +13,21 @@ use tutorial13::common::vboindexer::{
 use tutorial13::mesh::{build_mesh, grid_cylinder_obj_text, MeshOptions};
 use tutorial13::scenes::tutorial13::load_mesh;
 
-fn original(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/tutorial13-original")
-        .join(name)
-}
+mod common;
 
 // Fails if loading, V negation or the 0.01 merging differ from the original, which turns the
 // tutorial's 64 triangles (192 corners) into 66 vertices with 16-bit indices.
 #[test]
 fn tutorial_cylinder_indexes_to_66_vertices() {
-    let soup = load_obj(&original("cylinder.obj")).unwrap();
+    let Some(original) = common::original_assets("tutorial_cylinder_indexes_to_66_vertices") else {
+        return;
+    };
+    let soup = load_obj(&original.join("cylinder.obj")).unwrap();
     assert_eq!(soup.triangle_count(), 64);
     assert_eq!(soup.vertices.len(), 192);
     // V is negated: the file's V runs from about 0 to 1.
     assert!(soup.uvs.iter().all(|uv| (-1.0001..=0.0001).contains(&uv.y)));
-    let mesh = load_mesh(&original("cylinder.obj"), MeshOptions::default()).unwrap();
+    let mesh = load_mesh(&original.join("cylinder.obj"), MeshOptions::default()).unwrap();
     assert_eq!(mesh.vertices.len(), 66);
     assert_eq!(mesh.indices.len(), 192);
     assert!(matches!(mesh.indices, Indices::U16(_)));
@@ -96,8 +95,7 @@ fn bad_obj_files_name_the_file() {
         e.to_string().starts_with("/nonexistent/dir/cylinder.obj: "),
         "{e}"
     );
-    let dir = std::env::temp_dir().join(format!("tutorial13-pipeline-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = common::scratch("no-normals");
     let bad = dir.join("no-normals.obj");
     std::fs::write(&bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n").unwrap();
     let e = load_mesh(&bad, MeshOptions::default())

@@ -1,12 +1,11 @@
 //! Rendered frames, headless through EGL on Mesa's llvmpipe: analytic checks from the camera facts,
-//! a symmetric frame from symmetric inputs, and golden images. Set `TUTORIAL13_BLESS=1` to rewrite
-//! the golden images after an intended change (then look at them before committing).
+//! a symmetric frame from symmetric inputs, golden images (`TUTORIAL13_UPDATE_GOLDEN=1` rewrites them
+//! after an intended change: look at them before committing), and the C++ original's frames.
 
 mod common;
 
 use common::*;
 use glam::Vec3;
-use image::RgbImage;
 use tutorial13::common::objloader::load_obj;
 use tutorial13::debug::lines::LineMode;
 use tutorial13::gl::Profile;
@@ -97,9 +96,7 @@ fn silhouette_matches_the_projection() {
 fn flat_white_cylinder_is_mirror_symmetric() {
     let frame = render(&options(flat_white_assets("symmetry"), Profile::Core));
     if std::env::var_os("TUTORIAL13_DUMP").is_some() {
-        frame
-            .save(std::env::temp_dir().join("flat-white.png"))
-            .unwrap();
+        frame.save(output_dir().join("flat-white.png")).unwrap();
     }
     let (axis, _) = project(Vec3::new(0.0, 1.0, 1.0));
     let (mut compared, mut total, mut max) = (0u32, 0u64, 0u8);
@@ -139,42 +136,6 @@ fn flat_white_cylinder_is_mirror_symmetric() {
     assert!(centre > side, "{centre} {side}");
 }
 
-/// Compares `frame` with the committed golden image `name` (tests/golden/), or writes it with
-/// `TUTORIAL13_BLESS=1`. On failure the frame and the difference map go to target/test-output/.
-fn assert_matches_golden(frame: &RgbImage, name: &str, min_score: f64) {
-    let golden_path = manifest().join("tests/golden").join(name);
-    if std::env::var_os("TUTORIAL13_BLESS").is_some() {
-        std::fs::create_dir_all(golden_path.parent().unwrap()).unwrap();
-        frame.save(&golden_path).unwrap();
-        return;
-    }
-    let golden = image::open(&golden_path)
-        .unwrap_or_else(|e| {
-            panic!(
-                "{}: {e} (TUTORIAL13_BLESS=1 writes it)",
-                golden_path.display()
-            )
-        })
-        .into_rgb8();
-    let result = image_compare::rgb_hybrid_compare(&golden, frame).expect("same size");
-    println!(
-        "{name}: hybrid similarity {:.5} (1 = identical)",
-        result.score
-    );
-    if result.score < min_score {
-        let out = manifest().join("target/test-output");
-        std::fs::create_dir_all(&out).unwrap();
-        frame.save(out.join(name)).unwrap();
-        let diff = out.join(name.replace(".png", ".diff.png"));
-        result.image.to_color_map().save(&diff).unwrap();
-        panic!(
-            "{name}: similarity {:.5} < {min_score}; frame and difference map in {}",
-            result.score,
-            out.display()
-        );
-    }
-}
-
 /// llvmpipe renders the same frame bit for bit run to run; the margin below 1 is for other Mesa
 /// versions (texture filtering and rounding differ in the last bit on a few edge pixels), while a
 /// wrong texture orientation, lighting term or camera scores below 0.95.
@@ -184,48 +145,45 @@ const GOLDEN_MIN_SCORE: f64 = 0.995;
 // when this port was checked against the tutorial's published screenshot.
 #[test]
 fn tutorial_assets_match_golden() {
-    let frame = render(&options(original_assets(), Profile::Core));
-    assert_matches_golden(&frame, "original-core.png", GOLDEN_MIN_SCORE);
+    let Some(original) = original_assets("tutorial_assets_match_golden") else {
+        return;
+    };
+    let frame = render(&options(original, Profile::Core));
+    assert_matches_golden(&frame, "original-core", GOLDEN_MIN_SCORE);
 }
 
 // Fails if the project's own assets or the shaders change what the first frame looks like.
 #[test]
 fn own_assets_match_golden() {
     let frame = render(&options(own_assets(), Profile::Core));
-    assert_matches_golden(&frame, "own-core.png", GOLDEN_MIN_SCORE);
-}
-
-// Fails if a compatibility-profile context draws the tutorial's frame differently from core.
-#[test]
-fn compat_profile_draws_the_same_frame() {
-    let core = render(&options(own_assets(), Profile::Core));
-    let compat = render(&options(own_assets(), Profile::Compat));
-    assert!(core == compat, "core and compatibility frames differ");
+    assert_matches_golden(&frame, "own-core", GOLDEN_MIN_SCORE);
 }
 
 /// Renders the tutorial's assets headless with `profile` (and the tutorial's immediate-mode debug
 /// lines if `lines`) and compares the frame bit for bit with the C++ original's frame `cpp_frame` of
 /// ../shared/tutorial13-original, on the renderer it was taken on; elsewhere says why it is skipped.
 fn assert_equals_cpp_original(profile: Profile, lines: bool, cpp_frame: &str) {
-    let mut options = options(original_assets(), profile);
+    let test = format!("comparing with {cpp_frame} bit for bit");
+    let Some(original) = original_assets(&test) else {
+        return;
+    };
+    let mut options = options(original.clone(), profile);
     if lines {
         options.scene.cylinder.debug_lines = true;
         options.scene.cylinder.line_mode = Some(LineMode::Legacy);
     }
     let mut renderer = renderer(&options);
-    if let Some(reason) = not_reference_renderer(renderer.context.info()) {
-        println!("skipped: comparing with {cpp_frame} bit for bit: {reason}");
+    if !on_reference_renderer(&test, renderer.context.info()) {
         return;
     }
     let frame = frame(&mut renderer);
-    let cpp_path = original_assets().join(cpp_frame);
+    let cpp_path = original.join(cpp_frame);
     let cpp = image::open(&cpp_path)
         .unwrap_or_else(|e| panic!("{}: {e}", cpp_path.display()))
         .into_rgb8();
     let (differing, max, bbox) = pixel_diff(&frame, &cpp);
     if differing > 0 {
-        let out = manifest().join("target/test-output");
-        std::fs::create_dir_all(&out).unwrap();
+        let out = output_dir();
         frame.save(out.join(cpp_frame)).unwrap();
         panic!(
             "{differing} pixels differ from the C++ original's {cpp_frame} (max {max} levels, all \

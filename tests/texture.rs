@@ -1,18 +1,14 @@
 //! Integration tests for `tutorial13::texture`: the tutorial's own DDS and BMP files, small
 //! hand-built files (odd sizes, padding, both row orders), and every kind of bad input.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use tutorial13::common::texture::{
     dxt_level_size, read_bmp_bytes, read_bmp_custom, read_dds, read_dds_bytes, BmpImage, DxtFormat,
 };
 use tutorial13::Error;
 
-fn original(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/tutorial13-original")
-        .join(name)
-}
+mod common;
 
 // ---------------------------------------------------------------------------------------------
 // Builders
@@ -193,8 +189,12 @@ fn dxt_level_size_is_the_tutorial_formula() {
 // Fails if either original texture no longer loads as DXT3 1024² with 11 levels of the tutorial's sizes.
 #[test]
 fn tutorial_dds_files_load_with_eleven_levels() {
+    let Some(original) = common::original_assets("tutorial_dds_files_load_with_eleven_levels")
+    else {
+        return;
+    };
     for name in ["diffuse.DDS", "specular.DDS"] {
-        let path = original(name);
+        let path = original.join(name);
         let img = read_dds(&path).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(img.format, DxtFormat::Dxt3, "{name}");
         assert_eq!((img.width, img.height), (1024, 1024), "{name}");
@@ -490,7 +490,7 @@ fn dds_too_many_mips() {
 // Fails if a missing DDS file is not reported as Error::Io naming the path.
 #[test]
 fn dds_missing_file_is_io_error() {
-    let path = original("no-such-texture.DDS");
+    let path = common::scratch("dds-missing").join("no-such-texture.DDS");
     match read_dds(&path) {
         Err(e @ Error::Io { .. }) => assert!(e.to_string().contains("no-such-texture.DDS")),
         other => panic!("expected Error::Io, got {other:?}"),
@@ -509,7 +509,12 @@ fn dds_every_truncation_is_an_error() {
         );
     }
 
-    let diffuse = std::fs::read(original("diffuse.DDS")).unwrap();
+    let Some(original) =
+        common::original_assets("dds_every_truncation_is_an_error (the tutorial's file)")
+    else {
+        return;
+    };
+    let diffuse = std::fs::read(original.join("diffuse.DDS")).unwrap();
     let lengths = (0..=128 + 4096).chain((128 + 4096..diffuse.len()).step_by(9973));
     for len in lengths.chain([diffuse.len() - 1]) {
         assert!(
@@ -538,7 +543,10 @@ fn dds_garbage_headers_never_panic() {
 // Fails if normal.bmp is not decoded byte-for-byte like the image crate's decode, in BGR bottom-up order.
 #[test]
 fn tutorial_normal_bmp_matches_image_crate() {
-    let path = original("normal.bmp");
+    let Some(original) = common::original_assets("tutorial_normal_bmp_matches_image_crate") else {
+        return;
+    };
+    let path = original.join("normal.bmp");
     let img = read_bmp_custom(&path).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!((img.width, img.height), (1024, 1024));
     assert_eq!(img.bgr.len(), 1024 * 1024 * 3);
@@ -768,7 +776,7 @@ fn bmp_zero_or_negative_size() {
 // Fails if a missing BMP is not Error::Io, or its message does not name the path.
 #[test]
 fn bmp_missing_file_is_io_error() {
-    let path = original("no-such-normal.bmp");
+    let path = common::scratch("bmp-missing").join("no-such-normal.bmp");
     match read_bmp_custom(&path) {
         Err(e @ Error::Io { .. }) => {
             assert_eq!(e.path(), Some(path.as_path()));
@@ -806,7 +814,12 @@ fn bmp_every_truncation_is_an_error() {
         );
     }
 
-    let normal = std::fs::read(original("normal.bmp")).unwrap();
+    let Some(original) =
+        common::original_assets("bmp_every_truncation_is_an_error (the tutorial's file)")
+    else {
+        return;
+    };
+    let normal = std::fs::read(original.join("normal.bmp")).unwrap();
     let lengths = (0..=54 + 4096).chain((54 + 4096..normal.len()).step_by(9973));
     for len in lengths.chain([normal.len() - 1]) {
         assert!(

@@ -83,7 +83,12 @@ fn view_names_round_trip_and_cycle() {
 // tutorial's NormalMapping shaders: the two programs must give the same frame, bit for bit.
 #[test]
 fn debug_program_with_tutorial_switches_equals_tutorial_program() {
-    for assets in [own_assets(), original_assets()] {
+    let test =
+        "debug_program_with_tutorial_switches_equals_tutorial_program (the tutorial's files)";
+    for assets in [Some(own_assets()), original_assets(test)]
+        .into_iter()
+        .flatten()
+    {
         let mut renderer = renderer(&options(assets, Profile::Core));
         let tutorial = frame(&mut renderer);
         renderer.scene_mut::<Cylinder>().use_debug_program = true;
@@ -243,7 +248,7 @@ fn mirrored_cylinder() -> String {
 // other must stay identical beyond the strip of triangles sharing the seam's vertices.
 #[test]
 fn handedness_switch_changes_only_the_mirrored_half() {
-    let dir = temp_dir("views-mirrored");
+    let dir = scratch("views-mirrored");
     for file in ["diffuse.DDS", "normal.bmp", "specular.DDS"] {
         std::fs::copy(own_assets().join(file), dir.join(file)).unwrap();
     }

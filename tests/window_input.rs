@@ -3,129 +3,34 @@
 //! (.ci/run installs them). Screenshots taken with the window's own P key are compared with the
 //! headless frame, which equals the window's frame bit for bit at the tutorial's start.
 
-use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
-use std::sync::mpsc;
 use std::time::{Duration, Instant};
+
+use common::xvfb::Xvfb;
+
+mod common;
 
 /// How long a step may take on two busy cores before the test gives up.
 const STEP_TIMEOUT: Duration = Duration::from_secs(60);
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("window-input-{name}"));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-/// A private X server on a display it picks itself (`-displayfd`), killed when dropped. One at a
-/// time: two servers started at once can both pick the same free display number.
-struct Xvfb {
-    child: Child,
-    display: String,
-    _one_at_a_time: std::sync::MutexGuard<'static, ()>,
-}
-
-static ONE_SERVER: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-impl Xvfb {
-    fn start() -> Self {
-        let guard = ONE_SERVER.lock().unwrap_or_else(|e| e.into_inner());
-        let mut child = Command::new("Xvfb")
-            .args([
-                "-displayfd",
-                "1",
-                "-screen",
-                "0",
-                "1280x1024x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap_or_else(|e| panic!("cannot start Xvfb ({e}): apt-get install xvfb"));
-        let stdout = child.stdout.take().unwrap();
-        let (tx, rx) = mpsc::channel();
-        std::thread::spawn(move || {
-            let mut lines = BufReader::new(stdout).lines();
-            let _ = tx.send(lines.next());
-            for _ in lines {}
-        });
-        match rx.recv_timeout(Duration::from_secs(10)) {
-            Ok(Some(Ok(n))) if n.trim().parse::<u32>().is_ok() => Xvfb {
-                child,
-                display: format!(":{}", n.trim()),
-                _one_at_a_time: guard,
-            }
-            .wait_ready(),
-            other => {
-                let _ = child.kill();
-                panic!("Xvfb reported no display within 10 s: {other:?}");
-            }
+/// The id of the tutorial's window, once it is mapped.
+fn wait_for_window(xvfb: &Xvfb, app: &mut Child) -> String {
+    let start = Instant::now();
+    loop {
+        let found = xvfb.xdotool(&["search", "--name", "Tutorial 13"]);
+        if let Some(id) = found.lines().next() {
+            return id.to_string();
         }
-    }
-
-    /// Waits until a client can connect (the display number can come a moment before that).
-    fn wait_ready(self) -> Self {
-        let start = Instant::now();
-        loop {
-            let probe = Command::new("xdotool")
-                .arg("getmouselocation")
-                .env("DISPLAY", &self.display)
-                .stdout(Stdio::null())
-                .stderr(Stdio::null())
-                .status()
-                .unwrap_or_else(|e| panic!("cannot run xdotool ({e}): apt-get install xdotool"));
-            if probe.success() {
-                return self;
-            }
-            assert!(
-                start.elapsed() < STEP_TIMEOUT,
-                "no connection to {}",
-                self.display
-            );
-            std::thread::sleep(Duration::from_millis(100));
+        if app.try_wait().unwrap().is_some() {
+            let (status, stderr) = wait_exit(app);
+            panic!("the program exited ({status}) before its window appeared:\n{stderr}");
         }
-    }
-
-    /// Runs `xdotool ARGS` on this display and returns its stdout.
-    fn xdotool(&self, args: &[&str]) -> String {
-        let out = Command::new("xdotool")
-            .args(args)
-            .env("DISPLAY", &self.display)
-            .output()
-            .unwrap_or_else(|e| panic!("cannot run xdotool ({e}): apt-get install xdotool"));
-        String::from_utf8_lossy(&out.stdout).into_owned()
-    }
-
-    /// The id of the tutorial's window, once it is mapped.
-    fn wait_for_window(&self, app: &mut Child) -> String {
-        let start = Instant::now();
-        loop {
-            let found = self.xdotool(&["search", "--name", "Tutorial 13"]);
-            if let Some(id) = found.lines().next() {
-                return id.to_string();
-            }
-            if app.try_wait().unwrap().is_some() {
-                let (status, stderr) = wait_exit(app);
-                panic!("the program exited ({status}) before its window appeared:\n{stderr}");
-            }
-            assert!(
-                start.elapsed() < STEP_TIMEOUT,
-                "no window after {STEP_TIMEOUT:?}"
-            );
-            std::thread::sleep(Duration::from_millis(100));
-        }
-    }
-}
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
+        assert!(
+            start.elapsed() < STEP_TIMEOUT,
+            "no window after {STEP_TIMEOUT:?}"
+        );
+        std::thread::sleep(Duration::from_millis(100));
     }
 }
 
@@ -204,11 +109,11 @@ fn headless_first_frame(dir: &Path) -> image::RgbImage {
 // if the title loses the scene's status when the ms/frame figure arrives.
 #[test]
 fn mouse_look_reset_release_and_grab() {
-    let dir = scratch("keys");
+    let dir = common::scratch("keys");
     let start_frame = headless_first_frame(&dir);
     let xvfb = Xvfb::start();
     let mut app = start_window(&xvfb, &dir);
-    let window = xvfb.wait_for_window(&mut app);
+    let window = wait_for_window(&xvfb, &mut app);
     xvfb.xdotool(&["windowfocus", "--sync", &window]);
     // A click grabs the cursor (Xvfb has no window manager, so focus may have come and gone).
     xvfb.xdotool(&["mousemove", "640", "512", "click", "1"]);
@@ -282,10 +187,10 @@ fn mouse_look_reset_release_and_grab() {
 // program panic (winit 0.30 raises BadDrawable) instead of exiting with one error line.
 #[test]
 fn a_window_destroyed_from_outside_ends_with_one_line() {
-    let dir = scratch("destroyed");
+    let dir = common::scratch("destroyed");
     let xvfb = Xvfb::start();
     let mut app = start_window(&xvfb, &dir);
-    let window = xvfb.wait_for_window(&mut app);
+    let window = wait_for_window(&xvfb, &mut app);
     std::thread::sleep(Duration::from_millis(500));
     xvfb.xdotool(&["windowclose", &window]);
     let (status, stderr) = wait_exit(&mut app);

@@ -44,30 +44,31 @@ pub fn key_list(scene: SceneName) -> String {
     text
 }
 
-/// The tutorial's once-a-second "ms/frame" figure.
+/// The tutorial's once-a-second "ms/frame" figure, computed as the tutorial does: 1000 divided by
+/// the frames counted since the last print, and the next second starts exactly one second after the
+/// last (not when the print happened), so a slow frame does not shift every later figure.
 pub struct FrameTimer {
-    since: Instant,
-    frames: u32,
+    last_time: Instant,
+    nb_frames: u32,
 }
 
 impl FrameTimer {
     pub fn new() -> Self {
         FrameTimer {
-            since: Instant::now(),
-            frames: 0,
+            last_time: Instant::now(),
+            nb_frames: 0,
         }
     }
 
-    /// Counts a frame; once a second or more has passed, returns the mean ms/frame and restarts.
+    /// Counts a frame; once a second or more has passed since `last_time`, returns ms/frame.
     pub fn tick(&mut self, now: Instant) -> Option<f64> {
-        self.frames += 1;
-        let elapsed = now.duration_since(self.since);
-        if elapsed < Duration::from_secs(1) {
+        self.nb_frames += 1;
+        if now.duration_since(self.last_time) < Duration::from_secs(1) {
             return None;
         }
-        let ms = elapsed.as_secs_f64() * 1000.0 / self.frames as f64;
-        self.since = now;
-        self.frames = 0;
+        let ms = 1000.0 / f64::from(self.nb_frames);
+        self.nb_frames = 0;
+        self.last_time += Duration::from_secs(1);
         Some(ms)
     }
 }
@@ -90,6 +91,22 @@ pub fn min_median(times: &[f64]) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    // Fails if the figure is not the tutorial's 1000 / frames, or the next second does not start
+    // exactly one second after the last one.
+    #[test]
+    fn frame_timer_counts_as_the_tutorial() {
+        let mut timer = FrameTimer::new();
+        let start = timer.last_time;
+        let ms = |t: f64| start + Duration::from_secs_f64(t);
+        assert_eq!(timer.tick(ms(0.3)), None);
+        assert_eq!(timer.tick(ms(0.6)), None);
+        assert_eq!(timer.tick(ms(0.9)), None);
+        assert_eq!(timer.tick(ms(1.25)), Some(250.0)); // 4 frames in the first second
+        assert_eq!(timer.last_time, ms(1.0));
+        assert_eq!(timer.tick(ms(1.5)), None);
+        assert_eq!(timer.tick(ms(2.0)), Some(500.0)); // 2 frames in the next
+    }
 
     // Fails if a scene binds a key the window already uses (the window would take it first and the
     // scene's action could never be reached), or if the key list leaves out a window or scene key.

@@ -16,8 +16,8 @@ use crate::gl::Gl;
 use crate::mesh::MeshOptions;
 use crate::Result;
 
+use super::scene::{FrameInput, KeyHelp, Scene, SceneContext};
 use super::tutorial13::{NormalMappingProgram, Tutorial13, LIGHT_POS};
-use super::{FrameInput, KeyHelp, Scene, SceneContext, SceneOptions};
 
 /// The cylinder's switches, as the command line sets them.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -142,12 +142,17 @@ pub struct Cylinder {
 }
 
 impl Cylinder {
-    pub fn new(context: &SceneContext, options: &SceneOptions) -> Result<Self> {
+    /// Loads the tutorial's four files from `assets` and the shaders from `shader_dir` (or the
+    /// crate's), and starts with `cylinder`'s switches.
+    pub fn new(
+        context: &SceneContext,
+        assets: &Path,
+        shader_dir: Option<&Path>,
+        cylinder: CylinderOptions,
+    ) -> Result<Self> {
         let gl = context.gl;
-        let assets = options.assets_dir();
-        let cylinder = options.cylinder;
-        let tutorial = Tutorial13::new(gl, &assets, options.shader_dir(), cylinder.mesh)?;
-        let debug_program = DebugProgram::load(gl, options.shader_dir())?;
+        let tutorial = Tutorial13::new(gl, assets, shader_dir, cylinder.mesh)?;
+        let debug_program = DebugProgram::load(gl, shader_dir)?;
         let mut scene = Cylinder {
             lines: None,
             debug_program,
@@ -160,7 +165,7 @@ impl Cylinder {
             legacy: LegacyGl::load_or_reason(context.info, context.loader),
             line_mode: cylinder.line_mode,
             obj_path: assets.join("cylinder.obj"),
-            shader_dir: options.shaders.clone(),
+            shader_dir: shader_dir.map(Path::to_path_buf),
         };
         scene.set_show_lines(cylinder.debug_lines)?;
         Ok(scene)

@@ -7,81 +7,15 @@
 //! | `cylinder` | Tutorial 13 (`tutorial13.cpp`), with its debugging aids as keys | [`cylinder`], [`tutorial13`] |
 
 pub mod cylinder;
+mod scene;
 pub mod tutorial13;
 
-use std::any::Any;
-use std::ffi::{c_void, CStr};
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use glam::{Mat4, Vec2};
-
-use crate::gl::{ContextInfo, Gl};
 use crate::Result;
 
-/// Everything a scene is built on: the GL function table, what the context is, and the context's
-/// entry-point loader (for what glow does not load, such as the immediate-mode functions).
-pub struct SceneContext<'a> {
-    pub gl: &'a Gl,
-    pub info: &'a ContextInfo,
-    pub loader: &'a dyn Fn(&CStr) -> *const c_void,
-}
-
-/// What a front end hands a scene for one frame.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FrameInput {
-    /// The tutorial's camera (`computeMatricesFromInputs`): projection and view.
-    pub projection: Mat4,
-    pub view: Mat4,
-    /// The cursor in window pixels (x right, y down from the top-left), where the window has one.
-    pub cursor: Option<Vec2>,
-    /// The framebuffer's size in pixels; the viewport already covers it.
-    pub size: (u32, u32),
-    /// Seconds since the start (0 while time is frozen, as with `--frames`).
-    pub time: f32,
-}
-
-/// How a scene wants the mouse.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MouseMode {
-    /// The tutorial's mouse look: the cursor is grabbed and hidden, motion turns the camera.
-    Look,
-    /// The cursor stays free and visible; its position reaches the scene in [`FrameInput::cursor`]
-    /// (a 2D light that follows it).
-    Cursor,
-}
-
-/// One line of a scene's key list: the key as printed ("L") and what it does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct KeyHelp {
-    pub key: char,
-    pub help: &'static str,
-}
-
-/// The seam between the front ends and a program.
-pub trait Scene {
-    /// Draws one frame into the bound framebuffer (the front end has set the viewport): the scene
-    /// clears it itself, as the tutorial's loop does.
-    fn draw(&mut self, frame: &FrameInput);
-
-    /// A key of the scene's list was pressed (letters upper-case). `Ok(false)`: not one of its keys.
-    fn key(&mut self, key: char) -> Result<bool>;
-
-    /// The scene's keys, for the start-up message, `--help` and the README.
-    fn keys(&self) -> &'static [KeyHelp];
-
-    /// One line for the title bar and the log: the scene's current switches.
-    fn status(&self) -> String;
-
-    /// Mouse look (the default) or the free cursor.
-    fn mouse_mode(&self) -> MouseMode {
-        MouseMode::Look
-    }
-
-    /// For tests and tools that reach into a particular scene.
-    fn as_any(&self) -> &dyn Any;
-    fn as_any_mut(&mut self) -> &mut dyn Any;
-}
+pub use scene::{FrameInput, KeyHelp, MouseMode, Scene, SceneContext};
 
 /// The scenes `--scene` can name.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
@@ -125,7 +59,12 @@ impl SceneName {
     /// Loads the scene on the current context.
     pub fn build(self, context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
         Ok(match self {
-            SceneName::Cylinder => Box::new(cylinder::Cylinder::new(context, options)?),
+            SceneName::Cylinder => Box::new(cylinder::Cylinder::new(
+                context,
+                &options.assets_dir(),
+                options.shader_dir(),
+                options.cylinder,
+            )?),
         })
     }
 }

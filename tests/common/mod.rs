@@ -1,5 +1,8 @@
-//! Helpers shared by the frame tests: headless set-up, asset folders, projection to pixels.
+//! Helpers shared by every test binary: headless set-up, asset folders (the project's, the
+//! tutorial's or skipped), scratch folders, golden images, projection to pixels, a private Xvfb.
 #![allow(dead_code)] // each test file uses a different subset
+
+pub mod xvfb;
 
 use std::path::{Path, PathBuf};
 
@@ -23,8 +26,37 @@ pub fn own_assets() -> PathBuf {
     manifest().join("assets")
 }
 
-pub fn original_assets() -> PathBuf {
-    manifest().join("../shared/tutorial13-original")
+/// Says on the terminal (not in the captured test output, so it shows in a passing `cargo test`)
+/// that `test`, or a part of it, is skipped and why.
+pub fn skip(test: &str, reason: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "skipped: {test}: {reason}");
+}
+
+/// The tutorial's own files (cylinder.obj, the DDS and BMP maps, ref.png and the C++ original's
+/// frames): the folder named by `TUTORIAL13_ORIGINAL_ASSETS`, else `../shared/tutorial13-original`
+/// beside the crate. The project never copies them in, so a plain clone has neither: then `test`
+/// says it is skipped and gets `None`, unless `TUTORIAL13_REQUIRE_ORIGINAL=1` (set by .ci/run), which
+/// fails instead so that CI never skips.
+pub fn original_assets(test: &str) -> Option<PathBuf> {
+    let dir = match std::env::var_os("TUTORIAL13_ORIGINAL_ASSETS") {
+        Some(dir) => PathBuf::from(dir),
+        None => manifest().join("../shared/tutorial13-original"),
+    };
+    if dir.join("cylinder.obj").is_file() {
+        return Some(dir);
+    }
+    let reason = format!(
+        "the tutorial's own files are not in {} (set TUTORIAL13_ORIGINAL_ASSETS=DIR to a folder \
+         holding them)",
+        dir.display()
+    );
+    assert!(
+        std::env::var_os("TUTORIAL13_REQUIRE_ORIGINAL").is_none(),
+        "TUTORIAL13_REQUIRE_ORIGINAL is set but {reason}"
+    );
+    skip(test, &reason);
+    None
 }
 
 /// The renderer the bit-for-bit comparisons were measured on (the C++ original's frames in
@@ -44,6 +76,29 @@ pub fn not_reference_renderer(info: &ContextInfo) -> Option<String> {
             info.renderer, info.version_string
         ))
     }
+}
+
+/// Whether `test`'s bit-for-bit comparison applies to the renderer of `info`; where it does not, says
+/// it is skipped and why, unless `TUTORIAL13_REQUIRE_REFERENCE_RENDERER=1` (set by .ci/run, whose
+/// machine is the reference), which fails instead.
+pub fn on_reference_renderer(test: &str, info: &ContextInfo) -> bool {
+    match not_reference_renderer(info) {
+        None => true,
+        Some(reason) => {
+            skip_off_reference(test, &reason);
+            false
+        }
+    }
+}
+
+/// Says that `test`'s bit-for-bit comparison is skipped for `reason` (not the reference renderer),
+/// or fails where `TUTORIAL13_REQUIRE_REFERENCE_RENDERER=1`.
+pub fn skip_off_reference(test: &str, reason: &str) {
+    assert!(
+        std::env::var_os("TUTORIAL13_REQUIRE_REFERENCE_RENDERER").is_none(),
+        "TUTORIAL13_REQUIRE_REFERENCE_RENDERER is set but {reason}"
+    );
+    skip(test, reason);
 }
 
 /// An inclusive rectangle of pixels: (x0, y0, x1, y1).
@@ -106,18 +161,71 @@ pub fn is_background(p: &Rgb<u8>) -> bool {
     p.0 == BACKGROUND
 }
 
-/// A fresh folder under the system's temp dir, unique to this process and `name`.
-pub fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("tutorial13-test-{}-{name}", std::process::id()));
+/// A fresh, empty folder for one test: target/tmp/<test binary>-<name>. Emptied when the test starts,
+/// kept after it ends so that a failure's files can be looked at.
+pub fn scratch(name: &str) -> PathBuf {
+    let dir =
+        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{}-{name}", env!("CARGO_CRATE_NAME")));
     let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("create {}: {e}", dir.display()));
     dir
+}
+
+/// Where a failing image test leaves its frame and difference map: target/test-output/.
+pub fn output_dir() -> PathBuf {
+    let out = manifest().join("target/test-output");
+    std::fs::create_dir_all(&out).unwrap();
+    out
+}
+
+/// image-compare's hybrid score (SSIM on luma, RMS on chroma; 1 = identical) of `frame` against
+/// `reference`. Below `min`, `frame` and the difference map are written to [`output_dir`] as
+/// `<name>.png` and `<name>.diff.png`.
+pub fn hybrid_score(reference: &RgbImage, frame: &RgbImage, name: &str, min: f64) -> f64 {
+    let result = image_compare::rgb_hybrid_compare(reference, frame).expect("same size");
+    if result.score < min {
+        let out = output_dir();
+        frame.save(out.join(format!("{name}.png"))).unwrap();
+        let map = out.join(format!("{name}.diff.png"));
+        result.image.to_color_map().save(&map).unwrap();
+        eprintln!(
+            "{name}: score {:.5} < {min}; frame and difference map in {}",
+            result.score,
+            out.display()
+        );
+    }
+    result.score
+}
+
+/// Compares `frame` with the committed golden image tests/golden/`name`.png (hybrid score at least
+/// `min_score`), or writes it when `TUTORIAL13_UPDATE_GOLDEN=1` (then look at it before committing).
+pub fn assert_matches_golden(frame: &RgbImage, name: &str, min_score: f64) {
+    let path = manifest().join("tests/golden").join(format!("{name}.png"));
+    if std::env::var_os("TUTORIAL13_UPDATE_GOLDEN").is_some() {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        frame.save(&path).unwrap();
+        return;
+    }
+    let golden = image::open(&path)
+        .unwrap_or_else(|e| {
+            panic!(
+                "{}: {e} (TUTORIAL13_UPDATE_GOLDEN=1 writes it)",
+                path.display()
+            )
+        })
+        .into_rgb8();
+    let score = hybrid_score(&golden, frame, name, min_score);
+    println!("{name}: hybrid similarity {score:.5} (1 = identical)");
+    assert!(
+        score >= min_score,
+        "{name}: similarity {score:.5} < {min_score}"
+    );
 }
 
 /// An asset folder with `obj_text` as cylinder.obj, a flat normal map, and diffuse and specular
 /// maps of one colour each.
 pub fn flat_assets(name: &str, obj_text: &str, diffuse: [u8; 4], specular: [u8; 4]) -> PathBuf {
-    let dir = temp_dir(name);
+    let dir = scratch(name);
     std::fs::write(dir.join("cylinder.obj"), obj_text).unwrap();
     let size = 64;
     let texels = (size * size) as usize;
