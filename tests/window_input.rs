@@ -36,7 +36,13 @@ fn wait_for_window(xvfb: &Xvfb, app: &mut Child) -> String {
 
 /// The program in a window on `xvfb`, started in `dir` (where P writes tutorial13-N.png).
 fn start_window(xvfb: &Xvfb, dir: &Path) -> Child {
+    start_window_with(xvfb, dir, &[])
+}
+
+/// [`start_window`] with more arguments.
+fn start_window_with(xvfb: &Xvfb, dir: &Path, args: &[&std::ffi::OsStr]) -> Child {
     Command::new(env!("CARGO_BIN_EXE_tutorial13"))
+        .args(args)
         .current_dir(dir)
         .env("DISPLAY", &xvfb.display)
         .env_remove("WAYLAND_DISPLAY")
@@ -204,5 +210,97 @@ fn a_window_destroyed_from_outside_ends_with_one_line() {
     assert!(
         errors[0].contains("destroyed by another program"),
         "{stderr}"
+    );
+}
+
+/// Waits until the window's title satisfies `ok`, and returns it.
+fn wait_for_title(xvfb: &Xvfb, window: &str, what: &str, ok: impl Fn(&str) -> bool) -> String {
+    let start = Instant::now();
+    loop {
+        let title = xvfb.xdotool(&["getwindowname", window]);
+        if ok(&title) {
+            return title;
+        }
+        assert!(
+            start.elapsed() < STEP_TIMEOUT,
+            "{what}: the title is still {title:?}"
+        );
+        std::thread::sleep(Duration::from_millis(200));
+    }
+}
+
+// Fails if saving a shader file in the --shaders folder does not change what the running window
+// draws, if saving a broken one does not put the error in the title and the driver's log on stderr
+// while the last good shaders keep drawing, or if saving a good version does not clear the error.
+#[test]
+fn saving_a_shader_reloads_it_in_the_window() {
+    let dir = common::scratch("live-shaders");
+    let shaders = dir.join("shaders");
+    std::fs::create_dir_all(&shaders).unwrap();
+    for entry in std::fs::read_dir(common::manifest().join("shaders")).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, shaders.join(path.file_name().unwrap())).unwrap();
+    }
+    let fragment = shaders.join("NormalMapping.fragmentshader");
+    let good = std::fs::read_to_string(&fragment).unwrap();
+    let start_frame = headless_first_frame(&dir);
+    let xvfb = Xvfb::start();
+    let args = ["--shaders".as_ref(), shaders.as_os_str()];
+    let mut app = start_window_with(&xvfb, &dir, &args);
+    let window = wait_for_window(&xvfb, &mut app);
+    xvfb.xdotool(&["windowfocus", "--sync", &window]);
+    let mut shots = 0;
+    let mut shot = || {
+        shots += 1;
+        screenshot(&xvfb, &dir, shots)
+    };
+    assert!(
+        shot() == start_frame,
+        "the first frame is not the tutorial's"
+    );
+
+    // A learner's edit, saved: the frames change without a key press.
+    let end = good.rfind('}').unwrap();
+    let halved = format!("{}    color *= 0.5;\n}}\n", &good[..end]);
+    std::fs::write(&fragment, &halved).unwrap();
+    let start = Instant::now();
+    let edited = loop {
+        std::thread::sleep(Duration::from_millis(300));
+        let frame = shot();
+        if frame != start_frame {
+            break frame;
+        }
+        assert!(
+            start.elapsed() < STEP_TIMEOUT,
+            "the saved shader was not reloaded"
+        );
+    };
+
+    // A typo, saved: the title says so, the edited shader keeps drawing.
+    std::fs::write(&fragment, halved.replace("color *= 0.5;", "color *= 0.5")).unwrap();
+    let title = wait_for_title(&xvfb, &window, "broken shader", |t| {
+        t.contains("shader compilation failed: NormalMapping.fragmentshader")
+    });
+    assert!(
+        title.contains("view lit"),
+        "the status left the title: {title:?}"
+    );
+    assert!(shot() == edited, "a broken shader changed the frame");
+
+    // The original, saved back: the error leaves the title and the first frame is back.
+    std::fs::write(&fragment, &good).unwrap();
+    wait_for_title(&xvfb, &window, "fixed shader", |t| !t.contains("failed"));
+    assert!(
+        shot() == start_frame,
+        "the original shader does not give the first frame back"
+    );
+
+    xvfb.xdotool(&["key", "Escape"]);
+    let (status, stderr) = wait_exit(&mut app);
+    assert!(status.success(), "{stderr}");
+    assert!(
+        stderr.contains("NormalMapping.fragmentshader: compilation failed: ")
+            && stderr.contains("error"),
+        "no driver log on stderr: {stderr}"
     );
 }

@@ -41,24 +41,26 @@ pub fn crate_shader_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders")
 }
 
+/// The file [`find_shader`] reads `name` from: in `dir` if given and it is there, else in
+/// [`crate_shader_dir`]; `None` when neither has it (the embedded copy is used). The window watches
+/// these files to reload a program when one is saved.
+pub fn shader_path(name: &str, dir: Option<&Path>) -> Option<PathBuf> {
+    dir.map(|dir| dir.join(name))
+        .filter(|path| path.exists())
+        .or_else(|| Some(crate_shader_dir().join(name)).filter(|path| path.is_file()))
+}
+
 /// Finds `name`: in `dir` if given and it is there, else in [`crate_shader_dir`], else embedded. A
 /// `--shaders` folder thus only needs the files a learner edits.
 pub fn find_shader(name: &str, dir: Option<&Path>) -> Result<ShaderFile> {
-    let read = |path: PathBuf| -> Result<ShaderFile> {
-        let source = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-        Ok(ShaderFile { path, source })
-    };
-    if let Some(dir) = dir {
-        let path = dir.join(name);
-        if path.exists() {
-            return read(path);
+    if let Some(path) = shader_path(name, dir) {
+        if dir.is_some_and(|dir| !path.starts_with(dir)) {
+            log::info!("{name} is not in the --shaders folder: using the crate's own");
         }
-        log::info!("{name} is not in {}: using the crate's own", dir.display());
+        let source = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+        return Ok(ShaderFile { path, source });
     }
     let on_disk = crate_shader_dir().join(name);
-    if on_disk.is_file() {
-        return read(on_disk);
-    }
     let (_, source) = EMBEDDED
         .iter()
         .find(|(embedded, _)| *embedded == name)

@@ -274,6 +274,14 @@ const DRAW_BATCH: i32 = 256;
 
 const LINE_VERTEX_STRIDE: i32 = std::mem::size_of::<LineVertex>() as i32;
 
+/// The line shader's two files.
+pub const LINE_SHADERS: [&str; 2] = ["DebugLines.vertexshader", "DebugLines.fragmentshader"];
+
+fn load_line_program(gl: &Gl, shader_dir: Option<&Path>) -> Result<Program> {
+    let [vertex, fragment] = LINE_SHADERS;
+    load_program(gl, vertex, fragment, shader_dir)
+}
+
 /// The core-profile path's GL objects: program, VAO and the one vertex buffer. Deleted on drop.
 struct ShaderLines {
     gl: Gl,
@@ -286,12 +294,7 @@ struct ShaderLines {
 
 impl ShaderLines {
     fn new(gl: &Gl, shader_dir: Option<&Path>, source: &TbnSource) -> Result<Self> {
-        let program = load_program(
-            gl,
-            "DebugLines.vertexshader",
-            "DebugLines.fragmentshader",
-            shader_dir,
-        )?;
+        let program = load_line_program(gl, shader_dir)?;
         let mvp = program.uniform("MVP");
         // SAFETY: objects are created on the current context; the previous VAO binding is restored.
         let (vao, buffer) = unsafe {
@@ -478,6 +481,17 @@ impl DebugLines {
     /// Why the requested immediate mode is not used, if it is not.
     pub fn notice(&self) -> Option<&str> {
         self.notice.as_deref()
+    }
+
+    /// Compiles the line shader again from its files (live shader editing). On an error the lines
+    /// keep the program they had.
+    pub fn reload_shaders(&mut self) -> Result<()> {
+        if let Some(shader) = &mut self.shader {
+            let program = load_line_program(&self.gl, self.shader_dir.as_deref())?;
+            shader.mvp = program.uniform("MVP");
+            shader.program = program;
+        }
+        Ok(())
     }
 
     /// Takes the lines from another mesh (e.g. after the scene re-ran its CPU pipeline).

@@ -86,6 +86,12 @@ impl HeadlessRenderer {
         Ok(())
     }
 
+    /// Reads the scene's shader files again (what the window does when one is saved): on an error the
+    /// scene keeps drawing with the programs it had.
+    pub fn reload_shaders(&mut self) -> Result<()> {
+        self.scene.reload_shaders()
+    }
+
     /// The scene as its own type, for tests and tools that reach into it. Panics if the renderer
     /// holds another scene.
     pub fn scene_mut<S: Scene + 'static>(&mut self) -> &mut S {

@@ -31,7 +31,7 @@ use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{CursorGrabMode, Window, WindowId};
 
-use super::{key_list, FrameTimer};
+use super::{key_list, FrameTimer, ShaderWatch};
 use crate::common::controls::{Controls, Input};
 use crate::gl::image::{read_pixels_rgba, write_screenshot};
 use crate::gl::{check_gl_errors, context_info, ContextInfo, Gl, Profile};
@@ -177,6 +177,10 @@ struct Running {
     /// The last "ms/frame" figure, kept for the title.
     ms_per_frame: Option<f64>,
     screenshots_taken: u32,
+    /// Saving a shader file reloads the scene's programs.
+    shader_watch: ShaderWatch,
+    /// The last reload's error, for the title, until a good version is saved.
+    shader_error: Option<String>,
     /// The cursor is grabbed and hidden for mouse look (only in a scene that wants it).
     grabbed: bool,
 }
@@ -233,6 +237,7 @@ impl ApplicationHandler for App {
                             log::error!("{e}");
                         }
                     }
+                    KeyCode::F5 if pressed => running.reload_shaders(),
                     KeyCode::KeyR if pressed => {
                         running.controls = Controls::default();
                         log::info!("camera back at the tutorial's start");
@@ -333,6 +338,20 @@ impl ApplicationHandler for App {
             }
         }
         self.running = None;
+    }
+}
+
+/// One short line for the title: which file failed and how (the log itself is on stderr).
+fn shader_error_title(error: &Error) -> String {
+    match error {
+        Error::Shader { path, stage, .. } => {
+            let file = path.file_name().unwrap_or(path.as_os_str());
+            format!(
+                "shader {stage} failed: {} (log on the terminal; the last good shaders draw)",
+                file.to_string_lossy()
+            )
+        }
+        other => format!("shader reload failed: {other}"),
     }
 }
 
@@ -489,6 +508,7 @@ impl Running {
         let scene = options.scene_name.build(&scene_context, &options.scene)?;
         log::info!("{}", scene.status());
         let now = Instant::now();
+        let shader_watch = ShaderWatch::new(&*scene);
         let mut running = Running {
             scene,
             scene_name: options.scene_name,
@@ -507,6 +527,8 @@ impl Running {
             timer: FrameTimer::new(),
             ms_per_frame: None,
             screenshots_taken: 0,
+            shader_watch,
+            shader_error: None,
             grabbed: false,
         };
         if options.frames.is_none() {
@@ -530,6 +552,8 @@ impl Running {
         self.set_cursor_grab(false);
         self.scene = scene;
         self.scene_name = name;
+        self.shader_watch = ShaderWatch::new(&*self.scene);
+        self.shader_error = None;
         self.controls = Controls::default();
         self.set_cursor_grab(true);
         println!("{}", key_list(name));
@@ -568,13 +592,35 @@ impl Running {
     }
 
     /// "Tutorial 13 - Normal Mapping - 3.2 ms/frame - view lit | lines off | ...": the figure and
-    /// the scene's switches together, so that neither hides the other.
+    /// the scene's switches together, so that neither hides the other; a shader that failed to
+    /// reload comes first.
     fn update_title(&self) {
         let ms = self
             .ms_per_frame
             .map_or(String::new(), |ms| format!(" - {ms:.3} ms/frame"));
+        let error = self
+            .shader_error
+            .as_ref()
+            .map_or(String::new(), |e| format!(" - {e}"));
         self.window
-            .set_title(&format!("{TITLE}{ms} - {}", self.scene.status()));
+            .set_title(&format!("{TITLE}{error}{ms} - {}", self.scene.status()));
+    }
+
+    /// Live shader editing: compiles the scene's shaders again. A shader that does not compile
+    /// leaves the last good programs drawing; its driver log goes to stderr and a short line to the
+    /// title until a good version is saved.
+    fn reload_shaders(&mut self) {
+        match self.scene.reload_shaders() {
+            Ok(()) => {
+                log::info!("shaders reloaded");
+                self.shader_error = None;
+            }
+            Err(e) => {
+                eprintln!("tutorial13: {e}");
+                self.shader_error = Some(shader_error_title(&e));
+            }
+        }
+        self.update_title();
     }
 
     /// `P`: tutorial13-1.png, tutorial13-2.png, ... in the current folder, never overwriting.
@@ -598,6 +644,9 @@ impl Running {
             (now - self.last_time).as_secs_f32()
         };
         self.last_time = now;
+        if self.shader_watch.changed(&*self.scene, now) {
+            self.reload_shaders();
+        }
         let input = if frozen { Input::default() } else { self.input };
         let size = self.window.inner_size();
         // The viewport and the projection's aspect follow the window (1024×768 is the tutorial's 4:3).

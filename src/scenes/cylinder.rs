@@ -10,14 +10,15 @@ use std::path::{Path, PathBuf};
 
 use glow::HasContext;
 
-use crate::debug::lines::{DebugLines, LegacyGl, LineMode};
+use crate::common::shader::shader_path;
+use crate::debug::lines::{DebugLines, LegacyGl, LineMode, LINE_SHADERS};
 use crate::debug::views::ShaderSwitches;
 use crate::gl::Gl;
 use crate::mesh::MeshOptions;
 use crate::Result;
 
 use super::scene::{FrameInput, KeyHelp, Scene, SceneContext};
-use super::tutorial13::{NormalMappingProgram, Tutorial13, LIGHT_POS};
+use super::tutorial13::{NormalMappingProgram, Tutorial13, LIGHT_POS, SHADERS};
 
 /// The cylinder's switches, as the command line sets them.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -273,6 +274,30 @@ impl Scene for Cylinder {
         KEYS
     }
 
+    /// The tutorial's program, the debugging program and the line shader.
+    fn shader_files(&self) -> Vec<PathBuf> {
+        let dir = self.shader_dir.as_deref();
+        [SHADERS, DEBUG_SHADERS, LINE_SHADERS]
+            .iter()
+            .flatten()
+            .filter_map(|name| shader_path(name, dir))
+            .collect()
+    }
+
+    /// All or nothing: every program is built before any replaces the one in use.
+    fn reload_shaders(&mut self) -> Result<()> {
+        let dir = self.shader_dir.as_deref();
+        let [vertex_shader, fragment_shader] = SHADERS;
+        let program = NormalMappingProgram::load(&self.gl, vertex_shader, fragment_shader, dir)?;
+        let debug_program = DebugProgram::load(&self.gl, dir)?;
+        if let Some(lines) = &mut self.lines {
+            lines.reload_shaders()?;
+        }
+        self.tutorial.program = program;
+        self.debug_program = debug_program;
+        Ok(())
+    }
+
     /// View, lines, and every experiment switch.
     fn status(&self) -> String {
         let on = |b: bool| if b { "on" } else { "off" };
@@ -304,6 +329,12 @@ impl Scene for Cylinder {
     }
 }
 
+/// The debugging program's two files.
+pub const DEBUG_SHADERS: [&str; 2] = [
+    "NormalMappingDebug.vertexshader",
+    "NormalMappingDebug.fragmentshader",
+];
+
 /// `NormalMappingDebug`: the tutorial's uniforms plus one per switch.
 pub struct DebugProgram {
     gl: Gl,
@@ -317,12 +348,8 @@ pub struct DebugProgram {
 
 impl DebugProgram {
     pub fn load(gl: &Gl, shader_dir: Option<&Path>) -> Result<Self> {
-        let program = NormalMappingProgram::load(
-            gl,
-            "NormalMappingDebug.vertexshader",
-            "NormalMappingDebug.fragmentshader",
-            shader_dir,
-        )?;
+        let [vertex_shader, fragment_shader] = DEBUG_SHADERS;
+        let program = NormalMappingProgram::load(gl, vertex_shader, fragment_shader, shader_dir)?;
         let uniform = |name| program.program.uniform(name);
         Ok(DebugProgram {
             gl: gl.clone(),

@@ -4,6 +4,7 @@
 
 use std::any::Any;
 use std::ffi::{c_void, CStr};
+use std::path::PathBuf;
 
 use glam::{Mat4, Vec2};
 
@@ -63,6 +64,19 @@ pub trait Scene {
 
     /// One line for the title bar and the log: the scene's current switches.
     fn status(&self) -> String;
+
+    /// The shader files the scene's programs are read from (the copies built into the binary are not
+    /// files): the window watches them and calls [`Scene::reload_shaders`] when one is saved.
+    fn shader_files(&self) -> Vec<PathBuf> {
+        Vec::new()
+    }
+
+    /// Reads, compiles and links every program of the scene again. If any fails (the error names
+    /// the file and carries the driver's log), the scene keeps all the programs it had and draws as
+    /// before, so a learner's typo never ends the program.
+    fn reload_shaders(&mut self) -> Result<()> {
+        Ok(())
+    }
 
     /// Mouse look (the default) or the free cursor.
     fn mouse_mode(&self) -> MouseMode {

@@ -43,6 +43,9 @@ pub fn init_gl_state(gl: &Gl) {
     }
 }
 
+/// The tutorial's two shader files.
+pub const SHADERS: [&str; 2] = ["NormalMapping.vertexshader", "NormalMapping.fragmentshader"];
+
 type Uniform = Option<glow::UniformLocation>;
 
 /// `programID` and the handles the tutorial gets with `glGetUniformLocation`.
@@ -105,12 +108,8 @@ impl Tutorial13 {
         init_gl_state(gl);
 
         // Create and compile our GLSL program from the shaders, and get the handles.
-        let program = NormalMappingProgram::load(
-            gl,
-            "NormalMapping.vertexshader",
-            "NormalMapping.fragmentshader",
-            shader_dir,
-        )?;
+        let [vertex_shader, fragment_shader] = SHADERS;
+        let program = NormalMappingProgram::load(gl, vertex_shader, fragment_shader, shader_dir)?;
 
         // Load the textures.
         let diffuse_texture = load_dds(gl, &assets.join("diffuse.DDS"))?;

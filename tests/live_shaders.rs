@@ -1,0 +1,145 @@
+//! Live shader editing (the window reloads a shader file when it is saved, or on F5): headless, the
+//! same reload between two frames. A learner's edit shows in the next frame; a shader that does not
+//! compile is reported with its file and the driver's log, and the last good programs keep drawing.
+
+mod common;
+
+use std::path::Path;
+
+use common::{frame, own_assets, pixel_diff, renderer, scratch};
+use image::RgbImage;
+use tutorial13::common::shader::crate_shader_dir;
+use tutorial13::gl::Profile;
+use tutorial13::scenes::cylinder::Cylinder;
+use tutorial13::scenes::Scene;
+
+const FRAGMENT: &str = "NormalMapping.fragmentshader";
+
+/// The crate's shaders copied into a folder of the test's own, and a renderer reading them from it.
+fn renderer_on_copied_shaders(
+    name: &str,
+) -> (
+    tutorial13::frontends::headless::HeadlessRenderer,
+    std::path::PathBuf,
+) {
+    let dir = scratch(name);
+    for entry in std::fs::read_dir(crate_shader_dir()).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, dir.join(path.file_name().unwrap())).unwrap();
+    }
+    let mut options = common::options(own_assets(), Profile::Core);
+    options.scene.shaders = Some(dir.clone());
+    (renderer(&options), dir)
+}
+
+fn mean_brightness(image: &RgbImage) -> f64 {
+    let sum: u64 = image
+        .pixels()
+        .map(|p| p.0.iter().map(|&c| u64::from(c)).sum::<u64>())
+        .sum();
+    sum as f64 / (image.width() * image.height() * 3) as f64
+}
+
+fn write(path: &Path, text: &str) {
+    std::fs::write(path, text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+}
+
+// Fails if a reload does not read the edited file (the next frame is unchanged or not darker), if a
+// broken file is accepted, not named, or reported without the driver's log, if it changes the frame
+// (the last good program must keep drawing), or if saving the original back does not restore the
+// first frame bit for bit.
+#[test]
+fn saved_shader_shows_in_the_next_frame_and_a_broken_one_changes_nothing() {
+    let (mut r, dir) = renderer_on_copied_shaders("edit");
+    let first = frame(&mut r);
+    let fragment = dir.join(FRAGMENT);
+    let good = std::fs::read_to_string(&fragment).unwrap();
+
+    // A learner's edit: the lit colour at half strength.
+    let last_brace = good.rfind('}').expect("a closing brace");
+    let halved = format!("{}    color *= 0.5;\n}}\n", &good[..last_brace]);
+    write(&fragment, &halved);
+    r.reload_shaders().expect("the edited shader compiles");
+    let edited = frame(&mut r);
+    let (differing, _, _) = pixel_diff(&first, &edited);
+    let (before, after) = (mean_brightness(&first), mean_brightness(&edited));
+    println!("edit: {differing} pixels changed, mean brightness {before:.2} -> {after:.2}");
+    assert!(differing > 10_000, "only {differing} pixels changed");
+    assert!(after < before, "{after} >= {before}");
+
+    // A typo: the error names the file and carries the driver's log; the frame stays the edited one.
+    write(&fragment, &halved.replace("color *= 0.5;", "color *= 0.5"));
+    let error = r
+        .reload_shaders()
+        .expect_err("a shader with a syntax error")
+        .to_string();
+    println!("broken: {error}");
+    assert!(error.contains(&fragment.display().to_string()), "{error}");
+    assert!(error.contains("compilation failed"), "{error}");
+    assert!(
+        error.to_lowercase().contains("error"),
+        "no driver log: {error}"
+    );
+    let still = frame(&mut r);
+    assert!(still == edited, "a broken shader changed the frame");
+
+    // Saved back as it was: the first frame again, bit for bit.
+    write(&fragment, &good);
+    r.reload_shaders().expect("the original compiles");
+    assert!(
+        frame(&mut r) == first,
+        "the original shader does not give the first frame back"
+    );
+}
+
+// Fails if the line shader or the debugging program are not reloaded too, or if a failure in one
+// program lets the others change (a reload is all or nothing).
+#[test]
+fn every_program_reloads_and_a_failure_keeps_them_all() {
+    let (mut r, dir) = renderer_on_copied_shaders("all");
+    {
+        let scene = r.scene_mut::<Cylinder>();
+        scene.set_show_lines(true).unwrap();
+        let files = scene.shader_files();
+        assert_eq!(files.len(), 6, "{files:?}");
+        assert!(files.iter().all(|f| f.starts_with(&dir)), "{files:?}");
+    }
+    let with_lines = frame(&mut r);
+
+    // Lines drawn in yellow instead of their own colours.
+    let lines_fragment = dir.join("DebugLines.fragmentshader");
+    let good_lines = std::fs::read_to_string(&lines_fragment).unwrap();
+    let end = good_lines.rfind('}').unwrap();
+    write(
+        &lines_fragment,
+        &format!(
+            "{}    color = vec4(1.0, 1.0, 0.0, 1.0);\n}}\n",
+            &good_lines[..end]
+        ),
+    );
+    r.reload_shaders().expect("the edited line shader compiles");
+    let yellow = frame(&mut r);
+    let yellow_pixels = yellow.pixels().filter(|p| p.0 == [255, 255, 0]).count();
+    assert!(
+        yellow_pixels > 500,
+        "{yellow_pixels} yellow pixels: the line shader was not reloaded"
+    );
+
+    // A broken tutorial shader: nothing changes, the yellow lines included.
+    let fragment = dir.join(FRAGMENT);
+    write(&fragment, "#version 330 core\nvoid main() { nonsense }\n");
+    write(&lines_fragment, &good_lines);
+    assert!(r.reload_shaders().is_err());
+    assert!(
+        frame(&mut r) == yellow,
+        "a failed reload changed some program"
+    );
+
+    // Both good again: the frame with the lines as first drawn.
+    write(
+        &fragment,
+        &std::fs::read_to_string(crate_shader_dir().join(FRAGMENT)).unwrap(),
+    );
+    r.reload_shaders().unwrap();
+    assert!(frame(&mut r) == with_lines);
+}
