@@ -441,26 +441,72 @@ fn window_compat_profile_with_debug_lines_matches_headless() {
     );
 }
 
-/// Renders 3 frames in a real window under Xvfb and headless with the same `extra` flags, compares
-/// the two screenshots, and returns the window's.
-fn window_matches_headless(extra: &[&str], name: &str) -> RgbImage {
-    let scratch = common::scratch(name);
+// Fails if --msaa 4 does not make the window and the headless target multisampled (each must blend
+// the debug lines' edges: far fewer pure-green pixels than without), or if the window's screenshot is
+// not the headless frame bit for bit (on the reference renderer). The window's frame is resolved before
+// it is read: read directly, Mesa gave 2006 pixels that the window does not show (xwd capture).
+#[test]
+fn msaa_window_matches_headless_and_blends_the_lines() {
+    let lines = ["--profile", "compat", "--debug-lines"];
+    let msaa = [&lines[..], &["--msaa", "4"]].concat();
+    let window = window_matches_headless(&msaa, "xvfb-msaa");
+    let plain = headless_frame(&common::scratch("msaa"), "plain.png", &lines);
+    let green = |img: &RgbImage| img.pixels().filter(|p| p.0 == [0, 255, 0]).count();
+    let (g_plain, g_msaa) = (green(&plain), green(&window));
+    let d = diff(&window, &plain, 0);
+    println!(
+        "--msaa 4 against none: {} pixels differ; pure-green line pixels {g_plain} -> {g_msaa}",
+        d.differing
+    );
+    assert!(d.differing > 1000, "{} pixels differ", d.differing);
+    assert!(
+        g_msaa * 2 < g_plain,
+        "{g_msaa} of {g_plain}: the lines are not blended"
+    );
+}
+
+// Fails if a sample count the driver does not have is accepted (or panics) instead of one line
+// naming --msaa, or if an out-of-range value is not a usage error.
+#[test]
+fn msaa_beyond_the_driver_is_one_line() {
+    let scratch = common::scratch("msaa-too-many");
+    let shot = scratch.join("never.png");
+    let out = run(tutorial13()
+        .args(["--headless", "--msaa", "32", "--screenshot"])
+        .arg(&shot));
+    let line = assert_one_line_failure(&out, "--msaa 32");
+    assert!(line.contains("32 samples"), "{line}");
+    assert!(!shot.exists());
+    let out = run(tutorial13().args(["--headless", "--msaa", "33"]));
+    assert_eq!(out.status.code(), Some(2), "usage error expected");
+}
+
+/// 3 frames in a real window under a private Xvfb with `extra` flags: the last frame (checked to
+/// look like the scene) and the program's stderr.
+fn window_frame(scratch: &Path, extra: &[&str]) -> (RgbImage, Vec<u8>) {
     let xvfb = Xvfb::start();
     let window_shot = scratch.join("w.png");
-    let started = Instant::now();
     let out = run(tutorial13()
         .env("DISPLAY", &xvfb.display)
         .env_remove("WAYLAND_DISPLAY")
         .args(extra)
         .args(["--frames", "3", "--screenshot"])
         .arg(&window_shot));
-    let window_time = started.elapsed();
     drop(xvfb);
     assert_success(&out, "window under Xvfb");
-    let out_window_stderr = out.stderr.clone();
     let window = read_png(&window_shot);
     assert_eq!(window.dimensions(), (1024, 768), "window screenshot size");
     assert_looks_like_the_scene(&window, "window frame");
+    (window, out.stderr)
+}
+
+/// Renders 3 frames in a real window under Xvfb and headless with the same `extra` flags, compares
+/// the two screenshots, and returns the window's.
+fn window_matches_headless(extra: &[&str], name: &str) -> RgbImage {
+    let scratch = common::scratch(name);
+    let started = Instant::now();
+    let (window, out_window_stderr) = window_frame(&scratch, extra);
+    let window_time = started.elapsed();
 
     let headless_shot = scratch.join("h.png");
     let out = run(tutorial13()

@@ -22,6 +22,8 @@ pub struct HeadlessOptions {
     pub profile: Profile,
     /// Use a GPU's EGL device where there is one; otherwise llvmpipe.
     pub prefer_hardware: bool,
+    /// Samples per pixel of the target (`--msaa`; 0 = none, the tutorial's screenshot).
+    pub msaa: u32,
 }
 
 impl Default for HeadlessOptions {
@@ -34,6 +36,7 @@ impl Default for HeadlessOptions {
             height: 768,
             profile: Profile::Core,
             prefer_hardware: false,
+            msaa: 0,
         }
     }
 }
@@ -58,10 +61,11 @@ impl HeadlessRenderer {
         log::debug!("headless context: {}", context.info());
         let gl = context.gl().clone();
         // Stored like a window's buffers, so that the headless frame is the window's frame.
-        let target = OffscreenTarget::with_window_orientation(
+        let target = OffscreenTarget::with_window_orientation_multisampled(
             &gl,
             options.width,
             options.height,
+            options.msaa,
             context.info(),
             |name| context.get_proc_address(name),
         )?;

@@ -33,6 +33,7 @@ use winit::window::{CursorGrabMode, Window, WindowId};
 
 use super::{key_list, FrameTimer, ShaderWatch};
 use crate::common::controls::{Controls, Input};
+use crate::gl::context::OffscreenTarget;
 use crate::gl::image::{read_pixels_rgba, write_screenshot};
 use crate::gl::{check_gl_errors, context_info, ContextInfo, Gl, Profile};
 use crate::scenes::{FrameInput, MouseMode, Scene, SceneContext, SceneName, SceneOptions};
@@ -51,6 +52,8 @@ pub struct WindowOptions {
     pub frames: Option<u32>,
     /// Save the last frame here.
     pub screenshot: Option<PathBuf>,
+    /// Samples per pixel of the window's config (`--msaa`; 0 = none).
+    pub msaa: u8,
 }
 
 /// The message for a machine without a display, with the command that works there.
@@ -181,6 +184,8 @@ struct Running {
     shader_watch: ShaderWatch,
     /// The last reload's error, for the title, until a good version is saved.
     shader_error: Option<String>,
+    /// Samples per pixel of the window's buffers (`--msaa`).
+    samples: i32,
     /// The cursor is grabbed and hidden for mouse look (only in a scene that wants it).
     grabbed: bool,
 }
@@ -406,10 +411,25 @@ pub fn key_char(code: KeyCode) -> Option<char> {
         .map(|i| (b'0' + i as u8) as char)
 }
 
-/// glutin's example picks the config with the most samples; the tutorial's frame wants none, and a
-/// 24-bit depth buffer (GLFW's default) where there is one.
-fn pick_config(configs: Box<dyn Iterator<Item = Config> + '_>) -> Option<Config> {
-    configs.min_by_key(|c| (c.num_samples(), u8::from(c.depth_size() < 24)))
+/// glutin's example picks the config with the most samples; the tutorial's frame wants none unless
+/// `--msaa N` asks for N, and a 24-bit depth buffer (GLFW's default) where there is one. `Err` lists
+/// the sample counts the display has when none has N.
+fn pick_config(
+    configs: Box<dyn Iterator<Item = Config> + '_>,
+    msaa: u8,
+) -> std::result::Result<Config, Vec<u8>> {
+    let configs: Vec<Config> = configs.collect();
+    let chosen = configs
+        .iter()
+        .filter(|c| c.num_samples() == msaa)
+        .min_by_key(|c| u8::from(c.depth_size() < 24))
+        .cloned();
+    chosen.ok_or_else(|| {
+        let mut counts: Vec<u8> = configs.iter().map(Config::num_samples).collect();
+        counts.sort_unstable();
+        counts.dedup();
+        counts
+    })
 }
 
 /// Opens the window with a config from [`pick_config`]. glutin-winit's picker must return a config,
@@ -417,27 +437,46 @@ fn pick_config(configs: Box<dyn Iterator<Item = Config> + '_>) -> Option<Config>
 fn build_window(
     event_loop: &ActiveEventLoop,
     attributes: winit::window::WindowAttributes,
+    msaa: u8,
 ) -> Result<(Option<Window>, Config)> {
-    struct NoConfig;
+    struct NoConfig(Vec<u8>);
     let previous_hook = std::panic::take_hook();
     std::panic::set_hook(Box::new(|info| {
         if info.payload().downcast_ref::<NoConfig>().is_none() {
             eprintln!("{info}");
         }
     }));
+    let template = match msaa {
+        0 => ConfigTemplateBuilder::new(),
+        n => ConfigTemplateBuilder::new().with_multisampling(n),
+    };
     let built = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         DisplayBuilder::new()
             .with_window_attributes(Some(attributes))
-            .build(event_loop, ConfigTemplateBuilder::new(), |configs| {
-                pick_config(configs).unwrap_or_else(|| std::panic::panic_any(NoConfig))
+            .build(event_loop, template, |configs| {
+                pick_config(configs, msaa)
+                    .unwrap_or_else(|counts| std::panic::panic_any(NoConfig(counts)))
             })
     }));
     std::panic::set_hook(previous_hook);
     match built {
+        // A display was opened (winit's event loop has one), so a failure here with a sample count
+        // asked for is that count missing: say so rather than "no display".
+        Ok(Err(e)) if msaa > 0 => Err(Error::Window(format!(
+            "the display has no framebuffer configuration with {msaa} samples per pixel (--msaa): {e}"
+        ))),
         Ok(result) => result.map_err(|e| Error::Window(no_display_message(&e.to_string()))),
-        Err(payload) if payload.is::<NoConfig>() => Err(Error::Window(
-            "the display offers no OpenGL framebuffer configuration".into(),
-        )),
+        Err(payload) if payload.is::<NoConfig>() => {
+            let counts = &payload.downcast_ref::<NoConfig>().expect("checked").0;
+            Err(Error::Window(if counts.is_empty() {
+                "the display offers no OpenGL framebuffer configuration".into()
+            } else {
+                format!(
+                    "the display has no framebuffer configuration with {msaa} samples per pixel \
+                     (--msaa): it offers {counts:?}"
+                )
+            }))
+        }
         Err(payload) => std::panic::resume_unwind(payload),
     }
 }
@@ -448,7 +487,7 @@ impl Running {
         let attributes = Window::default_attributes()
             .with_title(TITLE)
             .with_inner_size(PhysicalSize::new(width, height));
-        let (window, config) = build_window(event_loop, attributes)?;
+        let (window, config) = build_window(event_loop, attributes, options.msaa)?;
         let window = window.ok_or_else(|| Error::Window("it could not be created".into()))?;
         let display = config.display();
         let handle = window
@@ -493,8 +532,11 @@ impl Running {
                 options.profile
             )));
         }
+        // SAFETY: a plain query on the current context.
+        let samples = unsafe { gl.get_parameter_i32(glow::SAMPLES) };
         log::info!(
-            "window context: {info}, config with {} samples and a {}-bit depth buffer",
+            "window context: {info}, config with {} samples ({samples} in the default \
+             framebuffer) and a {}-bit depth buffer",
             config.num_samples(),
             config.depth_size()
         );
@@ -529,6 +571,7 @@ impl Running {
             screenshots_taken: 0,
             shader_watch,
             shader_error: None,
+            samples,
             grabbed: false,
         };
         if options.frames.is_none() {
@@ -690,7 +733,19 @@ impl Running {
             NonZeroU32::new(size.width).map_or(1, |v| v.get()),
             NonZeroU32::new(size.height).map_or(1, |v| v.get()),
         );
-        let image = read_pixels_rgba(&self.gl, w, h);
+        let image = if self.samples > 0 {
+            // Mesa's glReadPixels on a multisampled window buffer does not give the frame the
+            // window shows (measured: 2006 pixels differ from an xwd capture, which equals the
+            // headless frame): resolve it into a single-sampled target first, as the swap does.
+            let display = self.context.display();
+            let loader = |name: &std::ffi::CStr| display.get_proc_address(name);
+            let target =
+                OffscreenTarget::with_window_orientation(&self.gl, w, h, &self.info, loader)?;
+            target.blit_from(None);
+            target.read_rgba()
+        } else {
+            read_pixels_rgba(&self.gl, w, h)
+        };
         write_screenshot(path, &image)?;
         log::info!("wrote {}", path.display());
         Ok(())

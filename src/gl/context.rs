@@ -301,6 +301,10 @@ pub struct OffscreenTarget {
     height: u32,
     /// `GL_FRAMEBUFFER_FLIP_Y_MESA` is set: stored top row first, as Mesa stores a window.
     flipped_y: bool,
+    /// Samples per pixel (0: not multisampled).
+    samples: u32,
+    /// A multisampled target's single-sampled twin: frames are resolved into it to be read.
+    resolve: Option<Box<OffscreenTarget>>,
 }
 
 const PART: &str = "offscreen target";
@@ -321,6 +325,30 @@ impl OffscreenTarget {
 
     /// A target whose colour is a renderbuffer or a texture.
     pub fn with_color(gl: &Gl, width: u32, height: u32, color: ColorBuffer) -> Result<Self> {
+        Self::create(gl, width, height, color, 0)
+    }
+
+    /// A multisampled target (`samples` ≥ 1 per pixel, colour in a renderbuffer), as a window with a
+    /// multisampled config has: [`OffscreenTarget::read_rgba`] resolves it first, as reading a
+    /// window's multisampled buffer does. `samples` = 0 is [`OffscreenTarget::new`].
+    pub fn multisampled(gl: &Gl, width: u32, height: u32, samples: u32) -> Result<Self> {
+        if samples == 0 {
+            return Self::new(gl, width, height);
+        }
+        // SAFETY: a plain query on the current context.
+        let max = unsafe { gl.get_parameter_i32(glow::MAX_SAMPLES) }.max(0) as u32;
+        if samples > max {
+            return Err(Error::gl(
+                PART,
+                format!("{samples} samples per pixel asked, this driver allows at most {max}"),
+            ));
+        }
+        let mut target = Self::create(gl, width, height, ColorBuffer::Renderbuffer, samples)?;
+        target.resolve = Some(Box::new(Self::new(gl, width, height)?));
+        Ok(target)
+    }
+
+    fn create(gl: &Gl, width: u32, height: u32, color: ColorBuffer, samples: u32) -> Result<Self> {
         // SAFETY: a plain query on the current context.
         let max = unsafe { gl.get_parameter_i32(glow::MAX_RENDERBUFFER_SIZE) }.max(0) as u32;
         if width == 0 || height == 0 || width > max || height > max {
@@ -367,14 +395,26 @@ impl OffscreenTarget {
                 width,
                 height,
                 flipped_y: false,
+                samples,
+                resolve: None,
+            };
+            // `samples` ≤ GL_MAX_SAMPLES (checked by the caller), so it fits in i32.
+            let storage = |internal_format: u32| {
+                if samples == 0 {
+                    gl.renderbuffer_storage(glow::RENDERBUFFER, internal_format, w, h);
+                } else {
+                    let n = samples as i32;
+                    let rb = glow::RENDERBUFFER;
+                    gl.renderbuffer_storage_multisample(rb, n, internal_format, w, h);
+                }
             };
             gl.bind_renderbuffer(glow::RENDERBUFFER, Some(depth));
-            gl.renderbuffer_storage(glow::RENDERBUFFER, glow::DEPTH_COMPONENT24, w, h);
+            storage(glow::DEPTH_COMPONENT24);
             gl.bind_framebuffer(glow::FRAMEBUFFER, Some(framebuffer));
             match target.color {
                 Color::Renderbuffer(rb) => {
                     gl.bind_renderbuffer(glow::RENDERBUFFER, Some(rb));
-                    gl.renderbuffer_storage(glow::RENDERBUFFER, glow::RGBA8, w, h);
+                    storage(glow::RGBA8);
                     let (point, target) = (glow::COLOR_ATTACHMENT0, glow::RENDERBUFFER);
                     gl.framebuffer_renderbuffer(glow::FRAMEBUFFER, point, target, Some(rb));
                 }
@@ -430,7 +470,19 @@ impl OffscreenTarget {
         info: &ContextInfo,
         get_proc_address: impl FnMut(&CStr) -> *const c_void,
     ) -> Result<Self> {
-        let mut target = Self::new(gl, width, height)?;
+        Self::with_window_orientation_multisampled(gl, width, height, 0, info, get_proc_address)
+    }
+
+    /// [`OffscreenTarget::with_window_orientation`] with `samples` per pixel (0: none).
+    pub fn with_window_orientation_multisampled(
+        gl: &Gl,
+        width: u32,
+        height: u32,
+        samples: u32,
+        info: &ContextInfo,
+        get_proc_address: impl FnMut(&CStr) -> *const c_void,
+    ) -> Result<Self> {
+        let mut target = Self::multisampled(gl, width, height, samples)?;
         target.set_window_orientation(info, get_proc_address)?;
         Ok(target)
     }
@@ -469,14 +521,21 @@ impl OffscreenTarget {
             unsafe { std::mem::transmute::<*const c_void, _>(pointer) };
         // SAFETY: the framebuffer is alive (owned by self); the extension allows this parameter on
         // GL_FRAMEBUFFER; framebuffer 0 is bound again afterwards, as `new` leaves it.
-        unsafe {
-            self.gl
-                .bind_framebuffer(glow::FRAMEBUFFER, Some(self.framebuffer));
-            framebuffer_parameter_i(glow::FRAMEBUFFER, FRAMEBUFFER_FLIP_Y_MESA, 1);
-            self.gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+        // A multisampled target's resolved twin is stored the same way, so the blit keeps rows in order.
+        let resolve = self.resolve.as_ref().map(|r| r.framebuffer);
+        for framebuffer in std::iter::once(self.framebuffer).chain(resolve) {
+            unsafe {
+                self.gl
+                    .bind_framebuffer(glow::FRAMEBUFFER, Some(framebuffer));
+                framebuffer_parameter_i(glow::FRAMEBUFFER, FRAMEBUFFER_FLIP_Y_MESA, 1);
+                self.gl.bind_framebuffer(glow::FRAMEBUFFER, None);
+            }
+        }
+        self.flipped_y = true;
+        if let Some(resolve) = &mut self.resolve {
+            resolve.flipped_y = true;
         }
         check_gl_errors(&self.gl, "offscreen target (GL_FRAMEBUFFER_FLIP_Y_MESA)")?;
-        self.flipped_y = true;
         Ok(true)
     }
 
@@ -496,8 +555,18 @@ impl OffscreenTarget {
         }
     }
 
-    /// The colour buffer, top row first. The read binding is restored afterwards.
+    /// Samples per pixel (0: not multisampled).
+    pub fn samples(&self) -> u32 {
+        self.samples
+    }
+
+    /// The colour buffer, top row first (a multisampled target resolved: each pixel the mean of
+    /// its samples). The read and draw bindings are restored afterwards.
     pub fn read_rgba(&self) -> image::RgbaImage {
+        if let Some(resolve) = &self.resolve {
+            resolve.blit_from(Some(self.framebuffer));
+            return resolve.read_rgba();
+        }
         // SAFETY: binding queries and binds on the current context; the framebuffer is alive.
         unsafe {
             let previous = self
@@ -509,6 +578,24 @@ impl OffscreenTarget {
             let image = read_pixels_rgba(&self.gl, self.width, self.height);
             self.gl.bind_framebuffer(glow::READ_FRAMEBUFFER, previous);
             image
+        }
+    }
+
+    /// Copies the colour of `framebuffer` (`None`: the window's) into this target, resolving its
+    /// samples if it is multisampled. It must be this target's size. Bindings are restored.
+    pub fn blit_from(&self, framebuffer: Option<glow::Framebuffer>) {
+        let (w, h) = (self.width as i32, self.height as i32);
+        // SAFETY: binding queries, binds and a blit on the current context; this target is alive.
+        unsafe {
+            let gl = &self.gl;
+            let read = gl.get_parameter_framebuffer(glow::READ_FRAMEBUFFER_BINDING);
+            let draw = gl.get_parameter_framebuffer(glow::DRAW_FRAMEBUFFER_BINDING);
+            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, framebuffer);
+            gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, Some(self.framebuffer));
+            let (mask, filter) = (glow::COLOR_BUFFER_BIT, glow::NEAREST);
+            gl.blit_framebuffer(0, 0, w, h, 0, 0, w, h, mask, filter);
+            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, read);
+            gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, draw);
         }
     }
 
@@ -550,6 +637,7 @@ impl fmt::Debug for OffscreenTarget {
             .field("width", &self.width)
             .field("height", &self.height)
             .field("flipped_y", &self.flipped_y)
+            .field("samples", &self.samples)
             .finish_non_exhaustive()
     }
 }
