@@ -26,7 +26,9 @@ use glutin_winit::{DisplayBuilder, GlWindow};
 use raw_window_handle::HasWindowHandle;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
-use winit::event::{DeviceEvent, DeviceId, ElementState, KeyEvent, MouseButton, WindowEvent};
+use winit::event::{
+    DeviceEvent, DeviceId, ElementState, KeyEvent, MouseButton, MouseScrollDelta, WindowEvent,
+};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{CursorGrabMode, Window, WindowId};
@@ -281,7 +283,22 @@ impl ApplicationHandler for App {
                 state: ElementState::Pressed,
                 button: MouseButton::Left,
                 ..
-            } if !frozen => running.set_cursor_grab(true),
+            } if !frozen => match running.scene.mouse_mode() {
+                MouseMode::Look => running.set_cursor_grab(true),
+                MouseMode::Cursor => {
+                    running.scene.click();
+                    running.update_title();
+                }
+            },
+            WindowEvent::MouseWheel { delta, .. } if !frozen => {
+                let notches = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    // Touchpads report pixels; about 20 make one notch of a wheel.
+                    MouseScrollDelta::PixelDelta(p) => p.y as f32 / 20.0,
+                };
+                running.scene.scroll(notches);
+                running.update_title();
+            }
             WindowEvent::Resized(size) => {
                 running
                     .window

@@ -78,6 +78,14 @@ pub trait Scene {
         Ok(())
     }
 
+    /// The mouse wheel turned by `notches` (positive: away from the user). Ignored unless the scene
+    /// uses it.
+    fn scroll(&mut self, _notches: f32) {}
+
+    /// A left click in a scene with [`MouseMode::Cursor`] (with mouse look, a click grabs the cursor
+    /// instead). Ignored unless the scene uses it.
+    fn click(&mut self) {}
+
     /// Mouse look (the default) or the free cursor.
     fn mouse_mode(&self) -> MouseMode {
         MouseMode::Look
