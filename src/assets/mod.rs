@@ -91,6 +91,10 @@ pub fn make_assets(out_dir: &Path, force: bool) -> Result<AssetsWritten> {
     }
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     for (path, bytes) in to_write {
+        // A scene's own files go in a folder of their own (e.g. assets/wall/).
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
+        }
         write_bytes_atomically(&path, bytes)?;
         if differing.contains(&path) {
             written.replaced.push(path);
@@ -101,7 +105,9 @@ pub fn make_assets(out_dir: &Path, force: bool) -> Result<AssetsWritten> {
     Ok(written)
 }
 
-/// The four files' bytes, in [`ASSET_FILES`] order, made in memory before anything is written.
+/// Every generated file (its path under assets/, and its bytes), made in memory before anything is
+/// written: the cylinder's four, in [`ASSET_FILES`] order, in assets/ itself; each other scene's in a
+/// folder named after the scene.
 pub fn generate_assets() -> Result<Vec<(&'static str, Vec<u8>)>> {
     let wall = BrickWall::new(TEXTURE_SIZE);
     let [obj, diffuse, normal, specular] = ASSET_FILES;
