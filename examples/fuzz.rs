@@ -5,7 +5,8 @@
 //! Options: `--seconds N` (total, shared equally by the targets; default 60), `--target NAME`
 //! (obj, dds, bmp, pipeline or heightmap; repeatable; default all), `--seed N` (default: from the clock,
 //! printed), `--slow-ms N` (a case slower than this fails; default 2000), `--replay FILE` (run one
-//! input on the target named before it and print the outcome), `--make-corpus` (rewrite the seed
+//! input on the target named before it, else the one its folder is named after, and print the
+//! outcome), `--make-corpus` (rewrite the seed
 //! corpus in fuzz/corpus/ and exit). Failing inputs are saved to fuzz/regressions/<target>/,
 //! which `cargo test` replays. Exit status 1 if anything failed.
 
@@ -39,10 +40,19 @@ fn main() {
                 );
             }
             "--replay" => {
-                // One input, the full outcome (for the target given before it; default pipeline).
+                // One input, the full outcome, for the target given before it, else the one its
+                // folder is named after (fuzz/regressions/<target>/...), else pipeline.
                 let path = value("--replay");
                 let bytes = std::fs::read(&path).unwrap_or_else(|e| usage(&format!("{path}: {e}")));
-                let target = targets.last().copied().unwrap_or(Target::Pipeline);
+                let folder = std::path::Path::new(&path)
+                    .parent()
+                    .and_then(|dir| dir.file_name())
+                    .and_then(|name| Target::from_name(&name.to_string_lossy()));
+                let target = targets
+                    .last()
+                    .copied()
+                    .or(folder)
+                    .unwrap_or(Target::Pipeline);
                 let outcome = harness::run_case(target, &bytes, Duration::from_millis(slow_ms));
                 println!("{}: {path}: {outcome:?}", target.name());
                 std::process::exit(i32::from(matches!(outcome, harness::Outcome::Failed(_))));
