@@ -16,6 +16,7 @@ use tutorial13::gl::image::write_screenshot;
 use tutorial13::gl::Profile;
 use tutorial13::mesh::MeshOptions;
 use tutorial13::scenes::cylinder::CylinderOptions;
+use tutorial13::scenes::wall::{LightingSpace, WallOptions};
 use tutorial13::scenes::{SceneName, SceneOptions};
 
 #[derive(Parser, Debug)]
@@ -105,6 +106,11 @@ struct Cli {
     /// what the original gets on Mesa under X), in the window and headless alike
     #[arg(long, value_name = "N", default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=32))]
     msaa: u8,
+
+    /// Scene wall: light the stone wall in view space, in tangent space, or without its normal map
+    /// (key S)
+    #[arg(long, value_name = "SPACE", default_value = "view")]
+    space: LightingSpace,
 
     /// Headless: use a GPU's EGL device where there is one instead of Mesa's llvmpipe
     #[arg(long)]
@@ -314,6 +320,7 @@ fn run(cli: Cli) -> Result<()> {
                 LineModeArg::Shader => LineMode::Shader,
             }),
         },
+        wall: WallOptions { space: cli.space },
     };
     if cli.headless || cli.bench.is_some() {
         run_headless(&cli, scene)

@@ -27,6 +27,12 @@ const EMBEDDED: &[(&str, &str)] = &[
     embedded!("NormalMappingDebug.fragmentshader"),
     embedded!("DebugLines.vertexshader"),
     embedded!("DebugLines.fragmentshader"),
+    embedded!("WallViewSpace.vertexshader"),
+    embedded!("WallViewSpace.fragmentshader"),
+    embedded!("WallTangentSpace.vertexshader"),
+    embedded!("WallTangentSpace.fragmentshader"),
+    embedded!("WallNoNormalMap.vertexshader"),
+    embedded!("WallNoNormalMap.fragmentshader"),
 ];
 
 /// A shader's text and where it came from (named in every error).

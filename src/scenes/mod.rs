@@ -9,6 +9,7 @@
 pub mod cylinder;
 mod scene;
 pub mod tutorial13;
+pub mod wall;
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -23,16 +24,19 @@ pub enum SceneName {
     /// Tutorial 13's normal-mapped cylinder.
     #[default]
     Cylinder,
+    /// Article 004's stone wall, lit in view space or in tangent space.
+    Wall,
 }
 
 impl SceneName {
     /// Every scene, in the order the scene key steps through them.
-    pub const ALL: &'static [SceneName] = &[SceneName::Cylinder];
+    pub const ALL: &'static [SceneName] = &[SceneName::Cylinder, SceneName::Wall];
 
     /// The `--scene` name.
     pub fn name(self) -> &'static str {
         match self {
             SceneName::Cylinder => "cylinder",
+            SceneName::Wall => "wall",
         }
     }
 
@@ -40,6 +44,7 @@ impl SceneName {
     pub fn description(self) -> &'static str {
         match self {
             SceneName::Cylinder => "Tutorial 13: the normal-mapped cylinder (the default)",
+            SceneName::Wall => "a stone wall lit in view space or in tangent space (article 004)",
         }
     }
 
@@ -53,6 +58,7 @@ impl SceneName {
     pub fn keys(self) -> &'static [KeyHelp] {
         match self {
             SceneName::Cylinder => cylinder::KEYS,
+            SceneName::Wall => wall::KEYS,
         }
     }
 
@@ -64,6 +70,12 @@ impl SceneName {
                 &options.assets_dir(),
                 options.shader_dir(),
                 options.cylinder,
+            )?),
+            SceneName::Wall => Box::new(wall::Wall::new(
+                context,
+                &options.assets_dir(),
+                options.shader_dir(),
+                options.wall,
             )?),
         })
     }
@@ -99,6 +111,8 @@ pub struct SceneOptions {
     pub shaders: Option<PathBuf>,
     /// The cylinder scene's switches.
     pub cylinder: cylinder::CylinderOptions,
+    /// The wall scene's switches.
+    pub wall: wall::WallOptions,
 }
 
 impl SceneOptions {

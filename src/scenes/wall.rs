@@ -1,0 +1,296 @@
+//! The `wall` scene: article 004's stone wall, one square lit by one white light, in view space or in
+//! tangent space (or, for comparison, without its normal map).
+//!
+//! The article's numbers: the square at the origin, the light at (4, 0, 4) with colour (1, 1, 1) and
+//! intensity 50, falloff 1/d², specular reflectivity 0.3 and lobe density (Phong exponent) 5, the
+//! diffuse texel as specular colour, no ambient term. Decided here, as the article does not say: the
+//! square is 2 × 2 facing +z (the tutorial's start camera at (0, 0, 5) sees it whole), its UVs run 0..1
+//! with v up, and the camera is the tutorial's. The article claims both spaces give the same result;
+//! that holds exactly in arithmetic when the TBN matrix is a rotation (unit, orthogonal T, B, N, as on
+//! this square), and the tests measure how close the two programs' frames are in floating point.
+
+use std::any::Any;
+use std::path::{Path, PathBuf};
+
+use glam::{Mat4, Vec2, Vec3};
+use glow::HasContext;
+
+use crate::assets::wall::{DIFFUSE, NORMAL};
+use crate::common::objloader::TriangleSoup;
+use crate::common::shader::{load_program, shader_path, Program};
+use crate::common::texture::{load_bmp_custom, Texture};
+use crate::gl::buffers::MeshBuffers;
+use crate::gl::Gl;
+use crate::mesh::{build_mesh, MeshOptions};
+use crate::Result;
+
+use super::scene::{FrameInput, KeyHelp, Scene, SceneContext};
+use super::tutorial13::init_gl_state;
+
+/// The article's light.
+pub const LIGHT_POSITION_WORLDSPACE: Vec3 = Vec3::new(4.0, 0.0, 4.0);
+const LIGHT_COLOR: Vec3 = Vec3::ONE;
+const LIGHT_INTENSITY: f32 = 50.0;
+/// The article's square.
+const SPECULAR_REFLECTIVITY: f32 = 0.3;
+const SPECULAR_LOBE_FACTOR: f32 = 5.0;
+/// Half the square's side.
+const HALF_SIDE: f32 = 1.0;
+
+/// Where the lighting is computed.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum LightingSpace {
+    /// The TBN matrix brings the map's normal into view space (the article's first program).
+    #[default]
+    View,
+    /// Everything else is brought into tangent space (the article's second program).
+    Tangent,
+    /// No normal map: the square's own normal, in view space (the article's starting point).
+    NoNormalMap,
+}
+
+impl LightingSpace {
+    pub const ALL: [LightingSpace; 3] = [Self::View, Self::Tangent, Self::NoNormalMap];
+
+    /// The `--space` name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::View => "view",
+            Self::Tangent => "tangent",
+            Self::NoNormalMap => "none",
+        }
+    }
+
+    fn shaders(self) -> [&'static str; 2] {
+        match self {
+            Self::View => ["WallViewSpace.vertexshader", "WallViewSpace.fragmentshader"],
+            Self::Tangent => [
+                "WallTangentSpace.vertexshader",
+                "WallTangentSpace.fragmentshader",
+            ],
+            Self::NoNormalMap => [
+                "WallNoNormalMap.vertexshader",
+                "WallNoNormalMap.fragmentshader",
+            ],
+        }
+    }
+
+    fn next(self) -> Self {
+        let i = Self::ALL.iter().position(|&s| s == self).unwrap_or(0);
+        Self::ALL[(i + 1) % Self::ALL.len()]
+    }
+}
+
+impl std::str::FromStr for LightingSpace {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|space| space.name() == s)
+            .ok_or_else(|| format!("unknown space '{s}': use view, tangent or none"))
+    }
+}
+
+/// The wall's switches, as the command line sets them.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct WallOptions {
+    /// `--space`.
+    pub space: LightingSpace,
+}
+
+/// The scene's keys.
+pub const KEYS: &[KeyHelp] = &[KeyHelp {
+    key: 'S',
+    help: "lighting space: view, tangent, none (no normal map)",
+}];
+
+type Uniform = Option<glow::UniformLocation>;
+
+/// One of the three programs and its uniforms (the same names in all three).
+struct WallProgram {
+    program: Program,
+    m: Uniform,
+    v: Uniform,
+    p: Uniform,
+    light_position: Uniform,
+    light_color: Uniform,
+    light_intensity: Uniform,
+    specular_reflectivity: Uniform,
+    specular_lobe_factor: Uniform,
+    diffuse_sampler: Uniform,
+    normal_sampler: Uniform,
+}
+
+impl WallProgram {
+    fn load(gl: &Gl, space: LightingSpace, shader_dir: Option<&Path>) -> Result<Self> {
+        let [vertex, fragment] = space.shaders();
+        let program = load_program(gl, vertex, fragment, shader_dir)?;
+        let uniform = |name| program.uniform(name);
+        Ok(WallProgram {
+            m: uniform("M"),
+            v: uniform("V"),
+            p: uniform("P"),
+            light_position: uniform("LightPosition_worldspace"),
+            light_color: uniform("LightColor"),
+            light_intensity: uniform("LightIntensity"),
+            specular_reflectivity: uniform("SpecularReflectivity"),
+            specular_lobe_factor: uniform("SpecularLobeFactor"),
+            diffuse_sampler: uniform("DiffuseTextureSampler"),
+            normal_sampler: uniform("NormalTextureSampler"),
+            program,
+        })
+    }
+}
+
+pub struct Wall {
+    gl: Gl,
+    /// In [`LightingSpace::ALL`]'s order.
+    programs: Vec<WallProgram>,
+    pub space: LightingSpace,
+    diffuse_texture: Texture,
+    normal_texture: Texture,
+    buffers: MeshBuffers,
+    model_matrix: Mat4,
+    shader_dir: Option<PathBuf>,
+}
+
+impl Wall {
+    /// Loads the stone wall's two maps from `assets`/wall/ and the three programs.
+    pub fn new(
+        context: &SceneContext,
+        assets: &Path,
+        shader_dir: Option<&Path>,
+        options: WallOptions,
+    ) -> Result<Self> {
+        let gl = context.gl;
+        let programs = load_programs(gl, shader_dir)?;
+        let diffuse_texture = load_bmp_custom(gl, &assets.join(DIFFUSE))?;
+        let normal_texture = load_bmp_custom(gl, &assets.join(NORMAL))?;
+        // The tutorial's CPU pipeline gives the square its tangents: T = +x (dP/du), B = +y (dP/dv).
+        let mesh = build_mesh(&square(), MeshOptions::default());
+        let buffers = MeshBuffers::new(gl, &mesh)?;
+        Ok(Wall {
+            gl: gl.clone(),
+            programs,
+            space: options.space,
+            diffuse_texture,
+            normal_texture,
+            buffers,
+            model_matrix: Mat4::IDENTITY,
+            shader_dir: shader_dir.map(Path::to_path_buf),
+        })
+    }
+}
+
+fn load_programs(gl: &Gl, shader_dir: Option<&Path>) -> Result<Vec<WallProgram>> {
+    LightingSpace::ALL
+        .into_iter()
+        .map(|space| WallProgram::load(gl, space, shader_dir))
+        .collect()
+}
+
+/// The 2 × 2 square at the origin facing +z, as two counter-clockwise triangles; UV (0, 0) at the
+/// bottom left, v up (the BMP maps are stored bottom row first, so the picture stands upright).
+fn square() -> TriangleSoup {
+    let h = HALF_SIDE;
+    let corners = [
+        (Vec3::new(-h, -h, 0.0), Vec2::new(0.0, 0.0)),
+        (Vec3::new(h, -h, 0.0), Vec2::new(1.0, 0.0)),
+        (Vec3::new(h, h, 0.0), Vec2::new(1.0, 1.0)),
+        (Vec3::new(-h, h, 0.0), Vec2::new(0.0, 1.0)),
+    ];
+    let mut soup = TriangleSoup::default();
+    for i in [0, 1, 2, 0, 2, 3] {
+        let (position, uv) = corners[i];
+        soup.vertices.push(position);
+        soup.uvs.push(uv);
+        soup.normals.push(Vec3::Z);
+    }
+    soup
+}
+
+impl Scene for Wall {
+    fn draw(&mut self, frame: &FrameInput) {
+        let gl = &self.gl;
+        let p = &self.programs[LightingSpace::ALL
+            .iter()
+            .position(|&s| s == self.space)
+            .unwrap_or(0)];
+        let light = LIGHT_POSITION_WORLDSPACE;
+        // SAFETY: the program, uniforms and textures all belong to this context.
+        unsafe {
+            // Another scene may have run on this context: set the state this one relies on.
+            init_gl_state(gl);
+            gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
+            gl.use_program(Some(p.program.id));
+            let matrix = |location: &Uniform, m: Mat4| {
+                gl.uniform_matrix_4_f32_slice(location.as_ref(), false, &m.to_cols_array());
+            };
+            matrix(&p.m, self.model_matrix);
+            matrix(&p.v, frame.view);
+            matrix(&p.p, frame.projection);
+            gl.uniform_3_f32(p.light_position.as_ref(), light.x, light.y, light.z);
+            let c = LIGHT_COLOR;
+            gl.uniform_3_f32(p.light_color.as_ref(), c.x, c.y, c.z);
+            gl.uniform_1_f32(p.light_intensity.as_ref(), LIGHT_INTENSITY);
+            let reflectivity = p.specular_reflectivity.as_ref();
+            gl.uniform_1_f32(reflectivity, SPECULAR_REFLECTIVITY);
+            gl.uniform_1_f32(p.specular_lobe_factor.as_ref(), SPECULAR_LOBE_FACTOR);
+            let textures = [
+                (&self.diffuse_texture, &p.diffuse_sampler),
+                (&self.normal_texture, &p.normal_sampler),
+            ];
+            for (unit, (texture, sampler)) in textures.into_iter().enumerate() {
+                gl.active_texture(glow::TEXTURE0 + unit as u32);
+                gl.bind_texture(glow::TEXTURE_2D, Some(texture.id));
+                gl.uniform_1_i32(sampler.as_ref(), unit as i32);
+            }
+        }
+        self.buffers.draw();
+    }
+
+    fn key(&mut self, key: char) -> Result<bool> {
+        match key.to_ascii_uppercase() {
+            'S' => {
+                self.space = self.space.next();
+                Ok(true)
+            }
+            _ => Ok(false),
+        }
+    }
+
+    fn keys(&self) -> &'static [KeyHelp] {
+        KEYS
+    }
+
+    fn status(&self) -> String {
+        match self.space {
+            LightingSpace::NoNormalMap => "no normal map (lit in view space)".to_string(),
+            space => format!("lit in {} space", space.name()),
+        }
+    }
+
+    fn shader_files(&self) -> Vec<PathBuf> {
+        let dir = self.shader_dir.as_deref();
+        LightingSpace::ALL
+            .iter()
+            .flat_map(|space| space.shaders())
+            .filter_map(|name| shader_path(name, dir))
+            .collect()
+    }
+
+    /// All three programs or none.
+    fn reload_shaders(&mut self) -> Result<()> {
+        self.programs = load_programs(&self.gl, self.shader_dir.as_deref())?;
+        Ok(())
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
+    }
+}
