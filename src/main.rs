@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use tutorial13::common::tangentspace::TangentOptions;
 use tutorial13::common::vboindexer::IndexOptions;
 use tutorial13::debug::lines::LineMode;
-use tutorial13::debug::views::{ColorView, ShaderSwitches};
+use tutorial13::debug::views::{ColorView, NormalMapConvention, ShaderSwitches};
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::frontends::window::{run_window, WindowOptions};
 use tutorial13::frontends::{key_list, min_median};
@@ -106,6 +106,18 @@ struct Cli {
     /// what the original gets on Mesa under X), in the window and headless alike
     #[arg(long, value_name = "N", default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=32))]
     msaa: u8,
+
+    /// Normal map's green channel: up the picture (OpenGL, the tutorial's) or down (DirectX) (key Y)
+    #[arg(long, value_enum, value_name = "DIR", default_value_t = GreenArg::Up)]
+    green: GreenArg,
+
+    /// Read normal-map bytes as c*255/127-128/127 (128 is exactly 0) instead of 2c-1 (key E)
+    #[arg(long)]
+    exact_expansion: bool,
+
+    /// The normal map holds x and y only; rebuild z = sqrt(1 - x² - y²) (key Z)
+    #[arg(long)]
+    two_channel: bool,
 
     /// Scene wall: light the stone wall in view space, in tangent space, or without its normal map
     /// (key S)
@@ -313,6 +325,11 @@ fn run(cli: Cli) -> Result<()> {
                 normalize_tbn: cli.normalize_tbn,
                 specular_texture: !cli.no_specular_texture,
                 view: cli.view,
+                convention: NormalMapConvention {
+                    green_down: cli.green == GreenArg::Down,
+                    exact_expansion: cli.exact_expansion,
+                    two_channel: cli.two_channel,
+                },
             },
             debug_lines: cli.debug_lines,
             line_mode: cli.debug_lines_mode.map(|m| match m {

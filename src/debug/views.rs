@@ -122,6 +122,33 @@ impl std::str::FromStr for ColorView {
     }
 }
 
+/// How a normal map's texels are read (article 002's conventions). The default is the tutorial's:
+/// green up, `2c − 1`, three channels.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct NormalMapConvention {
+    /// Green points down the picture (DirectX's convention): the shader negates y.
+    pub green_down: bool,
+    /// `c × 255/127 − 128/127` instead of `2c − 1`: the byte 128 is exactly 0 and 255 exactly 1, so
+    /// a flat texel (128, 128, 255) is exactly (0, 0, 1) (with `2c − 1` it is (1/255, 1/255, 1)).
+    pub exact_expansion: bool,
+    /// Only red and green hold data; z is rebuilt as `sqrt(1 − x² − y²)`.
+    pub two_channel: bool,
+}
+
+impl std::fmt::Display for NormalMapConvention {
+    /// "green up, 2c-1, 3 channels".
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let green = if self.green_down { "down" } else { "up" };
+        let expansion = if self.exact_expansion {
+            "c*255/127-128/127"
+        } else {
+            "2c-1"
+        };
+        let channels = if self.two_channel { 2 } else { 3 };
+        write!(f, "green {green}, {expansion}, {channels} channels")
+    }
+}
+
 /// The tutorial's shader-side experiments.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ShaderSwitches {
@@ -131,6 +158,8 @@ pub struct ShaderSwitches {
     /// Specular colour from the specular texture (× 0.3); off: the constant vec3(0.3).
     pub specular_texture: bool,
     pub view: ColorView,
+    /// How the normal map is read.
+    pub convention: NormalMapConvention,
 }
 
 impl Default for ShaderSwitches {
@@ -140,6 +169,7 @@ impl Default for ShaderSwitches {
             normalize_tbn: false,
             specular_texture: true,
             view: ColorView::default(),
+            convention: NormalMapConvention::default(),
         }
     }
 }

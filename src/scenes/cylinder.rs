@@ -54,10 +54,16 @@ pub enum Action {
     ToggleSpecularTexture,
     /// The article's normalized TBN ↔ the repository shader's.
     ToggleNormalizedTbn,
+    /// Normal map green up ↔ down.
+    ToggleGreenDown,
+    /// `2c − 1` ↔ `c × 255/127 − 128/127`.
+    ToggleExactExpansion,
+    /// Three channels ↔ two (z rebuilt).
+    ToggleTwoChannel,
 }
 
 /// The scene's keys and their actions, in the order they are listed.
-const BINDINGS: [(char, Action, &str); 9] = [
+const BINDINGS: [(char, Action, &str); 12] = [
     (
         'L',
         Action::ToggleLines,
@@ -94,6 +100,21 @@ const BINDINGS: [(char, Action, &str); 9] = [
         'T',
         Action::ToggleNormalizedTbn,
         "TBN as summed (repository shader) / normalized (article)",
+    ),
+    (
+        'Y',
+        Action::ToggleGreenDown,
+        "normal map green up (OpenGL) / down (DirectX)",
+    ),
+    (
+        'E',
+        Action::ToggleExactExpansion,
+        "normal map expansion 2c-1 / c*255/127-128/127 (exact 0 at 128)",
+    ),
+    (
+        'Z',
+        Action::ToggleTwoChannel,
+        "normal map of three channels / two (z rebuilt)",
     ),
 ];
 
@@ -233,6 +254,9 @@ impl Cylinder {
             Action::NextComponent => switches.view = switches.view.next_component(),
             Action::ToggleSpecularTexture => switches.specular_texture ^= true,
             Action::ToggleNormalizedTbn => switches.normalize_tbn ^= true,
+            Action::ToggleGreenDown => switches.convention.green_down ^= true,
+            Action::ToggleExactExpansion => switches.convention.exact_expansion ^= true,
+            Action::ToggleTwoChannel => switches.convention.two_channel ^= true,
             Action::ToggleNormalizeBeforeSum => mesh.indexing.normalize_before_sum ^= true,
             Action::ToggleGramSchmidt => mesh.tangents.gram_schmidt ^= true,
             Action::ToggleHandedness => mesh.tangents.handedness ^= true,
@@ -310,13 +334,14 @@ impl Scene for Cylinder {
         };
         format!(
             "view {} | lines {lines} | Gram-Schmidt {} | handedness {} | normalize before sum {} | \
-             specular texture {} | TBN {}",
+             specular texture {} | TBN {} | normal map {}",
             sw.view,
             on(mesh.tangents.gram_schmidt),
             on(mesh.tangents.handedness),
             on(mesh.indexing.normalize_before_sum),
             on(sw.specular_texture),
             if sw.normalize_tbn { "normalized (article)" } else { "as summed (repository)" },
+            sw.convention,
         )
     }
 
@@ -341,6 +366,9 @@ pub struct DebugProgram {
     pub program: NormalMappingProgram,
     normalize_tbn: Option<glow::UniformLocation>,
     specular_texture: Option<glow::UniformLocation>,
+    green_down: Option<glow::UniformLocation>,
+    exact_expansion: Option<glow::UniformLocation>,
+    two_channel: Option<glow::UniformLocation>,
     debug_view: Option<glow::UniformLocation>,
     debug_mapped: Option<glow::UniformLocation>,
     debug_component: Option<glow::UniformLocation>,
@@ -355,6 +383,9 @@ impl DebugProgram {
             gl: gl.clone(),
             normalize_tbn: uniform("NormalizeTBN"),
             specular_texture: uniform("UseSpecularTexture"),
+            green_down: uniform("GreenDown"),
+            exact_expansion: uniform("ExactExpansion"),
+            two_channel: uniform("TwoChannel"),
             debug_view: uniform("DebugView"),
             debug_mapped: uniform("DebugMapped"),
             debug_component: uniform("DebugComponent"),
@@ -374,6 +405,11 @@ impl DebugProgram {
                 self.specular_texture.as_ref(),
                 switches.specular_texture as i32,
             );
+            let convention = switches.convention;
+            gl.uniform_1_i32(self.green_down.as_ref(), convention.green_down as i32);
+            let exact = convention.exact_expansion as i32;
+            gl.uniform_1_i32(self.exact_expansion.as_ref(), exact);
+            gl.uniform_1_i32(self.two_channel.as_ref(), convention.two_channel as i32);
             gl.uniform_1_i32(self.debug_view.as_ref(), view.vector as i32);
             gl.uniform_1_i32(self.debug_mapped.as_ref(), view.mapped as i32);
             let component = view.component.map_or(-1, i32::from);
@@ -400,7 +436,7 @@ mod tests {
             );
             actions.push(action);
         }
-        assert_eq!(actions.len(), 9);
+        assert_eq!(actions.len(), 12);
         assert_eq!(action_for_key('l'), Some(Action::ToggleLines));
         assert_eq!(action_for_key('Q'), None);
     }
