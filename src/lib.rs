@@ -25,5 +25,6 @@ pub mod gl;
 pub mod mesh;
 pub mod normalmap;
 pub mod scenes;
+pub mod tangents;
 
 pub use error::{Error, Result};

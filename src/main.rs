@@ -18,6 +18,7 @@ use tutorial13::mesh::MeshOptions;
 use tutorial13::scenes::cylinder::CylinderOptions;
 use tutorial13::scenes::wall::{LightingSpace, WallOptions};
 use tutorial13::scenes::{SceneName, SceneOptions};
+use tutorial13::tangents::TangentSource;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -106,6 +107,11 @@ struct Cli {
     /// what the original gets on Mesa under X), in the window and headless alike
     #[arg(long, value_name = "N", default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=32))]
     msaa: u8,
+
+    /// Where the tangent frame comes from: the tutorial's computeTangentBasis + indexVBO_TBN,
+    /// MikkTSpace, or none (a per-pixel frame from screen-space derivatives) (key F)
+    #[arg(long, value_name = "SOURCE", default_value = "tutorial")]
+    tangents: TangentSource,
 
     /// Normal map's green channel: up the picture (OpenGL, the tutorial's) or down (DirectX) (key Y)
     #[arg(long, value_enum, value_name = "DIR", default_value_t = GreenArg::Up)]
@@ -336,6 +342,7 @@ fn run(cli: Cli) -> Result<()> {
                 LineModeArg::Legacy => LineMode::Legacy,
                 LineModeArg::Shader => LineMode::Shader,
             }),
+            tangents: cli.tangents,
         },
         wall: WallOptions { space: cli.space },
     };

@@ -101,7 +101,7 @@ fn every_program_reloads_and_a_failure_keeps_them_all() {
         let scene = r.scene_mut::<Cylinder>();
         scene.set_show_lines(true).unwrap();
         let files = scene.shader_files();
-        assert_eq!(files.len(), 6, "{files:?}");
+        assert_eq!(files.len(), 8, "{files:?}");
         assert!(files.iter().all(|f| f.starts_with(&dir)), "{files:?}");
     }
     let with_lines = frame(&mut r);

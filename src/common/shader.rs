@@ -25,6 +25,8 @@ const EMBEDDED: &[(&str, &str)] = &[
     embedded!("NormalMapping.fragmentshader"),
     embedded!("NormalMappingDebug.vertexshader"),
     embedded!("NormalMappingDebug.fragmentshader"),
+    embedded!("NormalMappingDerivative.vertexshader"),
+    embedded!("NormalMappingDerivative.fragmentshader"),
     embedded!("DebugLines.vertexshader"),
     embedded!("DebugLines.fragmentshader"),
     embedded!("WallViewSpace.vertexshader"),

@@ -10,11 +10,13 @@ use std::path::{Path, PathBuf};
 
 use glow::HasContext;
 
+use crate::common::objloader::load_obj;
 use crate::common::shader::shader_path;
 use crate::debug::lines::{DebugLines, LegacyGl, LineMode, LINE_SHADERS};
 use crate::debug::views::ShaderSwitches;
 use crate::gl::Gl;
 use crate::mesh::MeshOptions;
+use crate::tangents::TangentSource;
 use crate::Result;
 
 use super::scene::{FrameInput, KeyHelp, Scene, SceneContext};
@@ -31,6 +33,8 @@ pub struct CylinderOptions {
     pub debug_lines: bool,
     /// `None`: immediate mode where the context allows it, else the line shader.
     pub line_mode: Option<LineMode>,
+    /// Where the tangent frame comes from (`--tangents`).
+    pub tangents: TangentSource,
 }
 
 /// What a key (or a test) can change while the program runs.
@@ -54,6 +58,8 @@ pub enum Action {
     ToggleSpecularTexture,
     /// The article's normalized TBN ↔ the repository shader's.
     ToggleNormalizedTbn,
+    /// Tutorial → MikkTSpace → per-pixel derivative tangents.
+    NextTangentSource,
     /// Normal map green up ↔ down.
     ToggleGreenDown,
     /// `2c − 1` ↔ `c × 255/127 − 128/127`.
@@ -63,7 +69,7 @@ pub enum Action {
 }
 
 /// The scene's keys and their actions, in the order they are listed.
-const BINDINGS: [(char, Action, &str); 12] = [
+const BINDINGS: [(char, Action, &str); 13] = [
     (
         'L',
         Action::ToggleLines,
@@ -100,6 +106,11 @@ const BINDINGS: [(char, Action, &str); 12] = [
         'T',
         Action::ToggleNormalizedTbn,
         "TBN as summed (repository shader) / normalized (article)",
+    ),
+    (
+        'F',
+        Action::NextTangentSource,
+        "tangent frame: tutorial, MikkTSpace, per-pixel derivatives",
     ),
     (
         'Y',
@@ -148,6 +159,10 @@ pub struct Cylinder {
     lines: Option<DebugLines>,
     /// `NormalMappingDebug`: the same lighting with the experiments and colour views as uniforms.
     debug_program: DebugProgram,
+    /// `NormalMappingDerivative`: the per-pixel tangent frame, for [`TangentSource::Derivative`].
+    derivative_program: NormalMappingProgram,
+    /// Where the tangent frame comes from.
+    pub tangent_source: TangentSource,
     pub tutorial: Tutorial13,
     gl: Gl,
     pub switches: ShaderSwitches,
@@ -175,9 +190,14 @@ impl Cylinder {
         let gl = context.gl;
         let tutorial = Tutorial13::new(gl, assets, shader_dir, cylinder.mesh)?;
         let debug_program = DebugProgram::load(gl, shader_dir)?;
+        let [vertex_shader, fragment_shader] = DERIVATIVE_SHADERS;
+        let derivative_program =
+            NormalMappingProgram::load(gl, vertex_shader, fragment_shader, shader_dir)?;
         let mut scene = Cylinder {
             lines: None,
             debug_program,
+            derivative_program,
+            tangent_source: TangentSource::Tutorial,
             tutorial,
             gl: gl.clone(),
             switches: cylinder.switches,
@@ -189,6 +209,7 @@ impl Cylinder {
             obj_path: assets.join("cylinder.obj"),
             shader_dir: shader_dir.map(Path::to_path_buf),
         };
+        scene.set_tangent_source(cylinder.tangents)?;
         scene.set_show_lines(cylinder.debug_lines)?;
         Ok(scene)
     }
@@ -203,9 +224,42 @@ impl Cylinder {
         self.show_lines
     }
 
-    /// Shows or hides the TBN lines, building them (from the current mesh) the first time.
+    /// Draws with another tangent source: the mesh is rebuilt (with the tutorial's tangents,
+    /// MikkTSpace's, or none for the per-pixel frame) and the lines with it.
+    pub fn set_tangent_source(&mut self, source: TangentSource) -> Result<()> {
+        if source == self.tangent_source {
+            return Ok(());
+        }
+        self.rebuild_mesh(source, self.mesh_options)?;
+        self.tangent_source = source;
+        Ok(())
+    }
+
+    /// Runs the CPU pipeline of `source` with `options` and uploads the result; the lines follow
+    /// (the per-pixel frame has no vertex tangents to show, so they are dropped until another source).
+    fn rebuild_mesh(&mut self, source: TangentSource, options: MeshOptions) -> Result<()> {
+        if source == TangentSource::Tutorial {
+            self.tutorial.reload_mesh(&self.obj_path, options)?;
+        } else {
+            let soup = load_obj(&self.obj_path)?;
+            self.tutorial.set_mesh(source.mesh(&soup, options)?)?;
+        }
+        if source == TangentSource::Derivative {
+            self.lines = None;
+        } else if let Some(lines) = &mut self.lines {
+            lines.rebuild(&self.tutorial.mesh)?;
+        } else if self.show_lines {
+            self.tangent_source = source;
+            self.set_show_lines(true)?;
+        }
+        Ok(())
+    }
+
+    /// Shows or hides the TBN lines, building them (from the current mesh) the first time. With the
+    /// per-pixel frame there are no vertex tangents to draw: the switch is kept, nothing is drawn.
     pub fn set_show_lines(&mut self, show: bool) -> Result<()> {
-        if show && self.lines.is_none() {
+        let has_tangents = self.tangent_source != TangentSource::Derivative;
+        if show && has_tangents && self.lines.is_none() {
             let lines = DebugLines::with_legacy(
                 &self.gl,
                 self.legacy.clone(),
@@ -254,6 +308,9 @@ impl Cylinder {
             Action::NextComponent => switches.view = switches.view.next_component(),
             Action::ToggleSpecularTexture => switches.specular_texture ^= true,
             Action::ToggleNormalizedTbn => switches.normalize_tbn ^= true,
+            Action::NextTangentSource => {
+                return self.set_tangent_source(self.tangent_source.next());
+            }
             Action::ToggleGreenDown => switches.convention.green_down ^= true,
             Action::ToggleExactExpansion => switches.convention.exact_expansion ^= true,
             Action::ToggleTwoChannel => switches.convention.two_channel ^= true,
@@ -262,11 +319,8 @@ impl Cylinder {
             Action::ToggleHandedness => mesh.tangents.handedness ^= true,
         }
         if mesh != self.mesh_options {
-            self.tutorial.reload_mesh(&self.obj_path, mesh)?;
+            self.rebuild_mesh(self.tangent_source, mesh)?;
             self.mesh_options = mesh;
-            if let Some(lines) = &mut self.lines {
-                lines.rebuild(&self.tutorial.mesh)?;
-            }
         }
         Ok(())
     }
@@ -275,13 +329,17 @@ impl Cylinder {
 impl Scene for Cylinder {
     fn draw(&mut self, frame: &FrameInput) {
         let lines = self.lines.as_ref().filter(|_| self.show_lines);
-        // The tutorial's own program unless an experiment or a colour view asks for the debug one.
-        if self.switches == ShaderSwitches::default() && !self.use_debug_program {
+        let (projection, view) = (frame.projection, frame.view);
+        // The tutorial's own program unless an experiment or a colour view asks for the debug one;
+        // the per-pixel frame has a program of its own (without the experiments).
+        if self.tangent_source == TangentSource::Derivative {
+            let program = &self.derivative_program;
+            self.tutorial.draw_with(program, projection, view, None);
+        } else if self.switches == ShaderSwitches::default() && !self.use_debug_program {
             self.tutorial.draw(frame.projection, frame.view, lines);
         } else {
             let debug = &self.debug_program;
             debug.set_switches(self.switches);
-            let (projection, view) = (frame.projection, frame.view);
             self.tutorial
                 .draw_with(&debug.program, projection, view, lines);
         }
@@ -301,7 +359,7 @@ impl Scene for Cylinder {
     /// The tutorial's program, the debugging program and the line shader.
     fn shader_files(&self) -> Vec<PathBuf> {
         let dir = self.shader_dir.as_deref();
-        [SHADERS, DEBUG_SHADERS, LINE_SHADERS]
+        [SHADERS, DEBUG_SHADERS, DERIVATIVE_SHADERS, LINE_SHADERS]
             .iter()
             .flatten()
             .filter_map(|name| shader_path(name, dir))
@@ -314,11 +372,14 @@ impl Scene for Cylinder {
         let [vertex_shader, fragment_shader] = SHADERS;
         let program = NormalMappingProgram::load(&self.gl, vertex_shader, fragment_shader, dir)?;
         let debug_program = DebugProgram::load(&self.gl, dir)?;
+        let [vertex_shader, fragment_shader] = DERIVATIVE_SHADERS;
+        let derivative = NormalMappingProgram::load(&self.gl, vertex_shader, fragment_shader, dir)?;
         if let Some(lines) = &mut self.lines {
             lines.reload_shaders()?;
         }
         self.tutorial.program = program;
         self.debug_program = debug_program;
+        self.derivative_program = derivative;
         Ok(())
     }
 
@@ -334,7 +395,7 @@ impl Scene for Cylinder {
         };
         format!(
             "view {} | lines {lines} | Gram-Schmidt {} | handedness {} | normalize before sum {} | \
-             specular texture {} | TBN {} | normal map {}",
+             specular texture {} | TBN {} | normal map {} | tangents {}",
             sw.view,
             on(mesh.tangents.gram_schmidt),
             on(mesh.tangents.handedness),
@@ -342,6 +403,7 @@ impl Scene for Cylinder {
             on(sw.specular_texture),
             if sw.normalize_tbn { "normalized (article)" } else { "as summed (repository)" },
             sw.convention,
+            self.tangent_source,
         )
     }
 
@@ -353,6 +415,12 @@ impl Scene for Cylinder {
         self
     }
 }
+
+/// The per-pixel tangent frame's program.
+pub const DERIVATIVE_SHADERS: [&str; 2] = [
+    "NormalMappingDerivative.vertexshader",
+    "NormalMappingDerivative.fragmentshader",
+];
 
 /// The debugging program's two files.
 pub const DEBUG_SHADERS: [&str; 2] = [
@@ -436,7 +504,7 @@ mod tests {
             );
             actions.push(action);
         }
-        assert_eq!(actions.len(), 12);
+        assert_eq!(actions.len(), 13);
         assert_eq!(action_for_key('l'), Some(Action::ToggleLines));
         assert_eq!(action_for_key('Q'), None);
     }

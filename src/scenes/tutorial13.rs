@@ -143,6 +143,13 @@ impl Tutorial13 {
         Ok(())
     }
 
+    /// Uploads a mesh made another way (another tangent source) in place of the tutorial's.
+    pub fn set_mesh(&mut self, mesh: IndexedMesh) -> Result<()> {
+        self.buffers = MeshBuffers::new(&self.gl, &mesh)?;
+        self.mesh = Rc::new(mesh);
+        Ok(())
+    }
+
     /// One pass of the loop's body with the tutorial's program.
     pub fn draw(&self, projection_matrix: Mat4, view_matrix: Mat4, lines: Option<&DebugLines>) {
         self.draw_with(&self.program, projection_matrix, view_matrix, lines);

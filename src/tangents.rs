@@ -1,0 +1,157 @@
+//! Where a mesh's tangent frame comes from. Tutorial 13 teaches one way; the field uses three, and
+//! the cylinder scene can switch between them on the same mesh:
+//!
+//! * `tutorial`: `computeTangentBasis` per triangle, Gram-Schmidt, the handedness fix, and
+//!   `indexVBO_TBN` summing the tangents of merged corners (the default, the tutorial's frames);
+//! * `mikktspace`: MikkTSpace (the convention of most tools and engines), from the `mikktspace`
+//!   crate: a unit tangent per corner with the bitangent's sign in w, corners welded only where
+//!   everything matches exactly, so that each keeps its own frame; the bitangent is
+//!   `w × cross(N, T)`, as MikkTSpace's readers rebuild it;
+//! * `derivative`: no precomputed tangents at all; the fragment shader builds a cotangent frame per
+//!   pixel from screen-space derivatives (article 002), so the mesh goes up without tangent arrays.
+//!
+//! Where the UVs are mirrored (the tutorial's cylinder, seen through the loader's negated V, is
+//! mirrored everywhere), the tutorial's handedness fix flips the tangent, while MikkTSpace keeps
+//! T = dP/du and flips the bitangent instead (w = −1): the two frames agree on B and are opposite on
+//! T, so a map's red channel lights the other way. The per-pixel frame follows the UVs as MikkTSpace
+//! does.
+
+use glam::Vec3;
+use rustc_hash::FxHashMap;
+
+use crate::common::objloader::TriangleSoup;
+use crate::common::vboindexer::{index_vbo, IndexedMesh, Indices};
+use crate::mesh::{build_mesh, MeshOptions};
+use crate::{Error, Result};
+
+/// The three sources, in the order the key steps through them.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
+pub enum TangentSource {
+    #[default]
+    Tutorial,
+    MikkTSpace,
+    Derivative,
+}
+
+impl TangentSource {
+    pub const ALL: [TangentSource; 3] = [Self::Tutorial, Self::MikkTSpace, Self::Derivative];
+
+    /// The `--tangents` name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Tutorial => "tutorial",
+            Self::MikkTSpace => "mikktspace",
+            Self::Derivative => "derivative",
+        }
+    }
+
+    /// The next source, wrapping around.
+    pub fn next(self) -> Self {
+        let i = Self::ALL.iter().position(|&s| s == self).unwrap_or(0);
+        Self::ALL[(i + 1) % Self::ALL.len()]
+    }
+
+    /// The indexed mesh this source draws: with summed tangents (tutorial), MikkTSpace's
+    /// (mikktspace), or none (derivative). `options` are the tutorial pipeline's switches.
+    pub fn mesh(self, soup: &TriangleSoup, options: MeshOptions) -> Result<IndexedMesh> {
+        match self {
+            Self::Tutorial => Ok(build_mesh(soup, options)),
+            Self::MikkTSpace => mikktspace_mesh(soup),
+            Self::Derivative => Ok(index_vbo(soup)),
+        }
+    }
+}
+
+impl std::fmt::Display for TangentSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for TangentSource {
+    type Err = String;
+
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|source| source.name() == s)
+            .ok_or_else(|| {
+                format!("unknown tangent source '{s}': use tutorial, mikktspace or derivative")
+            })
+    }
+}
+
+/// The soup as MikkTSpace reads it: faces of three corners, a tangent written back per corner.
+struct MikkSoup<'a> {
+    soup: &'a TriangleSoup,
+    tangents: Vec<[f32; 4]>,
+}
+
+impl mikktspace::Geometry for MikkSoup<'_> {
+    fn num_faces(&self) -> usize {
+        self.soup.triangle_count()
+    }
+    fn num_vertices_of_face(&self, _face: usize) -> usize {
+        3
+    }
+    fn position(&self, face: usize, vert: usize) -> [f32; 3] {
+        self.soup.vertices[3 * face + vert].to_array()
+    }
+    fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
+        self.soup.normals[3 * face + vert].to_array()
+    }
+    fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
+        self.soup.uvs[3 * face + vert].to_array()
+    }
+    fn set_tangent_encoded(&mut self, tangent: [f32; 4], face: usize, vert: usize) {
+        self.tangents[3 * face + vert] = tangent;
+    }
+}
+
+/// MikkTSpace's tangent per corner (xyz unit, w = ±1, the bitangent's sign).
+pub fn mikktspace_tangents(soup: &TriangleSoup) -> Result<Vec<[f32; 4]>> {
+    let mut geometry = MikkSoup {
+        soup,
+        tangents: vec![[0.0; 4]; soup.vertices.len()],
+    };
+    if !mikktspace::generate_tangents(&mut geometry) {
+        return Err(Error::Mesh(
+            "MikkTSpace could not compute tangents for this mesh".into(),
+        ));
+    }
+    Ok(geometry.tangents)
+}
+
+/// The soup indexed with MikkTSpace's frames: two corners become one vertex only when position,
+/// UV, normal and tangent (with its sign) are bit for bit the same, so no frame is averaged.
+pub fn mikktspace_mesh(soup: &TriangleSoup) -> Result<IndexedMesh> {
+    let tangents = mikktspace_tangents(soup)?;
+    let (mut vertices, mut uvs, mut normals) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut tangents_out, mut bitangents) = (Vec::new(), Vec::new());
+    let mut indices = Vec::with_capacity(tangents.len());
+    let mut seen: FxHashMap<[u32; 12], u32> = FxHashMap::default();
+    for (i, &[tx, ty, tz, w]) in tangents.iter().enumerate() {
+        let (p, uv, n) = (soup.vertices[i], soup.uvs[i], soup.normals[i]);
+        let t = Vec3::new(tx, ty, tz);
+        let floats = [p.x, p.y, p.z, uv.x, uv.y, n.x, n.y, n.z, tx, ty, tz, w];
+        let key = floats.map(f32::to_bits);
+        let index = *seen.entry(key).or_insert_with(|| {
+            vertices.push(p);
+            uvs.push(uv);
+            normals.push(n);
+            tangents_out.push(t);
+            // MikkTSpace's readers rebuild the bitangent from the normal, the tangent and the sign.
+            bitangents.push(w * n.cross(t));
+            (vertices.len() - 1) as u32
+        });
+        indices.push(index);
+    }
+    Ok(IndexedMesh {
+        indices: Indices::from_u32(indices, vertices.len()),
+        vertices,
+        uvs,
+        normals,
+        tangents: tangents_out,
+        bitangents,
+    })
+}
