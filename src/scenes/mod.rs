@@ -5,9 +5,11 @@
 //! | scene      | program                                                         | file            |
 //! |------------|-----------------------------------------------------------------|-----------------|
 //! | `cylinder` | Tutorial 13 (`tutorial13.cpp`), with its debugging aids as keys | [`cylinder`], [`tutorial13`] |
+//! | `sprite`   | Article 001: a 2D normal-mapped sprite, its light on the mouse   | [`sprite`]      |
 
 pub mod cylinder;
 mod scene;
+pub mod sprite;
 pub mod tutorial13;
 
 use std::fmt;
@@ -23,16 +25,19 @@ pub enum SceneName {
     /// Tutorial 13's normal-mapped cylinder.
     #[default]
     Cylinder,
+    /// Article 001's 2D normal-mapped sprite with a mouse-driven light.
+    Sprite,
 }
 
 impl SceneName {
     /// Every scene, in the order the scene key steps through them.
-    pub const ALL: &'static [SceneName] = &[SceneName::Cylinder];
+    pub const ALL: &'static [SceneName] = &[SceneName::Cylinder, SceneName::Sprite];
 
     /// The `--scene` name.
     pub fn name(self) -> &'static str {
         match self {
             SceneName::Cylinder => "cylinder",
+            SceneName::Sprite => "sprite",
         }
     }
 
@@ -40,6 +45,10 @@ impl SceneName {
     pub fn description(self) -> &'static str {
         match self {
             SceneName::Cylinder => "Tutorial 13: the normal-mapped cylinder (the default)",
+            SceneName::Sprite => {
+                "Article 001: a 2D normal-mapped rock lit by a light on the mouse (wheel: height, \
+                 click: reset)"
+            }
         }
     }
 
@@ -53,6 +62,7 @@ impl SceneName {
     pub fn keys(self) -> &'static [KeyHelp] {
         match self {
             SceneName::Cylinder => cylinder::KEYS,
+            SceneName::Sprite => sprite::KEYS,
         }
     }
 
@@ -64,6 +74,12 @@ impl SceneName {
                 &options.assets_dir(),
                 options.shader_dir(),
                 options.cylinder,
+            )?),
+            SceneName::Sprite => Box::new(sprite::Sprite::new(
+                context,
+                &options.assets_dir(),
+                options.shader_dir(),
+                options.sprite,
             )?),
         })
     }
@@ -99,6 +115,8 @@ pub struct SceneOptions {
     pub shaders: Option<PathBuf>,
     /// The cylinder scene's switches.
     pub cylinder: cylinder::CylinderOptions,
+    /// The sprite scene's light and switches.
+    pub sprite: sprite::SpriteOptions,
 }
 
 impl SceneOptions {
