@@ -455,7 +455,10 @@ mod tests {
         ];
         for ((x, y), (lx, ly)) in cases {
             let light = cursor_to_light(Vec2::new(x, y), size);
-            assert!(light.abs_diff_eq(Vec2::new(lx, ly), 1e-6), "{x},{y}: {light}");
+            assert!(
+                light.abs_diff_eq(Vec2::new(lx, ly), 1e-6),
+                "{x},{y}: {light}"
+            );
         }
     }
 }
