@@ -2,7 +2,10 @@
 //! constant-linear-quadratic falloff. Headless frames, measured against what the article describes;
 //! each test prints the numbers it measured (`cargo test --test scene_sprite -- --nocapture`).
 
+use std::io::Read;
 use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 use glam::{DVec3, Vec2, Vec3};
 use image::{Rgb, RgbImage};
@@ -15,6 +18,7 @@ use tutorial13::scenes::sprite::{
 use tutorial13::scenes::{SceneName, SceneOptions};
 
 mod common;
+use common::xvfb::Xvfb;
 use common::{assert_matches_golden, frame, own_assets, pixel_diff, scratch};
 
 /// Side of the sprite's textures.
@@ -544,4 +548,151 @@ const GOLDEN_MIN_SCORE: f64 = 0.995;
 fn first_frame_matches_golden() {
     let frame = render_rock(SpriteOptions::default());
     assert_matches_golden(&frame, "sprite", GOLDEN_MIN_SCORE);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The window, driven through a private Xvfb with xdotool (as tests/window_input.rs does).
+
+/// How long a window step may take on two busy cores.
+const STEP_TIMEOUT: Duration = Duration::from_secs(60);
+
+/// Polls `get` every 100 ms until it gives something, or fails after [`STEP_TIMEOUT`].
+fn wait_for<T>(what: &str, mut get: impl FnMut() -> Option<T>) -> T {
+    let start = Instant::now();
+    loop {
+        if let Some(value) = get() {
+            return value;
+        }
+        assert!(
+            start.elapsed() < STEP_TIMEOUT,
+            "{what}: nothing after {STEP_TIMEOUT:?}"
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+/// The headless frame of the sprite scene with these extra arguments, as the binary writes it.
+fn headless_shot(dir: &Path, name: &str, args: &[&str]) -> RgbImage {
+    let out = Command::new(env!("CARGO_BIN_EXE_tutorial13"))
+        .args(["--headless", "--scene", "sprite", "--screenshot", name])
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    image::open(dir.join(name)).unwrap().into_rgb8()
+}
+
+/// `--light` for a light the window computed: f32's shortest round-trip text parses back to the
+/// same floats.
+fn light_arg(light: Vec3) -> String {
+    format!("{},{},{}", light.x, light.y, light.z)
+}
+
+// Fails if the window's frame differs from the headless one (before the mouse moves: the default
+// light, bit for bit), if moving the mouse over the window does not bring the light to the pixel
+// under it (the frame must equal the headless frame with that --light, bit for bit), if the wheel
+// does not raise it by whole notches of 0.01 (the title shows the light), if a click does not put it back
+// at 0.075, or if Y does not flip the green channel as --flip-green does.
+#[test]
+fn the_window_light_follows_the_mouse() {
+    let dir = scratch("window");
+    let xvfb = Xvfb::start();
+    let mut app = Command::new(env!("CARGO_BIN_EXE_tutorial13"))
+        .args(["--scene", "sprite"])
+        .current_dir(&dir)
+        .env("DISPLAY", &xvfb.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("RUST_LOG")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let window = wait_for("the window", || {
+        if let Some(status) = app.try_wait().unwrap() {
+            panic!("the program exited ({status}) before its window appeared");
+        }
+        let found = xvfb.xdotool(&["search", "--name", "Tutorial 13"]);
+        found.lines().next().map(str::to_string)
+    });
+    xvfb.xdotool(&["windowfocus", "--sync", &window]);
+    let mut shots = 0;
+    let mut shot = || {
+        shots += 1;
+        std::thread::sleep(Duration::from_millis(300));
+        xvfb.xdotool(&["key", "p"]);
+        let path = dir.join(format!("tutorial13-{shots}.png"));
+        // Written by rename: whole once it exists.
+        wait_for("the screenshot", || image::open(&path).ok()).into_rgb8()
+    };
+    let title = || xvfb.xdotool(&["getwindowname", &window]);
+
+    let first = shot();
+    assert!(
+        first == headless_shot(&dir, "default.png", &[]),
+        "the window's first frame is not the headless one"
+    );
+
+    let pointer = Vec2::new(600.0, 300.0);
+    xvfb.xdotool(&["mousemove", "--window", &window, "600", "300"]);
+    let light = cursor_to_light(pointer, (1024, 768)).extend(DEFAULT_LIGHT_Z);
+    let moved = shot();
+    let expected = headless_shot(&dir, "moved.png", &["--light", &light_arg(light)]);
+    let (n, max, _) = pixel_diff(&moved, &expected);
+    println!(
+        "light on the mouse at {pointer}: {n} pixels differ from --light {}, by at most {max}",
+        light_arg(light)
+    );
+    assert!(n == 0, "{n} pixels differ, by up to {max}");
+    assert!(title().contains("on the mouse"), "{}", title());
+
+    // The wheel away from the user (button 4) raises the light. winit counts an XTEST wheel
+    // click's press and its release as a notch each (a real wheel's clicks come as one scroll
+    // motion), so one click here raises it by 0.02: the test asks for whole notches of 0.01 above.
+    let light_z = |title: &str| -> Option<f32> {
+        let inside = title.split("light (").nth(1)?.split(')').next()?;
+        inside.split(", ").nth(2)?.parse().ok()
+    };
+    xvfb.xdotool(&["click", "4"]);
+    let raised = wait_for("the raised light in the title", || {
+        light_z(&title()).filter(|&z| z > DEFAULT_LIGHT_Z + 0.005)
+    });
+    let notches = (raised - DEFAULT_LIGHT_Z) / 0.01;
+    println!("one wheel click: z {raised} ({notches} notches)");
+    assert!(
+        (notches - notches.round()).abs() < 0.01,
+        "z {raised} is not 0.075 + whole notches"
+    );
+    xvfb.xdotool(&["click", "1"]);
+    wait_for("the reset light in the title", || {
+        title().contains(", 0.075) on the mouse").then_some(())
+    });
+    assert!(shot() == moved, "a click did not put the light back");
+
+    xvfb.xdotool(&["key", "y"]);
+    wait_for("the flip in the title", || {
+        title().contains("green flipped").then_some(())
+    });
+    let flipped = shot();
+    let expected = headless_shot(
+        &dir,
+        "flipped.png",
+        &["--light", &light_arg(light), "--flip-green"],
+    );
+    assert!(flipped == expected, "Y in the window is not --flip-green");
+
+    xvfb.xdotool(&["key", "Escape"]);
+    let status = wait_for("the program's exit", || app.try_wait().unwrap());
+    let mut stderr = String::new();
+    app.stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut stderr)
+        .unwrap();
+    assert!(status.success(), "{stderr}");
 }
