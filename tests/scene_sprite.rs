@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 use glam::{DVec3, Vec2, Vec3};
 use image::{Rgb, RgbImage};
 use tutorial13::assets::encode_bmp;
+use tutorial13::assets::sprite::rock_height_map;
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::scenes::sprite::{
     cursor_to_light, sprite_rect, Sprite, SpriteOptions, DEFAULT_LIGHT_Z, DIFFUSE_FILE,
@@ -534,6 +535,58 @@ fn a_missing_texture_is_an_error_naming_it() {
         "{message}"
     );
     assert_eq!(error.path(), Some(empty.join(DIFFUSE_FILE).as_path()));
+}
+
+// Fails if the committed normal map is not the rock's height field in the "green up" convention
+// the scene relies on: red must grow where the height falls to the right (n.x = −∂h/∂x) and green
+// where it falls up the picture (n.y = −∂h/∂y, y up), which shows as a strong correlation (measured
+// above 0.9; a flipped channel gives about −0.9) between each channel and the height's slope.
+#[test]
+fn the_normal_map_is_the_rocks_relief_green_up() {
+    let n = TEXELS as usize;
+    let height = rock_height_map(TEXELS);
+    let normals = own_texture(NORMAL_FILE);
+    let at = |col: usize, row: usize| height[(row % n) * n + col % n];
+    let (mut red, mut green, mut falls_right, mut falls_up) = (vec![], vec![], vec![], vec![]);
+    for row in 0..n {
+        for col in 0..n {
+            let [r, g, _] = normals[row * n + col];
+            red.push(f64::from(r));
+            green.push(f64::from(g));
+            // Central differences; row 0 is the top, so "up the picture" is row − 1.
+            falls_right.push(f64::from(at(col + n - 1, row) - at(col + 1, row)));
+            falls_up.push(f64::from(at(col, row + 1) - at(col, row + n - 1)));
+        }
+    }
+    let (x, y) = (pearson(&red, &falls_right), pearson(&green, &falls_up));
+    println!("correlation: red with −∂h/∂x {x:.4}, green with −∂h/∂y (y up) {y:.4}");
+    assert!(x > 0.9 && y > 0.9, "red {x:.4}, green {y:.4}");
+}
+
+// Fails if a bad --light panics or is accepted: anything but three finite numbers, or a height that
+// is not above the sprite, must end the program with one line naming --light and a non-zero status.
+#[test]
+fn a_bad_light_flag_is_refused() {
+    for bad in [
+        "0.5,0.5",
+        "0.5,0.5,0",
+        "0.5,0.5,-1",
+        "a,0.5,0.1",
+        "0.5,nan,0.1",
+        "0.5,0.5,0.1,1",
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_tutorial13"))
+            .args(["--headless", "--scene", "sprite", "--light", bad])
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        println!("--light {bad}: {}", stderr.lines().next().unwrap_or(""));
+        assert_eq!(out.status.code(), Some(2), "--light {bad}: {stderr}");
+        assert!(
+            stderr.contains("--light") && !stderr.contains("panicked"),
+            "{stderr}"
+        );
+    }
 }
 
 /// What the golden image may lose: llvmpipe gives the same frame run to run; the margin is for other
