@@ -16,6 +16,7 @@ use tutorial13::gl::image::write_screenshot;
 use tutorial13::gl::Profile;
 use tutorial13::mesh::MeshOptions;
 use tutorial13::scenes::cylinder::CylinderOptions;
+use tutorial13::scenes::sprite::SpriteOptions;
 use tutorial13::scenes::wall::{LightingSpace, WallOptions};
 use tutorial13::scenes::{SceneName, SceneOptions};
 use tutorial13::tangents::TangentSource;
@@ -133,6 +134,20 @@ struct Cli {
     /// Headless: use a GPU's EGL device where there is one instead of Mesa's llvmpipe
     #[arg(long)]
     prefer_hardware: bool,
+
+    /// Sprite scene: the light at X,Y (0 to 1 across the window, y up as in the article) and height
+    /// Z > 0 [default: 0.4,0.6,0.075]; in the window the mouse takes over once it moves
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_light)]
+    light: Option<glam::Vec3>,
+
+    /// Sprite scene: read the normal map's green channel the other way up (key Y)
+    #[arg(long)]
+    flip_green: bool,
+
+    /// Sprite scene: measure the light's distance in the sprite's own pixels, not in window heights
+    /// (key I)
+    #[arg(long)]
+    independent_falloff: bool,
 }
 
 #[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
@@ -215,6 +230,27 @@ fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
             .ok_or_else(|| format!("'{v}' is not a size from 1 to 16384"))
     };
     Ok((parse(w)?, parse(h)?))
+}
+
+fn parse_light(s: &str) -> std::result::Result<glam::Vec3, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [x, y, z] = parts[..] else {
+        return Err(format!("'{s}' is not X,Y,Z, e.g. 0.5,0.5,0.075"));
+    };
+    let parse = |v: &str| {
+        v.parse::<f32>()
+            .ok()
+            .filter(|n| n.is_finite())
+            .ok_or_else(|| format!("'{v}' is not a finite number"))
+    };
+    let light = glam::Vec3::new(parse(x)?, parse(y)?, parse(z)?);
+    if light.z <= 0.0 {
+        return Err(format!(
+            "Z = {} must be above 0 (the light's height over the sprite)",
+            light.z
+        ));
+    }
+    Ok(light)
 }
 
 /// `--help`'s closing text: the scenes, then each scene's keys.
@@ -345,6 +381,11 @@ fn run(cli: Cli) -> Result<()> {
             tangents: cli.tangents,
         },
         wall: WallOptions { space: cli.space },
+        sprite: SpriteOptions {
+            light: cli.light.unwrap_or(SpriteOptions::default().light),
+            flip_green: cli.flip_green,
+            independent_falloff: cli.independent_falloff,
+        },
     };
     if cli.headless || cli.bench.is_some() {
         run_headless(&cli, scene)

@@ -31,6 +31,7 @@
 //!   lit from above has bright top edges (checked in `tests/assets.rs` with the crate's own tangent
 //!   code). The tutorial's own `normal.bmp` agrees on red but has green the other way round.
 
+pub mod sprite;
 pub mod wall;
 
 use std::path::{Path, PathBuf};
@@ -127,6 +128,7 @@ pub fn generate_assets() -> Result<Vec<(&'static str, Vec<u8>)>> {
         (specular, specular_dds),
     ];
     files.extend(wall::generate()?);
+    files.extend(sprite::sprite_assets()?);
     Ok(files)
 }
 

@@ -35,6 +35,8 @@ const EMBEDDED: &[(&str, &str)] = &[
     embedded!("WallTangentSpace.fragmentshader"),
     embedded!("WallNoNormalMap.vertexshader"),
     embedded!("WallNoNormalMap.fragmentshader"),
+    embedded!("Sprite.vertexshader"),
+    embedded!("Sprite.fragmentshader"),
 ];
 
 /// A shader's text and where it came from (named in every error).

@@ -5,9 +5,11 @@
 //! | scene      | program                                                         | file            |
 //! |------------|-----------------------------------------------------------------|-----------------|
 //! | `cylinder` | Tutorial 13 (`tutorial13.cpp`), with its debugging aids as keys | [`cylinder`], [`tutorial13`] |
+//! | `sprite`   | Article 001: a 2D normal-mapped sprite, its light on the mouse   | [`sprite`]      |
 
 pub mod cylinder;
 mod scene;
+pub mod sprite;
 pub mod tutorial13;
 pub mod wall;
 
@@ -24,18 +26,22 @@ pub enum SceneName {
     /// Tutorial 13's normal-mapped cylinder.
     #[default]
     Cylinder,
+    /// Article 001's 2D normal-mapped sprite with a mouse-driven light.
+    Sprite,
     /// Article 004's stone wall, lit in view space or in tangent space.
     Wall,
 }
 
 impl SceneName {
     /// Every scene, in the order the scene key steps through them.
-    pub const ALL: &'static [SceneName] = &[SceneName::Cylinder, SceneName::Wall];
+    pub const ALL: &'static [SceneName] =
+        &[SceneName::Cylinder, SceneName::Sprite, SceneName::Wall];
 
     /// The `--scene` name.
     pub fn name(self) -> &'static str {
         match self {
             SceneName::Cylinder => "cylinder",
+            SceneName::Sprite => "sprite",
             SceneName::Wall => "wall",
         }
     }
@@ -44,6 +50,10 @@ impl SceneName {
     pub fn description(self) -> &'static str {
         match self {
             SceneName::Cylinder => "Tutorial 13: the normal-mapped cylinder (the default)",
+            SceneName::Sprite => {
+                "Article 001: a 2D normal-mapped rock lit by a light on the mouse (wheel: height, \
+                 click: reset)"
+            }
             SceneName::Wall => "a stone wall lit in view space or in tangent space (article 004)",
         }
     }
@@ -58,6 +68,7 @@ impl SceneName {
     pub fn keys(self) -> &'static [KeyHelp] {
         match self {
             SceneName::Cylinder => cylinder::KEYS,
+            SceneName::Sprite => sprite::KEYS,
             SceneName::Wall => wall::KEYS,
         }
     }
@@ -76,6 +87,12 @@ impl SceneName {
                 &options.assets_dir(),
                 options.shader_dir(),
                 options.wall,
+            )?),
+            SceneName::Sprite => Box::new(sprite::Sprite::new(
+                context,
+                &options.assets_dir(),
+                options.shader_dir(),
+                options.sprite,
             )?),
         })
     }
@@ -111,6 +128,8 @@ pub struct SceneOptions {
     pub shaders: Option<PathBuf>,
     /// The cylinder scene's switches.
     pub cylinder: cylinder::CylinderOptions,
+    /// The sprite scene's light and switches.
+    pub sprite: sprite::SpriteOptions,
     /// The wall scene's switches.
     pub wall: wall::WallOptions,
 }

@@ -1,0 +1,464 @@
+//! The `sprite` scene: article 001 ("ShaderLesson6: 2D normal-mapped lighting"). A rock drawn flat in
+//! the window with an orthographic projection (no camera), lit per fragment by a point light that
+//! follows the mouse: Lambert's N·L with the normal from the normal map, constant-linear-quadratic
+//! attenuation, and an ambient term. The shaders are `Sprite.*`; the textures are
+//! `<assets>/sprite/diffuse.bmp` and `normal.bmp` (made by `make-assets`, see
+//! [`crate::assets::sprite`]).
+//!
+//! Decisions where the article leaves a choice (also in the README and the shader):
+//! - The sprite is drawn at its own size, one texel per pixel, centred, as the article draws its rock
+//!   at its own size; a window too small for it (less than [`SPRITE_FIT`] of its smaller side) gets
+//!   it scaled down, square, to that fraction. Its corners sit on whole pixels.
+//! - The light's x and y run from 0 to 1 across the window with y up (0 = bottom), as in the article
+//!   (its mouse y counts from the bottom) and as `gl_FragCoord`; the window's cursor counts from the
+//!   top, so its y is flipped. The cursor names the pixel under it, whose centre is used.
+//! - The light follows the mouse only once the cursor has moved over the window, so that a light
+//!   placed with `--light` stays until the user takes it.
+//! - The wheel moves the light by [`Z_STEP`] per notch (away from the user: higher), kept within
+//!   [`Z_MIN`]..=[`Z_MAX`]; a click puts it back at the article's 0.075.
+
+use std::any::Any;
+use std::path::{Path, PathBuf};
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+use glow::HasContext;
+
+use crate::assets::sprite::SPRITE_SIZE;
+/// The two texture files, under the assets folder, as `make-assets` writes them.
+pub use crate::assets::sprite::{DIFFUSE_FILE, NORMAL_FILE};
+use crate::common::shader::{load_program, shader_path, Program};
+use crate::common::texture::{load_bmp_custom, Texture};
+use crate::common::vboindexer::{IndexedMesh, Indices};
+use crate::gl::buffers::MeshBuffers;
+use crate::gl::Gl;
+use crate::Result;
+
+use super::scene::{FrameInput, KeyHelp, MouseMode, Scene, SceneContext};
+use super::tutorial13::CLEAR_COLOR;
+
+/// The article's `DEFAULT_LIGHT_Z`: the light's height, where a click puts it back.
+pub const DEFAULT_LIGHT_Z: f32 = 0.075;
+/// Light colour (1, 0.8, 0.6), intensity 1 (in w).
+pub const LIGHT_COLOR: Vec4 = Vec4::new(1.0, 0.8, 0.6, 1.0);
+/// Ambient colour (0.6, 0.6, 1), intensity 0.2 (in w).
+pub const AMBIENT_COLOR: Vec4 = Vec4::new(0.6, 0.6, 1.0, 0.2);
+/// Attenuation coefficients: constant, linear, quadratic.
+pub const FALLOFF: Vec3 = Vec3::new(0.4, 3.0, 20.0);
+
+/// Where the light starts without `--light` (and stays until the mouse moves over the window): up
+/// and left of the sprite's centre, so that the first frame shows the stones lit from the upper left.
+pub const DEFAULT_LIGHT: Vec3 = Vec3::new(0.4, 0.6, DEFAULT_LIGHT_Z);
+/// Height change per notch of the wheel.
+pub const Z_STEP: f32 = 0.01;
+/// The light's height is kept above the sprite (at 0 a fragment right under it would have no
+/// direction to the light) and below a height where only the ambient light is left.
+pub const Z_MIN: f32 = 0.005;
+pub const Z_MAX: f32 = 1.0;
+
+/// Side of the sprite's textures, in texels: its size on screen where the window has room.
+pub const SPRITE_TEXELS: u32 = SPRITE_SIZE;
+/// The most of the window's smaller side the sprite may take (it is scaled down beyond that).
+pub const SPRITE_FIT: f32 = 0.9;
+/// With the resolution-independent falloff: how many of the sprite's own texels make one unit of
+/// distance (the tutorial's window height, so that at 1024×768 both ways agree).
+pub const TEXELS_PER_UNIT: f32 = 768.0;
+
+/// The scene's two shader files.
+pub const SHADERS: [&str; 2] = ["Sprite.vertexshader", "Sprite.fragmentshader"];
+
+/// The sprite's switches, as the command line sets them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpriteOptions {
+    /// `--light X,Y,Z`: x and y from 0 to 1 across the window (y up), z the height.
+    pub light: Vec3,
+    /// `--flip-green`: read the normal map's green channel the other way up.
+    pub flip_green: bool,
+    /// `--independent-falloff`: measure the light's distance in the sprite's own pixels.
+    pub independent_falloff: bool,
+}
+
+impl Default for SpriteOptions {
+    fn default() -> Self {
+        SpriteOptions {
+            light: DEFAULT_LIGHT,
+            flip_green: false,
+            independent_falloff: false,
+        }
+    }
+}
+
+/// What a key (or a test) can change.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Action {
+    /// The normal map's green channel as made, or flipped (the article's "FlipY").
+    ToggleFlipGreen,
+    /// Falloff in window heights (the article's), or in the sprite's own pixels.
+    ToggleIndependentFalloff,
+}
+
+/// The scene's keys and their actions, in the order they are listed.
+const BINDINGS: [(char, Action, &str); 2] = [
+    (
+        'Y',
+        Action::ToggleFlipGreen,
+        "normal map's green channel as made / flipped (the article's FlipY problem)",
+    ),
+    (
+        'I',
+        Action::ToggleIndependentFalloff,
+        "falloff in window heights (article) / resolution-independent (the sprite's own pixels)",
+    ),
+];
+
+/// The key list `--help` and the window print.
+pub const KEYS: &[KeyHelp] = &{
+    let mut keys = [KeyHelp { key: ' ', help: "" }; BINDINGS.len()];
+    let mut i = 0;
+    while i < BINDINGS.len() {
+        keys[i] = KeyHelp {
+            key: BINDINGS[i].0,
+            help: BINDINGS[i].2,
+        };
+        i += 1;
+    }
+    keys
+};
+
+/// The action of a key of [`KEYS`].
+pub fn action_for_key(key: char) -> Option<Action> {
+    BINDINGS
+        .iter()
+        .find(|(k, _, _)| *k == key.to_ascii_uppercase())
+        .map(|&(_, action, _)| action)
+}
+
+/// Where the sprite is drawn in a `width × height` window: its lower-left corner and side, in whole
+/// pixels (y up).
+pub fn sprite_rect(width: u32, height: u32) -> (u32, u32, u32) {
+    let room = SPRITE_FIT * width.min(height) as f32;
+    let side = (SPRITE_TEXELS as f32).min(room).round().max(1.0) as u32;
+    (
+        width.saturating_sub(side) / 2,
+        height.saturating_sub(side) / 2,
+        side,
+    )
+}
+
+/// The light's x and y (0..1, y up) for the cursor at window pixel `cursor` (x right, y down from the
+/// top-left): the centre of the pixel under it.
+pub fn cursor_to_light(cursor: Vec2, (width, height): (u32, u32)) -> Vec2 {
+    let size = Vec2::new(width.max(1) as f32, height.max(1) as f32);
+    let centre = cursor.floor() + 0.5;
+    Vec2::new(centre.x / size.x, 1.0 - centre.y / size.y)
+}
+
+type Uniform = Option<glow::UniformLocation>;
+
+/// `Sprite.*` and its uniform handles.
+pub struct SpriteProgram {
+    pub program: Program,
+    mvp: Uniform,
+    diffuse_texture: Uniform,
+    normal_texture: Uniform,
+    resolution: Uniform,
+    light_position: Uniform,
+    light_color: Uniform,
+    ambient_color: Uniform,
+    falloff: Uniform,
+    flip_green: Uniform,
+    independent_falloff: Uniform,
+    pixels_per_unit: Uniform,
+}
+
+impl SpriteProgram {
+    pub fn load(gl: &Gl, shader_dir: Option<&Path>) -> Result<Self> {
+        let [vertex, fragment] = SHADERS;
+        let program = load_program(gl, vertex, fragment, shader_dir)?;
+        let uniform = |name| program.uniform(name);
+        Ok(SpriteProgram {
+            mvp: uniform("MVP"),
+            diffuse_texture: uniform("DiffuseTextureSampler"),
+            normal_texture: uniform("NormalTextureSampler"),
+            resolution: uniform("Resolution"),
+            light_position: uniform("LightPosition_screenspace"),
+            light_color: uniform("LightColor"),
+            ambient_color: uniform("AmbientColor"),
+            falloff: uniform("Falloff"),
+            flip_green: uniform("FlipGreen"),
+            independent_falloff: uniform("IndependentFalloff"),
+            pixels_per_unit: uniform("PixelsPerUnit"),
+            program,
+        })
+    }
+}
+
+/// The lit rock and its light.
+pub struct Sprite {
+    // Field order is drop order; all hold GL objects of the same context.
+    program: SpriteProgram,
+    diffuse_texture: Texture,
+    normal_texture: Texture,
+    /// The unit square, (0, 0) to (1, 1), with matching UVs.
+    quad: MeshBuffers,
+    gl: Gl,
+    shader_dir: Option<PathBuf>,
+    /// x, y from 0 to 1 across the window (y up), z the height.
+    pub light: Vec3,
+    pub flip_green: bool,
+    pub independent_falloff: bool,
+    /// Whether the light follows the cursor (once it has moved over the window).
+    following: bool,
+    /// The cursor at the last frame, to notice that it moved.
+    last_cursor: Option<Vec2>,
+}
+
+impl Sprite {
+    /// Loads `sprite/diffuse.bmp` and `sprite/normal.bmp` from `assets`, and the shaders from
+    /// `shader_dir` (or the crate's).
+    pub fn new(
+        context: &SceneContext,
+        assets: &Path,
+        shader_dir: Option<&Path>,
+        options: SpriteOptions,
+    ) -> Result<Self> {
+        let gl = context.gl;
+        let program = SpriteProgram::load(gl, shader_dir)?;
+        let diffuse_texture = load_bmp_custom(gl, &assets.join(DIFFUSE_FILE))?;
+        let normal_texture = load_bmp_custom(gl, &assets.join(NORMAL_FILE))?;
+        // Texture row 0 (t = 0) is the BMP's bottom row: at the bottom of the square, the picture
+        // is upright.
+        let square = IndexedMesh {
+            indices: Indices::U16(vec![0, 1, 2, 0, 2, 3]),
+            vertices: vec![
+                Vec3::new(0.0, 0.0, 0.0),
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(0.0, 1.0, 0.0),
+            ],
+            uvs: vec![
+                Vec2::new(0.0, 0.0),
+                Vec2::new(1.0, 0.0),
+                Vec2::new(1.0, 1.0),
+                Vec2::new(0.0, 1.0),
+            ],
+            normals: Vec::new(),
+            tangents: Vec::new(),
+            bitangents: Vec::new(),
+        };
+        let quad = MeshBuffers::new(gl, &square)?;
+        Ok(Sprite {
+            program,
+            diffuse_texture,
+            normal_texture,
+            quad,
+            gl: gl.clone(),
+            shader_dir: shader_dir.map(Path::to_path_buf),
+            light: options.light,
+            flip_green: options.flip_green,
+            independent_falloff: options.independent_falloff,
+            following: false,
+            last_cursor: None,
+        })
+    }
+
+    /// Applies one switch.
+    pub fn apply(&mut self, action: Action) {
+        match action {
+            Action::ToggleFlipGreen => self.flip_green ^= true,
+            Action::ToggleIndependentFalloff => self.independent_falloff ^= true,
+        }
+    }
+
+    /// Whether the light follows the cursor yet.
+    pub fn following(&self) -> bool {
+        self.following
+    }
+
+    /// The light takes the cursor's place once the cursor has moved between two frames (a cursor
+    /// that merely appears, as when the window opens under it, does not count); where the cursor
+    /// leaves the window, the light stays.
+    fn follow_cursor(&mut self, cursor: Option<Vec2>, size: (u32, u32)) {
+        if let (Some(before), Some(now)) = (self.last_cursor, cursor) {
+            self.following |= before != now;
+        }
+        self.last_cursor = cursor;
+        if let Some(now) = cursor.filter(|_| self.following) {
+            let xy = cursor_to_light(now, size);
+            self.light = xy.extend(self.light.z);
+        }
+    }
+}
+
+impl Scene for Sprite {
+    fn draw(&mut self, frame: &FrameInput) {
+        self.follow_cursor(frame.cursor, frame.size);
+        let gl = &self.gl;
+        let p = &self.program;
+        let (width, height) = frame.size;
+        let (x0, y0, side) = sprite_rect(width, height);
+        // Orthographic: pixels (y up, 0 to width and height) to clip space (-1 to 1); then the unit
+        // square scaled and moved onto its pixels.
+        let projection = Mat4::from_translation(Vec3::new(-1.0, -1.0, 0.0))
+            * Mat4::from_scale(Vec3::new(2.0 / width as f32, 2.0 / height as f32, 1.0));
+        let model = Mat4::from_translation(Vec3::new(x0 as f32, y0 as f32, 0.0))
+            * Mat4::from_scale(Vec3::new(side as f32, side as f32, 1.0));
+        let mvp = projection * model;
+        let pixels_per_unit = TEXELS_PER_UNIT * side as f32 / SPRITE_TEXELS as f32;
+        let [r, g, b, a] = CLEAR_COLOR;
+        // SAFETY: the program, uniforms, textures and buffers all belong to this context.
+        unsafe {
+            // A flat sprite needs neither depth nor culling (the cylinder sets its own on building).
+            gl.disable(glow::DEPTH_TEST);
+            gl.disable(glow::CULL_FACE);
+            gl.clear_color(r, g, b, a);
+            gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
+
+            gl.use_program(Some(p.program.id));
+            gl.uniform_matrix_4_f32_slice(p.mvp.as_ref(), false, &mvp.to_cols_array());
+            gl.uniform_2_f32(p.resolution.as_ref(), width as f32, height as f32);
+            let light = self.light;
+            gl.uniform_3_f32(p.light_position.as_ref(), light.x, light.y, light.z);
+            let [r, g, b, a] = LIGHT_COLOR.to_array();
+            gl.uniform_4_f32(p.light_color.as_ref(), r, g, b, a);
+            let [r, g, b, a] = AMBIENT_COLOR.to_array();
+            gl.uniform_4_f32(p.ambient_color.as_ref(), r, g, b, a);
+            gl.uniform_3_f32(p.falloff.as_ref(), FALLOFF.x, FALLOFF.y, FALLOFF.z);
+            gl.uniform_1_i32(p.flip_green.as_ref(), self.flip_green as i32);
+            let independent = self.independent_falloff as i32;
+            gl.uniform_1_i32(p.independent_falloff.as_ref(), independent);
+            gl.uniform_1_f32(p.pixels_per_unit.as_ref(), pixels_per_unit);
+
+            // The colour in unit 0, the normals in unit 1.
+            let textures = [
+                (&self.diffuse_texture, &p.diffuse_texture),
+                (&self.normal_texture, &p.normal_texture),
+            ];
+            for (unit, (texture, sampler)) in textures.into_iter().enumerate() {
+                gl.active_texture(glow::TEXTURE0 + unit as u32);
+                gl.bind_texture(glow::TEXTURE_2D, Some(texture.id));
+                gl.uniform_1_i32(sampler.as_ref(), unit as i32);
+            }
+        }
+        self.quad.draw();
+    }
+
+    fn key(&mut self, key: char) -> Result<bool> {
+        Ok(action_for_key(key)
+            .map(|action| self.apply(action))
+            .is_some())
+    }
+
+    fn keys(&self) -> &'static [KeyHelp] {
+        KEYS
+    }
+
+    /// The light and both switches.
+    fn status(&self) -> String {
+        let l = self.light;
+        format!(
+            "light ({:.3}, {:.3}, {:.3}){} | green {} | falloff {}",
+            l.x,
+            l.y,
+            l.z,
+            if self.following { " on the mouse" } else { "" },
+            if self.flip_green {
+                "flipped"
+            } else {
+                "as made"
+            },
+            if self.independent_falloff {
+                "resolution-independent"
+            } else {
+                "in window heights (article)"
+            },
+        )
+    }
+
+    fn shader_files(&self) -> Vec<PathBuf> {
+        let dir = self.shader_dir.as_deref();
+        SHADERS
+            .iter()
+            .filter_map(|name| shader_path(name, dir))
+            .collect()
+    }
+
+    /// One program: replaced only once the new one links.
+    fn reload_shaders(&mut self) -> Result<()> {
+        self.program = SpriteProgram::load(&self.gl, self.shader_dir.as_deref())?;
+        Ok(())
+    }
+
+    /// The wheel raises (away from the user) or lowers the light.
+    fn scroll(&mut self, notches: f32) {
+        if notches.is_finite() {
+            self.light.z = (self.light.z + Z_STEP * notches).clamp(Z_MIN, Z_MAX);
+        }
+    }
+
+    /// A click puts the light back at the article's height.
+    fn click(&mut self) {
+        self.light.z = DEFAULT_LIGHT_Z;
+    }
+
+    fn mouse_mode(&self) -> MouseMode {
+        MouseMode::Cursor
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Fails if two keys share an action, a key has none, or the list and the bindings disagree.
+    #[test]
+    fn every_key_has_its_own_action() {
+        let mut actions = Vec::new();
+        for help in KEYS {
+            let action =
+                action_for_key(help.key).unwrap_or_else(|| panic!("{} has no action", help.key));
+            assert!(!actions.contains(&action), "{} repeats", help.key);
+            actions.push(action);
+        }
+        assert_eq!(actions.len(), 2);
+        assert_eq!(action_for_key('y'), Some(Action::ToggleFlipGreen));
+        assert_eq!(action_for_key('Q'), None);
+    }
+
+    // Fails if the sprite is not drawn at its own size where it fits, stops being square or centred,
+    // or leaves whole pixels.
+    #[test]
+    fn sprite_keeps_its_size_and_aspect() {
+        assert_eq!(sprite_rect(1024, 768), (256, 128, 512));
+        assert_eq!(sprite_rect(768, 1024), (128, 256, 512));
+        // 0.9 × 400 = 360.
+        assert_eq!(sprite_rect(800, 400), (220, 20, 360));
+        assert_eq!(sprite_rect(1, 1), (0, 0, 1));
+    }
+
+    // Fails if the cursor's y is not flipped into the article's y-up convention, or the light is not
+    // over the centre of the pixel under the cursor.
+    #[test]
+    fn cursor_maps_to_the_articles_light_position() {
+        let size = (1000, 500);
+        let cases = [
+            ((0.0, 0.0), (0.0005, 0.999)),
+            ((999.0, 499.0), (0.9995, 0.001)),
+            ((499.7, 249.2), (0.4995, 0.501)),
+        ];
+        for ((x, y), (lx, ly)) in cases {
+            let light = cursor_to_light(Vec2::new(x, y), size);
+            assert!(
+                light.abs_diff_eq(Vec2::new(lx, ly), 1e-6),
+                "{x},{y}: {light}"
+            );
+        }
+    }
+}
