@@ -7,6 +7,7 @@ use anyhow::{Context, Result};
 use clap::{Parser, Subcommand, ValueEnum};
 use tutorial13::common::tangentspace::TangentOptions;
 use tutorial13::common::vboindexer::IndexOptions;
+use tutorial13::debug::compare::CompareMode;
 use tutorial13::debug::lines::LineMode;
 use tutorial13::debug::views::{ColorView, NormalMapConvention, ShaderSwitches};
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
@@ -15,7 +16,7 @@ use tutorial13::frontends::{key_list, min_median};
 use tutorial13::gl::image::write_screenshot;
 use tutorial13::gl::Profile;
 use tutorial13::mesh::MeshOptions;
-use tutorial13::scenes::cylinder::CylinderOptions;
+use tutorial13::scenes::cylinder::{CompareOptions, CylinderOptions};
 use tutorial13::scenes::sprite::SpriteOptions;
 use tutorial13::scenes::wall::{LightingSpace, WallOptions};
 use tutorial13::scenes::{SceneName, SceneOptions};
@@ -113,6 +114,20 @@ struct Cli {
     /// MikkTSpace, or none (a per-pixel frame from screen-space derivatives) (key F)
     #[arg(long, value_name = "SOURCE", default_value = "tutorial")]
     tangents: TangentSource,
+
+    /// Compare two tangent sources in one frame: A left of the split line, B right of it
+    /// (e.g. tutorial,mikktspace) (key K; A and D move the split)
+    #[arg(long, value_name = "A,B", value_parser = parse_pair)]
+    compare: Option<[TangentSource; 2]>,
+
+    /// With --compare: show the per-pixel difference as a heat map (its largest difference is
+    /// printed and in the title) instead of the two sides
+    #[arg(long, requires = "compare")]
+    compare_difference: bool,
+
+    /// With --compare: where the split line is, as a fraction of the width from the left
+    #[arg(long, value_name = "F", default_value_t = 0.5, value_parser = parse_fraction, requires = "compare")]
+    split: f32,
 
     /// Normal map's green channel: up the picture (OpenGL, the tutorial's) or down (DirectX) (key Y)
     #[arg(long, value_enum, value_name = "DIR", default_value_t = GreenArg::Up)]
@@ -217,6 +232,20 @@ enum KernelArg {
     Sobel,
     Scharr,
     Central,
+}
+
+fn parse_pair(s: &str) -> std::result::Result<[TangentSource; 2], String> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("'{s}' is not A,B, e.g. tutorial,mikktspace"))?;
+    Ok([a.trim().parse()?, b.trim().parse()?])
+}
+
+fn parse_fraction(s: &str) -> std::result::Result<f32, String> {
+    s.parse::<f32>()
+        .ok()
+        .filter(|f| (0.0..=1.0).contains(f))
+        .ok_or_else(|| format!("'{s}' is not a number from 0 to 1"))
 }
 
 fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
@@ -379,6 +408,15 @@ fn run(cli: Cli) -> Result<()> {
                 LineModeArg::Shader => LineMode::Shader,
             }),
             tangents: cli.tangents,
+            compare: cli.compare.map(|sources| CompareOptions {
+                sources,
+                mode: if cli.compare_difference {
+                    CompareMode::Difference
+                } else {
+                    CompareMode::Split
+                },
+                split: cli.split,
+            }),
         },
         wall: WallOptions { space: cli.space },
         sprite: SpriteOptions {

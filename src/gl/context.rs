@@ -599,6 +599,61 @@ impl OffscreenTarget {
         }
     }
 
+    /// Copies columns `x0..x1` of this target's colour into the same columns of `framebuffer`
+    /// (`None`: the window's), which must be at least this target's size. Bindings are restored.
+    pub fn blit_columns_to(&self, framebuffer: Option<glow::Framebuffer>, x0: u32, x1: u32) {
+        let (x0, x1) = (x0.min(self.width) as i32, x1.min(self.width) as i32);
+        let h = self.height as i32;
+        // SAFETY: binding queries, binds and a blit on the current context; this target is alive.
+        unsafe {
+            let gl = &self.gl;
+            let read = gl.get_parameter_framebuffer(glow::READ_FRAMEBUFFER_BINDING);
+            let draw = gl.get_parameter_framebuffer(glow::DRAW_FRAMEBUFFER_BINDING);
+            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.framebuffer));
+            gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, framebuffer);
+            let (mask, filter) = (glow::COLOR_BUFFER_BIT, glow::NEAREST);
+            gl.blit_framebuffer(x0, 0, x1, h, x0, 0, x1, h, mask, filter);
+            gl.bind_framebuffer(glow::READ_FRAMEBUFFER, read);
+            gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, draw);
+        }
+    }
+
+    /// Replaces the colour of a texture-backed target with `image` (top row first, this target's
+    /// size), stored the way the target is (see [`OffscreenTarget::flipped_y`]).
+    pub fn upload_rgba(&self, image: &image::RgbaImage) {
+        let Some(texture) = self.texture() else {
+            return;
+        };
+        assert_eq!(
+            image.dimensions(),
+            (self.width, self.height),
+            "image of another size"
+        );
+        // A plain target keeps GL's bottom row first; a window-oriented one keeps the top row first.
+        let bytes: Vec<u8> = if self.flipped_y {
+            image.as_raw().clone()
+        } else {
+            image
+                .rows()
+                .rev()
+                .flat_map(|row| row.flat_map(|p| p.0))
+                .collect()
+        };
+        let (w, h) = (self.width as i32, self.height as i32);
+        // SAFETY: the texture is alive and of this size; the previous binding is restored.
+        unsafe {
+            let gl = &self.gl;
+            let previous = gl.get_parameter_texture(glow::TEXTURE_BINDING_2D);
+            gl.bind_texture(glow::TEXTURE_2D, Some(texture));
+            gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
+            let data = glow::PixelUnpackData::Slice(Some(&bytes));
+            let (rgba, byte) = (glow::RGBA, glow::UNSIGNED_BYTE);
+            gl.tex_sub_image_2d(glow::TEXTURE_2D, 0, 0, 0, w, h, rgba, byte, data);
+            gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 4);
+            gl.bind_texture(glow::TEXTURE_2D, previous);
+        }
+    }
+
     /// The colour texture, for a target made with [`ColorBuffer::Texture`].
     pub fn texture(&self) -> Option<glow::Texture> {
         match self.color {

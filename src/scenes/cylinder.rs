@@ -12,8 +12,10 @@ use glow::HasContext;
 
 use crate::common::objloader::load_obj;
 use crate::common::shader::shader_path;
+use crate::debug::compare::{CompareMode, CompareView};
 use crate::debug::lines::{DebugLines, LegacyGl, LineMode, LINE_SHADERS};
 use crate::debug::views::ShaderSwitches;
+use crate::gl::buffers::MeshBuffers;
 use crate::gl::Gl;
 use crate::mesh::MeshOptions;
 use crate::tangents::TangentSource;
@@ -22,8 +24,18 @@ use crate::Result;
 use super::scene::{FrameInput, KeyHelp, Scene, SceneContext};
 use super::tutorial13::{NormalMappingProgram, Tutorial13, LIGHT_POS, SHADERS};
 
+/// What the compare view starts with (`--compare A,B`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CompareOptions {
+    /// Left of the split, and right of it (or subtracted from each other).
+    pub sources: [TangentSource; 2],
+    pub mode: CompareMode,
+    /// Fraction of the width left of the split.
+    pub split: f32,
+}
+
 /// The cylinder's switches, as the command line sets them.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct CylinderOptions {
     /// The CPU pipeline's switches (Gram-Schmidt, handedness, normalize before summing).
     pub mesh: MeshOptions,
@@ -35,6 +47,8 @@ pub struct CylinderOptions {
     pub line_mode: Option<LineMode>,
     /// Where the tangent frame comes from (`--tangents`).
     pub tangents: TangentSource,
+    /// Start in the compare view.
+    pub compare: Option<CompareOptions>,
 }
 
 /// What a key (or a test) can change while the program runs.
@@ -60,6 +74,11 @@ pub enum Action {
     ToggleNormalizedTbn,
     /// Tutorial → MikkTSpace → per-pixel derivative tangents.
     NextTangentSource,
+    /// Compare view off → split → difference → off.
+    NextCompareMode,
+    /// The compare view's split line 5 % of the width to the left, or to the right.
+    MoveSplitLeft,
+    MoveSplitRight,
     /// Normal map green up ↔ down.
     ToggleGreenDown,
     /// `2c − 1` ↔ `c × 255/127 − 128/127`.
@@ -69,7 +88,7 @@ pub enum Action {
 }
 
 /// The scene's keys and their actions, in the order they are listed.
-const BINDINGS: [(char, Action, &str); 13] = [
+const BINDINGS: [(char, Action, &str); 16] = [
     (
         'L',
         Action::ToggleLines,
@@ -111,6 +130,17 @@ const BINDINGS: [(char, Action, &str); 13] = [
         'F',
         Action::NextTangentSource,
         "tangent frame: tutorial, MikkTSpace, per-pixel derivatives",
+    ),
+    (
+        'K',
+        Action::NextCompareMode,
+        "compare two tangent frames: off, side by side, difference heat map",
+    ),
+    ('A', Action::MoveSplitLeft, "compare view: split line left"),
+    (
+        'D',
+        Action::MoveSplitRight,
+        "compare view: split line right",
     ),
     (
         'Y',
@@ -163,6 +193,12 @@ pub struct Cylinder {
     derivative_program: NormalMappingProgram,
     /// Where the tangent frame comes from.
     pub tangent_source: TangentSource,
+    /// The two sources compared, with their meshes uploaded, while the compare view is on.
+    comparison: Option<([TangentSource; 2], [MeshBuffers; 2])>,
+    /// The sources the compare key compares (`--compare`, else the current one and the next).
+    compare_sources: Option<[TangentSource; 2]>,
+    /// Taken out while it draws (it calls back into the scene).
+    compare_view: Option<CompareView>,
     pub tutorial: Tutorial13,
     gl: Gl,
     pub switches: ShaderSwitches,
@@ -198,6 +234,15 @@ impl Cylinder {
             debug_program,
             derivative_program,
             tangent_source: TangentSource::Tutorial,
+            comparison: None,
+            compare_sources: cylinder.compare.map(|c| c.sources),
+            compare_view: Some(CompareView::new(
+                gl,
+                context.info,
+                context.loader,
+                cylinder.compare.map_or(CompareMode::Split, |c| c.mode),
+                cylinder.compare.map_or(0.5, |c| c.split),
+            )),
             tutorial,
             gl: gl.clone(),
             switches: cylinder.switches,
@@ -210,6 +255,9 @@ impl Cylinder {
             shader_dir: shader_dir.map(Path::to_path_buf),
         };
         scene.set_tangent_source(cylinder.tangents)?;
+        if let Some(compare) = cylinder.compare {
+            scene.start_comparison(compare.sources)?;
+        }
         scene.set_show_lines(cylinder.debug_lines)?;
         Ok(scene)
     }
@@ -233,6 +281,65 @@ impl Cylinder {
         self.rebuild_mesh(source, self.mesh_options)?;
         self.tangent_source = source;
         Ok(())
+    }
+
+    /// Shows `sources` in the compare view (each drawn whole, the first left of the split).
+    pub fn start_comparison(&mut self, sources: [TangentSource; 2]) -> Result<()> {
+        let soup = load_obj(&self.obj_path)?;
+        let upload = |source: TangentSource| -> Result<MeshBuffers> {
+            MeshBuffers::new(&self.gl, &source.mesh(&soup, self.mesh_options)?)
+        };
+        self.comparison = Some((sources, [upload(sources[0])?, upload(sources[1])?]));
+        Ok(())
+    }
+
+    /// Back to one frame.
+    pub fn stop_comparison(&mut self) {
+        self.comparison = None;
+    }
+
+    /// The compare view's state, while it is on.
+    pub fn compare_view(&self) -> Option<&CompareView> {
+        self.comparison.as_ref().and(self.compare_view.as_ref())
+    }
+
+    /// The compare view, to change its mode or split.
+    pub fn compare_view_mut(&mut self) -> Option<&mut CompareView> {
+        self.compare_view.as_mut()
+    }
+
+    /// " | compare A | B at 50 %" or " | compare A − B: N pixels differ, max M levels", or nothing.
+    fn compare_status(&self) -> String {
+        let (Some((sources, _)), Some(view)) = (&self.comparison, &self.compare_view) else {
+            return String::new();
+        };
+        let [a, b] = sources;
+        match (view.mode, view.difference) {
+            (CompareMode::Split, _) => {
+                format!(" | compare {a} | {b} at {:.0} %", view.split * 100.0)
+            }
+            (CompareMode::Difference, Some(d)) => format!(
+                " | compare {a} - {b}: {} pixels differ, max {} levels",
+                d.pixels, d.max
+            ),
+            (CompareMode::Difference, None) => format!(" | compare {a} - {b}"),
+        }
+    }
+
+    /// One frame of `source` from `buffers`, with the program that source and the switches need.
+    fn draw_source(&self, source: TangentSource, buffers: &MeshBuffers, frame: &FrameInput) {
+        let (projection, view) = (frame.projection, frame.view);
+        let tutorial = &self.tutorial;
+        if source == TangentSource::Derivative {
+            let program = &self.derivative_program;
+            tutorial.draw_mesh_with(program, buffers, projection, view, None);
+        } else if self.switches == ShaderSwitches::default() && !self.use_debug_program {
+            tutorial.draw_mesh_with(&tutorial.program, buffers, projection, view, None);
+        } else {
+            self.debug_program.set_switches(self.switches);
+            let program = &self.debug_program.program;
+            tutorial.draw_mesh_with(program, buffers, projection, view, None);
+        }
     }
 
     /// Runs the CPU pipeline of `source` with `options` and uploads the result; the lines follow
@@ -311,6 +418,28 @@ impl Cylinder {
             Action::NextTangentSource => {
                 return self.set_tangent_source(self.tangent_source.next());
             }
+            Action::NextCompareMode => {
+                let view = self.compare_view.as_mut().expect("not drawing");
+                match (self.comparison.is_some(), view.mode) {
+                    (false, _) => {
+                        view.mode = CompareMode::Split;
+                        let current = self.tangent_source;
+                        let sources = self.compare_sources.unwrap_or([current, current.next()]);
+                        self.start_comparison(sources)?;
+                    }
+                    (true, CompareMode::Split) => view.mode = CompareMode::Difference,
+                    (true, CompareMode::Difference) => self.stop_comparison(),
+                }
+            }
+            Action::MoveSplitLeft | Action::MoveSplitRight => {
+                let view = self.compare_view.as_mut().expect("not drawing");
+                let step = if action == Action::MoveSplitLeft {
+                    -0.05
+                } else {
+                    0.05
+                };
+                view.split = (view.split + step).clamp(0.0, 1.0);
+            }
             Action::ToggleGreenDown => switches.convention.green_down ^= true,
             Action::ToggleExactExpansion => switches.convention.exact_expansion ^= true,
             Action::ToggleTwoChannel => switches.convention.two_channel ^= true,
@@ -321,6 +450,9 @@ impl Cylinder {
         if mesh != self.mesh_options {
             self.rebuild_mesh(self.tangent_source, mesh)?;
             self.mesh_options = mesh;
+            if let Some((sources, _)) = self.comparison {
+                self.start_comparison(sources)?;
+            }
         }
         Ok(())
     }
@@ -328,6 +460,31 @@ impl Cylinder {
 
 impl Scene for Cylinder {
     fn draw(&mut self, frame: &FrameInput) {
+        if self.comparison.is_some() && self.compare_view.is_some() {
+            let (sources, buffers) = self.comparison.take().expect("checked");
+            let mut view = self.compare_view.take().expect("checked");
+            let before = view.difference;
+            let drawn = view.draw(
+                frame.size,
+                || self.draw_source(sources[0], &buffers[0], frame),
+                || self.draw_source(sources[1], &buffers[1], frame),
+            );
+            if let Err(e) = drawn {
+                log::error!("compare view: {e}");
+            }
+            if let Some(d) = view.difference.filter(|&d| Some(d) != before) {
+                log::info!(
+                    "{} vs {}: {} pixels differ, by at most {} levels",
+                    sources[0],
+                    sources[1],
+                    d.pixels,
+                    d.max
+                );
+            }
+            self.comparison = Some((sources, buffers));
+            self.compare_view = Some(view);
+            return;
+        }
         let lines = self.lines.as_ref().filter(|_| self.show_lines);
         let (projection, view) = (frame.projection, frame.view);
         // The tutorial's own program unless an experiment or a colour view asks for the debug one;
@@ -404,7 +561,7 @@ impl Scene for Cylinder {
             if sw.normalize_tbn { "normalized (article)" } else { "as summed (repository)" },
             sw.convention,
             self.tangent_source,
-        )
+        ) + &self.compare_status()
     }
 
     fn as_any(&self) -> &dyn Any {
@@ -504,7 +661,7 @@ mod tests {
             );
             actions.push(action);
         }
-        assert_eq!(actions.len(), 13);
+        assert_eq!(actions.len(), 16);
         assert_eq!(action_for_key('l'), Some(Action::ToggleLines));
         assert_eq!(action_for_key('Q'), None);
     }

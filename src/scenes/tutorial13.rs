@@ -164,6 +164,25 @@ impl Tutorial13 {
         view_matrix: Mat4,
         lines: Option<&DebugLines>,
     ) {
+        self.draw_mesh_with(
+            program,
+            &self.buffers,
+            projection_matrix,
+            view_matrix,
+            lines,
+        );
+    }
+
+    /// [`Tutorial13::draw_with`] for another upload of the mesh (another tangent source's, in the
+    /// compare view).
+    pub fn draw_mesh_with(
+        &self,
+        program: &NormalMappingProgram,
+        buffers: &MeshBuffers,
+        projection_matrix: Mat4,
+        view_matrix: Mat4,
+        lines: Option<&DebugLines>,
+    ) {
         let gl = &self.gl;
         let p = program;
         let model_matrix = self.model_matrix;
@@ -206,7 +225,7 @@ impl Tutorial13 {
         }
 
         // The attribute buffers, the index buffer, glDrawElements.
-        self.buffers.draw();
+        buffers.draw();
 
         // "Debugging with the immediate mode": the TBN lines and the light's cross (at lightPos).
         if let Some(lines) = lines {

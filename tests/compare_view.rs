@@ -1,0 +1,129 @@
+//! The compare view (`--compare A,B`, key K): two tangent sources in one frame, side by side or as a
+//! heat map of their difference.
+
+mod common;
+
+use common::{frame, options, own_assets, pixel_diff, renderer, rgb, W};
+use image::RgbImage;
+use tutorial13::debug::compare::{heat_map, CompareMode};
+use tutorial13::gl::Profile;
+use tutorial13::scenes::cylinder::{CompareOptions, Cylinder};
+use tutorial13::scenes::Scene;
+use tutorial13::tangents::TangentSource;
+
+fn alone(source: TangentSource) -> RgbImage {
+    let mut options = options(own_assets(), Profile::Core);
+    options.scene.cylinder.tangents = source;
+    frame(&mut renderer(&options))
+}
+
+fn compared(sources: [TangentSource; 2], mode: CompareMode, split: f32) -> RgbImage {
+    let mut options = options(own_assets(), Profile::Core);
+    options.scene.cylinder.compare = Some(CompareOptions {
+        sources,
+        mode,
+        split,
+    });
+    frame(&mut renderer(&options))
+}
+
+// Fails if either half of the split view is not, pixel for pixel, the frame its source draws alone
+// (left of the split line the first source, right of it the second), or if the split line is not a
+// white column where the split says. Checked for two pairs and two split positions.
+#[test]
+fn each_half_is_its_source_drawn_alone() {
+    use TangentSource::*;
+    for (sources, split) in [
+        ([Tutorial, MikkTSpace], 0.5),
+        ([MikkTSpace, Derivative], 0.45),
+    ] {
+        let view = compared(sources, CompareMode::Split, split);
+        let (a, b) = (alone(sources[0]), alone(sources[1]));
+        let column = (split * W as f32).round() as u32;
+        let mut wrong = 0;
+        for (x, y, p) in view.enumerate_pixels() {
+            let want = match x.cmp(&column) {
+                std::cmp::Ordering::Less => a.get_pixel(x, y),
+                std::cmp::Ordering::Equal => &image::Rgb([255, 255, 255]),
+                std::cmp::Ordering::Greater => b.get_pixel(x, y),
+            };
+            wrong += usize::from(p != want);
+        }
+        println!("{sources:?} split at column {column}: {wrong} pixels wrong");
+        assert_eq!(wrong, 0, "{sources:?}");
+        // The two sources do differ on both sides, so a view showing one source twice would fail.
+        let (differing, _, bbox) = pixel_diff(&a, &b);
+        assert!(
+            differing > 1000,
+            "{differing}: the sources are alike, the test proves nothing"
+        );
+        assert!(
+            bbox.is_some_and(|(x0, _, x1, _)| x0 < column && x1 > column),
+            "the sources differ on one side of the split only: {bbox:?}"
+        );
+    }
+}
+
+// Fails if the difference mode does not show the heat map of the two sources' own frames, or reports
+// another largest difference than those frames have (read in the status line, as in the title).
+#[test]
+fn the_heat_map_is_the_difference_of_the_sources_alone() {
+    let sources = [TangentSource::Tutorial, TangentSource::MikkTSpace];
+    let mut options = options(own_assets(), Profile::Core);
+    options.scene.cylinder.compare = Some(CompareOptions {
+        sources,
+        mode: CompareMode::Difference,
+        split: 0.5,
+    });
+    let mut r = renderer(&options);
+    let view = frame(&mut r);
+    let to_rgba = |img: RgbImage| image::DynamicImage::ImageRgb8(img).into_rgba8();
+    let (heat, difference) = heat_map(&to_rgba(alone(sources[0])), &to_rgba(alone(sources[1])));
+    let (differing, _, _) = pixel_diff(&view, &rgb(heat));
+    let status = r.scene_ref::<Cylinder>().status();
+    println!("{status}");
+    assert_eq!(differing, 0, "the heat map is not the sources' difference");
+    assert!(
+        difference.max > 0 && difference.pixels > 1000,
+        "{difference:?}"
+    );
+    assert!(
+        status.ends_with(&format!(
+            "compare tutorial - mikktspace: {} pixels differ, max {} levels",
+            difference.pixels, difference.max
+        )),
+        "{status}"
+    );
+}
+
+// Fails if K does not step off → split → difference → off, A and D do not move the split line, or
+// the frame after the view is turned off is not the plain frame again.
+#[test]
+fn keys_drive_the_compare_view() {
+    let mut r = renderer(&options(own_assets(), Profile::Core));
+    let plain = frame(&mut r);
+    let cylinder = r.scene_mut::<Cylinder>();
+    assert!(cylinder.compare_view().is_none());
+    cylinder.key('K').unwrap();
+    assert_eq!(cylinder.compare_view().unwrap().mode, CompareMode::Split);
+    cylinder.key('D').unwrap();
+    cylinder.key('D').unwrap();
+    cylinder.key('A').unwrap();
+    assert!((cylinder.compare_view().unwrap().split - 0.55).abs() < 1e-6);
+    assert!(cylinder
+        .status()
+        .ends_with("compare tutorial | mikktspace at 55 %"));
+    let split = frame(&mut r);
+    assert_ne!(split, plain);
+    let cylinder = r.scene_mut::<Cylinder>();
+    cylinder.key('K').unwrap();
+    assert_eq!(
+        cylinder.compare_view().unwrap().mode,
+        CompareMode::Difference
+    );
+    frame(&mut r);
+    let cylinder = r.scene_mut::<Cylinder>();
+    cylinder.key('K').unwrap();
+    assert!(cylinder.compare_view().is_none());
+    assert!(frame(&mut r) == plain);
+}
