@@ -13,6 +13,7 @@ use tutorial13::common::objloader::{load_obj, TriangleSoup};
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::common::vboindexer::{index_vbo_tbn, index_vbo_tbn_linear, IndexOptions};
 use tutorial13::mesh::{build_mesh, grid_cylinder_obj_text, MeshOptions};
+use tutorial13::tangents::TangentSource;
 
 /// `segments × rings × 2` triangles, about 0.06 apart around and 0.05 along the axis.
 fn cylinder(segments: u32, rings: u32) -> String {
@@ -108,51 +109,34 @@ fn one_cell(c: &mut Criterion) {
     group.finish();
 }
 
-/// The soup as MikkTSpace sees it: faces of three corners.
-struct MikkSoup<'a> {
-    soup: &'a TriangleSoup,
-    tangents: Vec<[f32; 4]>,
-}
-
-impl mikktspace::Geometry for MikkSoup<'_> {
-    fn num_faces(&self) -> usize {
-        self.soup.triangle_count()
-    }
-    fn num_vertices_of_face(&self, _face: usize) -> usize {
-        3
-    }
-    fn position(&self, face: usize, vert: usize) -> [f32; 3] {
-        self.soup.vertices[3 * face + vert].to_array()
-    }
-    fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
-        self.soup.normals[3 * face + vert].to_array()
-    }
-    fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
-        self.soup.uvs[3 * face + vert].to_array()
-    }
-    fn set_tangent_encoded(&mut self, tangent: [f32; 4], face: usize, vert: usize) {
-        self.tangents[3 * face + vert] = tangent;
-    }
-}
-
-/// Tangents only, for the 100k-triangle soup: the tutorial's per-triangle solve beside MikkTSpace.
+/// The tangent sources of `--tangents` on the same soups: the tutorial's (computeTangentBasis, then
+/// indexVBO_TBN summing them) against MikkTSpace's (the `mikktspace` crate, then an exact weld), both
+/// from the soup in memory to an indexed mesh with tangents. The per-pixel frame has no CPU cost
+/// beyond `index_vbo`; its GPU cost is measured with `--bench` (BENCHMARKS.md).
 fn tangent_sources(c: &mut Criterion) {
-    let mut group = c.benchmark_group("tangents");
+    let mut group = c.benchmark_group("tangent-sources");
     group.sample_size(10).warm_up_time(Duration::from_secs(1));
-    let soup = soup_of(&write_obj("cylinder-100k.obj", 500, 100));
-    group.bench_function("compute_tangent_basis/100k", |b| {
-        b.iter(|| compute_tangent_basis(&soup, TangentOptions::default()))
-    });
-    group.bench_function("mikktspace/100k", |b| {
-        b.iter(|| {
-            let mut geometry = MikkSoup {
-                soup: &soup,
-                tangents: vec![[0.0; 4]; soup.vertices.len()],
-            };
-            assert!(mikktspace::generate_tangents(&mut geometry));
-            geometry.tangents
-        })
-    });
+    for (label, segments, rings) in [("100k", 500, 100), ("1M", 1000, 500)] {
+        let soup = soup_of(&write_obj(
+            &format!("cylinder-{label}.obj"),
+            segments,
+            rings,
+        ));
+        group.bench_function(format!("tutorial/{label}"), |b| {
+            b.iter(|| {
+                TangentSource::Tutorial
+                    .mesh(&soup, MeshOptions::default())
+                    .unwrap()
+            })
+        });
+        group.bench_function(format!("mikktspace/{label}"), |b| {
+            b.iter(|| {
+                TangentSource::MikkTSpace
+                    .mesh(&soup, MeshOptions::default())
+                    .unwrap()
+            })
+        });
+    }
     group.finish();
 }
 
