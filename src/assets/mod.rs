@@ -31,6 +31,8 @@
 //!   lit from above has bright top edges (checked in `tests/assets.rs` with the crate's own tangent
 //!   code). The tutorial's own `normal.bmp` agrees on red but has green the other way round.
 
+pub mod cube;
+
 use std::path::{Path, PathBuf};
 
 use crate::files::write_bytes_atomically;
@@ -118,12 +120,15 @@ pub fn generate_assets() -> Result<Vec<(&'static str, Vec<u8>)>> {
         .map_err(|reason| write_error(diffuse, reason))?;
     let specular_dds = encode_dds_dxt3(wall.specular_rgba(), TEXTURE_SIZE)
         .map_err(|reason| write_error(specular, reason))?;
-    Ok(vec![
+    let mut files = vec![
         (obj, cylinder),
         (diffuse, diffuse_dds),
         (normal, bmp),
         (specular, specular_dds),
-    ])
+    ];
+    // Each other scene's own files, in a folder named after it.
+    files.extend(cube::generate()?);
+    Ok(files)
 }
 
 fn write_error(path: impl Into<PathBuf>, reason: String) -> Error {

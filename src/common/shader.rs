@@ -27,6 +27,8 @@ const EMBEDDED: &[(&str, &str)] = &[
     embedded!("NormalMappingDebug.fragmentshader"),
     embedded!("DebugLines.vertexshader"),
     embedded!("DebugLines.fragmentshader"),
+    embedded!("CubeBlinnPhong.vertexshader"),
+    embedded!("CubeBlinnPhong.fragmentshader"),
 ];
 
 /// A shader's text and where it came from (named in every error).

@@ -5,7 +5,9 @@
 //! | scene      | program                                                         | file            |
 //! |------------|-----------------------------------------------------------------|-----------------|
 //! | `cylinder` | Tutorial 13 (`tutorial13.cpp`), with its debugging aids as keys | [`cylinder`], [`tutorial13`] |
+//! | `cube`     | article 003: Blinn-Phong in tangent space, normal mapping on/off | [`cube`]        |
 
+pub mod cube;
 pub mod cylinder;
 mod scene;
 pub mod tutorial13;
@@ -23,16 +25,19 @@ pub enum SceneName {
     /// Tutorial 13's normal-mapped cylinder.
     #[default]
     Cylinder,
+    /// Article 003's stone cube: Blinn-Phong in tangent space.
+    Cube,
 }
 
 impl SceneName {
     /// Every scene, in the order the scene key steps through them.
-    pub const ALL: &'static [SceneName] = &[SceneName::Cylinder];
+    pub const ALL: &'static [SceneName] = &[SceneName::Cylinder, SceneName::Cube];
 
     /// The `--scene` name.
     pub fn name(self) -> &'static str {
         match self {
             SceneName::Cylinder => "cylinder",
+            SceneName::Cube => "cube",
         }
     }
 
@@ -40,6 +45,7 @@ impl SceneName {
     pub fn description(self) -> &'static str {
         match self {
             SceneName::Cylinder => "Tutorial 13: the normal-mapped cylinder (the default)",
+            SceneName::Cube => "article 003: a stone cube, Blinn-Phong in tangent space",
         }
     }
 
@@ -53,6 +59,7 @@ impl SceneName {
     pub fn keys(self) -> &'static [KeyHelp] {
         match self {
             SceneName::Cylinder => cylinder::KEYS,
+            SceneName::Cube => cube::KEYS,
         }
     }
 
@@ -64,6 +71,12 @@ impl SceneName {
                 &options.assets_dir(),
                 options.shader_dir(),
                 options.cylinder,
+            )?),
+            SceneName::Cube => Box::new(cube::Cube::new(
+                context,
+                &options.assets_dir(),
+                options.shader_dir(),
+                options.cube,
             )?),
         })
     }
@@ -99,6 +112,8 @@ pub struct SceneOptions {
     pub shaders: Option<PathBuf>,
     /// The cylinder scene's switches.
     pub cylinder: cylinder::CylinderOptions,
+    /// The cube scene's switches.
+    pub cube: cube::CubeOptions,
 }
 
 impl SceneOptions {
