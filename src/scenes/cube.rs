@@ -125,7 +125,7 @@ pub struct Face {
     pub v: Vec3,
 }
 
-/// The six faces: the article's four sides (+z, -z, +x, -x; V up the side, as its texture is), then
+/// The six faces: the article's four sides (+z, -z, +x, -x; V up each side), then
 /// the top and bottom it leaves open (V towards the back on top, towards the front below).
 pub const FACES: [Face; 6] = [
     Face {
