@@ -16,6 +16,7 @@ use tutorial13::frontends::{key_list, min_median};
 use tutorial13::gl::image::write_screenshot;
 use tutorial13::gl::Profile;
 use tutorial13::mesh::MeshOptions;
+use tutorial13::scenes::cube::CubeOptions;
 use tutorial13::scenes::cylinder::{CompareOptions, CylinderOptions};
 use tutorial13::scenes::sprite::SpriteOptions;
 use tutorial13::scenes::wall::{LightingSpace, WallOptions};
@@ -100,6 +101,10 @@ struct Cli {
     /// Normalize the camera-space T, B, N as the article's text does (key T)
     #[arg(long)]
     normalize_tbn: bool,
+
+    /// Cube scene: start with normal mapping off (key N)
+    #[arg(long)]
+    no_normal_map: bool,
 
     /// Render K headless frames (K ≥ 1), each timed to completion, and print min/median ms/frame
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(1..))]
@@ -423,6 +428,9 @@ fn run(cli: Cli) -> Result<()> {
             light: cli.light.unwrap_or(SpriteOptions::default().light),
             flip_green: cli.flip_green,
             independent_falloff: cli.independent_falloff,
+        },
+        cube: CubeOptions {
+            normal_mapping: !cli.no_normal_map,
         },
     };
     if cli.headless || cli.bench.is_some() {

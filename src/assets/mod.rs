@@ -31,6 +31,7 @@
 //!   lit from above has bright top edges (checked in `tests/assets.rs` with the crate's own tangent
 //!   code). The tutorial's own `normal.bmp` agrees on red but has green the other way round.
 
+pub mod cube;
 pub mod sprite;
 pub mod wall;
 
@@ -129,6 +130,8 @@ pub fn generate_assets() -> Result<Vec<(&'static str, Vec<u8>)>> {
     ];
     files.extend(wall::generate()?);
     files.extend(sprite::sprite_assets()?);
+    // Each other scene's own files, in a folder named after it.
+    files.extend(cube::generate()?);
     Ok(files)
 }
 

@@ -37,6 +37,8 @@ const EMBEDDED: &[(&str, &str)] = &[
     embedded!("WallNoNormalMap.fragmentshader"),
     embedded!("Sprite.vertexshader"),
     embedded!("Sprite.fragmentshader"),
+    embedded!("CubeBlinnPhong.vertexshader"),
+    embedded!("CubeBlinnPhong.fragmentshader"),
 ];
 
 /// A shader's text and where it came from (named in every error).

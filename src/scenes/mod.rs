@@ -6,7 +6,10 @@
 //! |------------|-----------------------------------------------------------------|-----------------|
 //! | `cylinder` | Tutorial 13 (`tutorial13.cpp`), with its debugging aids as keys | [`cylinder`], [`tutorial13`] |
 //! | `sprite`   | Article 001: a 2D normal-mapped sprite, its light on the mouse   | [`sprite`]      |
+//! | `cube`     | article 003: Blinn-Phong in tangent space, normal mapping on/off | [`cube`]        |
+//! | `wall`     | article 004: a stone wall lit in view space or in tangent space  | [`wall`]        |
 
+pub mod cube;
 pub mod cylinder;
 mod scene;
 pub mod sprite;
@@ -30,12 +33,18 @@ pub enum SceneName {
     Sprite,
     /// Article 004's stone wall, lit in view space or in tangent space.
     Wall,
+    /// Article 003's stone cube: Blinn-Phong in tangent space.
+    Cube,
 }
 
 impl SceneName {
     /// Every scene, in the order the scene key steps through them.
-    pub const ALL: &'static [SceneName] =
-        &[SceneName::Cylinder, SceneName::Sprite, SceneName::Wall];
+    pub const ALL: &'static [SceneName] = &[
+        SceneName::Cylinder,
+        SceneName::Sprite,
+        SceneName::Cube,
+        SceneName::Wall,
+    ];
 
     /// The `--scene` name.
     pub fn name(self) -> &'static str {
@@ -43,6 +52,7 @@ impl SceneName {
             SceneName::Cylinder => "cylinder",
             SceneName::Sprite => "sprite",
             SceneName::Wall => "wall",
+            SceneName::Cube => "cube",
         }
     }
 
@@ -55,6 +65,7 @@ impl SceneName {
                  click: reset)"
             }
             SceneName::Wall => "a stone wall lit in view space or in tangent space (article 004)",
+            SceneName::Cube => "article 003: a stone cube, Blinn-Phong in tangent space",
         }
     }
 
@@ -70,6 +81,7 @@ impl SceneName {
             SceneName::Cylinder => cylinder::KEYS,
             SceneName::Sprite => sprite::KEYS,
             SceneName::Wall => wall::KEYS,
+            SceneName::Cube => cube::KEYS,
         }
     }
 
@@ -93,6 +105,12 @@ impl SceneName {
                 &options.assets_dir(),
                 options.shader_dir(),
                 options.sprite,
+            )?),
+            SceneName::Cube => Box::new(cube::Cube::new(
+                context,
+                &options.assets_dir(),
+                options.shader_dir(),
+                options.cube,
             )?),
         })
     }
@@ -132,6 +150,8 @@ pub struct SceneOptions {
     pub sprite: sprite::SpriteOptions,
     /// The wall scene's switches.
     pub wall: wall::WallOptions,
+    /// The cube scene's switches.
+    pub cube: cube::CubeOptions,
 }
 
 impl SceneOptions {

@@ -1,0 +1,402 @@
+//! The `cube` scene: article 003, "Tangent space normal mapping with GLSL". A stone cube lit with
+//! Blinn-Phong (the halfway vector, exponent 200) in tangent space, with normal mapping switched on
+//! and off as the article's `flag` does.
+//!
+//! The article solves the edge/UV system for T and B per vertex in its `computeTangentSpaceMatrix`;
+//! that is the system Tutorial 13's `computeTangentBasis` solves per triangle, so the cube goes through
+//! the crate's CPU pipeline like the cylinder: a triangle soup with UVs per face →
+//! [`compute_tangent_basis`](crate::common::tangentspace::compute_tangent_basis) →
+//! [`index_vbo_tbn`](crate::common::vboindexer::index_vbo_tbn). The shaders
+//! (`CubeBlinnPhong.*`) do the rest, as the article's do: the light, halfway and normal vectors are
+//! brought into tangent space per vertex, the lighting is done per fragment.
+
+use std::any::Any;
+use std::path::{Path, PathBuf};
+
+use glam::{Mat4, Vec2, Vec3};
+use glow::HasContext;
+
+use crate::common::objloader::TriangleSoup;
+use crate::common::shader::{load_program, shader_path, Program};
+use crate::common::texture::{load_bmp_custom, Texture};
+use crate::common::vboindexer::IndexedMesh;
+use crate::gl::buffers::MeshBuffers;
+use crate::gl::Gl;
+use crate::mesh::{build_mesh, MeshOptions};
+use crate::Result;
+
+use super::scene::{FrameInput, KeyHelp, Scene, SceneContext};
+use super::tutorial13::init_gl_state;
+
+/// The cube's switches, as the command line sets them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CubeOptions {
+    /// The article's `flag`: perturb the normal with the normal map (`--no-normal-map` clears it).
+    pub normal_mapping: bool,
+}
+
+impl Default for CubeOptions {
+    /// Normal mapping on: the article's first screenshot.
+    fn default() -> Self {
+        CubeOptions {
+            normal_mapping: true,
+        }
+    }
+}
+
+/// What a key (or a test) can change while the program runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Action {
+    /// The article's `flag`.
+    ToggleNormalMapping,
+}
+
+/// The scene's keys and their actions, in the order they are listed.
+const BINDINGS: [(char, Action, &str); 1] = [(
+    'N',
+    Action::ToggleNormalMapping,
+    "normal mapping on / off (the article's flag)",
+)];
+
+/// The key list `--help` and the window print.
+pub const KEYS: &[KeyHelp] = &{
+    let mut keys = [KeyHelp { key: ' ', help: "" }; BINDINGS.len()];
+    let mut i = 0;
+    while i < BINDINGS.len() {
+        keys[i] = KeyHelp {
+            key: BINDINGS[i].0,
+            help: BINDINGS[i].2,
+        };
+        i += 1;
+    }
+    keys
+};
+
+/// The action of a key of [`KEYS`].
+pub fn action_for_key(key: char) -> Option<Action> {
+    BINDINGS
+        .iter()
+        .find(|(k, _, _)| *k == key.to_ascii_uppercase())
+        .map(|&(_, action, _)| action)
+}
+
+/// The cube's files under the asset folder (made by `make-assets`, see `assets/cube.rs`).
+pub const DIFFUSE_FILE: &str = "cube/diffuse.bmp";
+pub const NORMAL_FILE: &str = "cube/normal.bmp";
+
+/// The scene's two shader files.
+pub const SHADERS: [&str; 2] = [
+    "CubeBlinnPhong.vertexshader",
+    "CubeBlinnPhong.fragmentshader",
+];
+
+/// Half the cube's side: the article's cube spans -1..1.
+pub const HALF_SIZE: f32 = 1.0;
+
+/// Turn about y, then tilt about x (radians): seen from the tutorial's start camera at (0, 0, 5), the
+/// cube shows its front (+z), right (+x) and top (+y) faces, the front one the largest, and fills
+/// about two thirds of the frame's height. The article
+/// gives no placement; the cube stays at the origin, as its vertices are.
+pub const YAW: f32 = -30.0 * std::f32::consts::PI / 180.0;
+pub const PITCH: f32 = 20.0 * std::f32::consts::PI / 180.0;
+
+/// The light, in world space. The article uses a `light_position` it never gives. Chosen up and to
+/// the left, in front of the cube and a little behind the camera: the front face is lit at 0.75–0.91
+/// of full diffuse, the top at a grazing 0.31–0.41, and the right face is turned away (only the
+/// emissive and ambient terms reach it). The exponent-200 highlight needs the halfway vector within
+/// about 10° of the normal; on the flat faces it comes no closer than 19° (the front face's upper right
+/// corner), so from the start camera normal mapping off shows no highlight, and normal mapping on
+/// makes the stones' shoulders that lean that way glint. A highlight on the flat front face would need
+/// the light at the camera's mirror image in that face, below and to the left, which would turn both
+/// other faces away from it.
+pub const LIGHT_POSITION_WORLDSPACE: Vec3 = Vec3::new(-4.0, 1.5, 6.0);
+
+/// The cube's model matrix: [`YAW`] about y, then [`PITCH`] about x.
+pub fn model_matrix() -> Mat4 {
+    Mat4::from_rotation_x(PITCH) * Mat4::from_rotation_y(YAW)
+}
+
+/// One face of the cube in model space: its outward normal, and the directions in which U and V
+/// grow across it. `u × v = normal`, so a texture is seen the right way round from outside.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Face {
+    pub normal: Vec3,
+    pub u: Vec3,
+    pub v: Vec3,
+}
+
+/// The six faces: the article's four sides (+z, -z, +x, -x; V up each side), then
+/// the top and bottom it leaves open (V towards the back on top, towards the front below).
+pub const FACES: [Face; 6] = [
+    Face {
+        normal: Vec3::Z,
+        u: Vec3::X,
+        v: Vec3::Y,
+    },
+    Face {
+        normal: Vec3::NEG_Z,
+        u: Vec3::NEG_X,
+        v: Vec3::Y,
+    },
+    Face {
+        normal: Vec3::X,
+        u: Vec3::NEG_Z,
+        v: Vec3::Y,
+    },
+    Face {
+        normal: Vec3::NEG_X,
+        u: Vec3::Z,
+        v: Vec3::Y,
+    },
+    Face {
+        normal: Vec3::Y,
+        u: Vec3::X,
+        v: Vec3::NEG_Z,
+    },
+    Face {
+        normal: Vec3::NEG_Y,
+        u: Vec3::X,
+        v: Vec3::Z,
+    },
+];
+
+/// The cube as a triangle soup, two triangles per face, counter-clockwise seen from outside. Each
+/// face carries the whole texture (UV 0..1, V growing up the picture: the BMPs' first row is the
+/// picture's bottom, GL's t = 0). Built here rather than read from an OBJ, so V is not negated as the
+/// tutorial's loader does.
+pub fn cube_soup(half_size: f32) -> TriangleSoup {
+    let mut soup = TriangleSoup {
+        vertices: Vec::with_capacity(36),
+        uvs: Vec::with_capacity(36),
+        normals: Vec::with_capacity(36),
+    };
+    // (U, V) of the corners of a face's two triangles.
+    const CORNERS: [Vec2; 6] = [
+        Vec2::new(0.0, 0.0),
+        Vec2::new(1.0, 0.0),
+        Vec2::new(1.0, 1.0),
+        Vec2::new(0.0, 0.0),
+        Vec2::new(1.0, 1.0),
+        Vec2::new(0.0, 1.0),
+    ];
+    for face in FACES {
+        for uv in CORNERS {
+            let across = face.u * (2.0 * uv.x - 1.0) + face.v * (2.0 * uv.y - 1.0);
+            soup.vertices.push((face.normal + across) * half_size);
+            soup.uvs.push(uv);
+            soup.normals.push(face.normal);
+        }
+    }
+    soup
+}
+
+/// The cube through the tutorial's CPU pipeline: per-corner tangents and bitangents from the UV
+/// solve, then indexed (24 vertices, their tangents and bitangents summed over the corners merged).
+pub fn cube_mesh() -> IndexedMesh {
+    build_mesh(&cube_soup(HALF_SIZE), MeshOptions::default())
+}
+
+type Uniform = Option<glow::UniformLocation>;
+
+/// The program and its uniform handles.
+pub struct CubeProgram {
+    pub program: Program,
+    projection: Uniform,
+    view: Uniform,
+    model: Uniform,
+    light: Uniform,
+    normal_mapping: Uniform,
+    diffuse_sampler: Uniform,
+    normal_sampler: Uniform,
+}
+
+impl CubeProgram {
+    pub fn load(gl: &Gl, shader_dir: Option<&Path>) -> Result<Self> {
+        let [vertex_shader, fragment_shader] = SHADERS;
+        let program = load_program(gl, vertex_shader, fragment_shader, shader_dir)?;
+        Ok(CubeProgram {
+            projection: program.uniform("P"),
+            view: program.uniform("V"),
+            model: program.uniform("M"),
+            light: program.uniform("LightPosition_worldspace"),
+            normal_mapping: program.uniform("NormalMapping"),
+            diffuse_sampler: program.uniform("DiffuseTextureSampler"),
+            normal_sampler: program.uniform("NormalTextureSampler"),
+            program,
+        })
+    }
+}
+
+/// The stone cube and its switch.
+pub struct Cube {
+    // All hold GL objects of the same context (kept alive by the shared `Gl`).
+    pub program: CubeProgram,
+    diffuse_texture: Texture,
+    normal_texture: Texture,
+    buffers: MeshBuffers,
+    gl: Gl,
+    /// The article's `flag`.
+    pub normal_mapping: bool,
+    /// [`model_matrix`] unless a test moves the cube.
+    pub model_matrix: Mat4,
+    /// [`LIGHT_POSITION_WORLDSPACE`] unless a test moves the light.
+    pub light_position_worldspace: Vec3,
+    shader_dir: Option<PathBuf>,
+}
+
+impl Cube {
+    /// Loads `cube/diffuse.bmp` and `cube/normal.bmp` from `assets` and the shaders from
+    /// `shader_dir` (or the crate's), and builds the cube.
+    pub fn new(
+        context: &SceneContext,
+        assets: &Path,
+        shader_dir: Option<&Path>,
+        options: CubeOptions,
+    ) -> Result<Self> {
+        let gl = context.gl;
+        // The tutorial's state: dark blue background, depth test, back faces culled.
+        init_gl_state(gl);
+        let program = CubeProgram::load(gl, shader_dir)?;
+        let diffuse_texture = load_bmp_custom(gl, &assets.join(DIFFUSE_FILE))?;
+        let normal_texture = load_bmp_custom(gl, &assets.join(NORMAL_FILE))?;
+        let buffers = MeshBuffers::new(gl, &cube_mesh())?;
+        Ok(Cube {
+            program,
+            diffuse_texture,
+            normal_texture,
+            buffers,
+            gl: gl.clone(),
+            normal_mapping: options.normal_mapping,
+            model_matrix: model_matrix(),
+            light_position_worldspace: LIGHT_POSITION_WORLDSPACE,
+            shader_dir: shader_dir.map(Path::to_path_buf),
+        })
+    }
+
+    pub fn apply(&mut self, action: Action) {
+        match action {
+            Action::ToggleNormalMapping => self.normal_mapping ^= true,
+        }
+    }
+}
+
+impl Scene for Cube {
+    fn draw(&mut self, frame: &FrameInput) {
+        let gl = &self.gl;
+        let p = &self.program;
+        let light = self.light_position_worldspace;
+        // SAFETY: the program, its uniforms and the textures all belong to this context.
+        unsafe {
+            gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
+            gl.use_program(Some(p.program.id));
+            // The article's three matrices, separately: the vertex shader needs V and M on their own
+            // to carry vectors back from camera and world space into model space.
+            let matrices = [
+                (&p.projection, frame.projection),
+                (&p.view, frame.view),
+                (&p.model, self.model_matrix),
+            ];
+            for (uniform, matrix) in matrices {
+                gl.uniform_matrix_4_f32_slice(uniform.as_ref(), false, &matrix.to_cols_array());
+            }
+            gl.uniform_3_f32(p.light.as_ref(), light.x, light.y, light.z);
+            gl.uniform_1_i32(p.normal_mapping.as_ref(), i32::from(self.normal_mapping));
+            let textures = [
+                (&self.diffuse_texture, &p.diffuse_sampler),
+                (&self.normal_texture, &p.normal_sampler),
+            ];
+            for (unit, (texture, sampler)) in textures.into_iter().enumerate() {
+                gl.active_texture(glow::TEXTURE0 + unit as u32);
+                gl.bind_texture(glow::TEXTURE_2D, Some(texture.id));
+                gl.uniform_1_i32(sampler.as_ref(), unit as i32);
+            }
+        }
+        self.buffers.draw();
+    }
+
+    fn key(&mut self, key: char) -> Result<bool> {
+        Ok(action_for_key(key)
+            .map(|action| self.apply(action))
+            .is_some())
+    }
+
+    fn keys(&self) -> &'static [KeyHelp] {
+        KEYS
+    }
+
+    fn status(&self) -> String {
+        let on = if self.normal_mapping { "on" } else { "off" };
+        format!("normal mapping {on}")
+    }
+
+    fn shader_files(&self) -> Vec<PathBuf> {
+        let dir = self.shader_dir.as_deref();
+        SHADERS
+            .iter()
+            .filter_map(|name| shader_path(name, dir))
+            .collect()
+    }
+
+    /// The scene's one program: replaced only once the new one has linked.
+    fn reload_shaders(&mut self) -> Result<()> {
+        self.program = CubeProgram::load(&self.gl, self.shader_dir.as_deref())?;
+        Ok(())
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Fails if the key list and the bindings disagree, or N does not toggle normal mapping.
+    #[test]
+    fn n_toggles_normal_mapping() {
+        assert_eq!(KEYS.len(), BINDINGS.len());
+        assert_eq!(action_for_key('n'), Some(Action::ToggleNormalMapping));
+        assert_eq!(action_for_key('L'), None);
+    }
+
+    // Fails if a face is wound clockwise seen from outside, its normal is not the outward one, or a
+    // texture would be mirrored on it (U × V must be the outward normal).
+    #[test]
+    fn faces_are_outward_and_counter_clockwise() {
+        let soup = cube_soup(HALF_SIZE);
+        assert_eq!(soup.vertices.len(), 36);
+        for (corners, normals) in soup.vertices.chunks(3).zip(soup.normals.chunks(3)) {
+            let winding = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+            assert!(winding.dot(normals[0]) > 0.0, "{corners:?}");
+            let centre = (corners[0] + corners[1] + corners[2]) / 3.0;
+            assert!(centre.dot(normals[0]) > 0.0, "{corners:?} faces inwards");
+        }
+        for face in FACES {
+            assert_eq!(face.u.cross(face.v), face.normal);
+        }
+    }
+
+    // Fails if the CPU pipeline does not give each face's own frame: 24 vertices (4 per face), 36
+    // indices, T along the face's U, B along its V (summed, so not unit length), N outward, and a
+    // right-handed frame (T × B along N), which is what the green-up normal map assumes.
+    #[test]
+    fn pipeline_gives_each_face_its_uv_frame() {
+        let mesh = cube_mesh();
+        assert_eq!(mesh.vertices.len(), 24);
+        assert_eq!(mesh.indices.len(), 36);
+        for i in 0..24 {
+            let n = mesh.normals[i];
+            let face = FACES.iter().find(|f| f.normal == n).expect("a face normal");
+            let (t, b) = (mesh.tangents[i], mesh.bitangents[i]);
+            assert!(t.normalize().abs_diff_eq(face.u, 1e-6), "{i}: T {t}");
+            assert!(b.normalize().abs_diff_eq(face.v, 1e-6), "{i}: B {b}");
+            assert!(t.cross(b).normalize().abs_diff_eq(n, 1e-6));
+            assert!(mesh.vertices[i].dot(n) > 0.0);
+        }
+    }
+}
