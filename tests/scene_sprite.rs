@@ -626,18 +626,7 @@ fn wait_for<T>(what: &str, mut get: impl FnMut() -> Option<T>) -> T {
 
 /// The headless frame of the sprite scene with these extra arguments, as the binary writes it.
 fn headless_shot(dir: &Path, name: &str, args: &[&str]) -> RgbImage {
-    let out = Command::new(env!("CARGO_BIN_EXE_tutorial13"))
-        .args(["--headless", "--scene", "sprite", "--screenshot", name])
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    image::open(dir.join(name)).unwrap().into_rgb8()
+    common::headless_screenshot(dir, name, &[&["--scene", "sprite"], args].concat())
 }
 
 /// `--light` for a light the window computed: f32's shortest round-trip text parses back to the

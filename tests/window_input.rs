@@ -96,17 +96,7 @@ fn screenshot(xvfb: &Xvfb, dir: &Path, n: u32) -> image::RgbImage {
 }
 
 fn headless_first_frame(dir: &Path) -> image::RgbImage {
-    let out = Command::new(env!("CARGO_BIN_EXE_tutorial13"))
-        .args(["--headless", "--screenshot", "headless.png"])
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    image::open(dir.join("headless.png")).unwrap().into_rgb8()
+    common::headless_screenshot(dir, "headless.png", &[])
 }
 
 // Fails if mouse motion does not turn the grabbed camera, if R does not bring the camera back to the

@@ -169,3 +169,23 @@ pub fn check_gl_errors(gl: &glow::Context, part: &'static str) -> Result<()> {
         ))
     }
 }
+
+/// Binds each texture to its own unit (0, 1, 2, … in order) and points its sampler uniform there:
+/// the tutorial's `glActiveTexture`, `glBindTexture`, `glUniform1i` for any number of maps. The
+/// current program must be the samplers'.
+pub fn bind_textures(
+    gl: &Gl,
+    textures: &[(
+        &crate::common::texture::Texture,
+        &Option<glow::UniformLocation>,
+    )],
+) {
+    // SAFETY: textures and uniforms of the current context and program.
+    unsafe {
+        for (unit, (texture, sampler)) in textures.iter().enumerate() {
+            gl.active_texture(glow::TEXTURE0 + unit as u32);
+            gl.bind_texture(glow::TEXTURE_2D, Some(texture.id));
+            gl.uniform_1_i32(sampler.as_ref(), unit as i32);
+        }
+    }
+}

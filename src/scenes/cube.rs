@@ -21,11 +21,11 @@ use crate::common::shader::{load_program, shader_path, Program};
 use crate::common::texture::{load_bmp_custom, Texture};
 use crate::common::vboindexer::IndexedMesh;
 use crate::gl::buffers::MeshBuffers;
-use crate::gl::Gl;
+use crate::gl::{bind_textures, Gl};
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
 
-use super::scene::{FrameInput, KeyHelp, Scene, SceneContext};
+use super::scene::{key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext};
 use super::tutorial13::init_gl_state;
 
 /// The cube's switches, as the command line sets them.
@@ -52,32 +52,18 @@ pub enum Action {
 }
 
 /// The scene's keys and their actions, in the order they are listed.
-const BINDINGS: [(char, Action, &str); 1] = [(
+const BINDINGS: [Binding<Action>; 1] = [(
     'N',
     Action::ToggleNormalMapping,
     "normal mapping on / off (the article's flag)",
 )];
 
 /// The key list `--help` and the window print.
-pub const KEYS: &[KeyHelp] = &{
-    let mut keys = [KeyHelp { key: ' ', help: "" }; BINDINGS.len()];
-    let mut i = 0;
-    while i < BINDINGS.len() {
-        keys[i] = KeyHelp {
-            key: BINDINGS[i].0,
-            help: BINDINGS[i].2,
-        };
-        i += 1;
-    }
-    keys
-};
+pub const KEYS: &[KeyHelp] = &key_help(&BINDINGS);
 
 /// The action of a key of [`KEYS`].
 pub fn action_for_key(key: char) -> Option<Action> {
-    BINDINGS
-        .iter()
-        .find(|(k, _, _)| *k == key.to_ascii_uppercase())
-        .map(|&(_, action, _)| action)
+    super::scene::action_for_key(&BINDINGS, key)
 }
 
 /// The cube's files under the asset folder (made by `make-assets`, see `assets/cube.rs`).
@@ -305,11 +291,7 @@ impl Scene for Cube {
                 (&self.diffuse_texture, &p.diffuse_sampler),
                 (&self.normal_texture, &p.normal_sampler),
             ];
-            for (unit, (texture, sampler)) in textures.into_iter().enumerate() {
-                gl.active_texture(glow::TEXTURE0 + unit as u32);
-                gl.bind_texture(glow::TEXTURE_2D, Some(texture.id));
-                gl.uniform_1_i32(sampler.as_ref(), unit as i32);
-            }
+            bind_textures(gl, &textures);
         }
         self.buffers.draw();
     }

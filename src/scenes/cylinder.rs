@@ -21,7 +21,7 @@ use crate::mesh::MeshOptions;
 use crate::tangents::TangentSource;
 use crate::Result;
 
-use super::scene::{FrameInput, KeyHelp, Scene, SceneContext};
+use super::scene::{key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext};
 use super::tutorial13::{NormalMappingProgram, Tutorial13, LIGHT_POS, SHADERS};
 
 /// What the compare view starts with (`--compare A,B`).
@@ -88,7 +88,7 @@ pub enum Action {
 }
 
 /// The scene's keys and their actions, in the order they are listed.
-const BINDINGS: [(char, Action, &str); 16] = [
+const BINDINGS: [Binding<Action>; 16] = [
     (
         'L',
         Action::ToggleLines,
@@ -160,25 +160,11 @@ const BINDINGS: [(char, Action, &str); 16] = [
 ];
 
 /// The key list `--help` and the window print.
-pub const KEYS: &[KeyHelp] = &{
-    let mut keys = [KeyHelp { key: ' ', help: "" }; BINDINGS.len()];
-    let mut i = 0;
-    while i < BINDINGS.len() {
-        keys[i] = KeyHelp {
-            key: BINDINGS[i].0,
-            help: BINDINGS[i].2,
-        };
-        i += 1;
-    }
-    keys
-};
+pub const KEYS: &[KeyHelp] = &key_help(&BINDINGS);
 
 /// The action of a key of [`KEYS`].
 pub fn action_for_key(key: char) -> Option<Action> {
-    BINDINGS
-        .iter()
-        .find(|(k, _, _)| *k == key.to_ascii_uppercase())
-        .map(|&(_, action, _)| action)
+    super::scene::action_for_key(&BINDINGS, key)
 }
 
 /// Tutorial 13 and the state of its debugging aids.

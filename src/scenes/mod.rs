@@ -21,7 +21,9 @@ use std::path::{Path, PathBuf};
 
 use crate::Result;
 
-pub use scene::{FrameInput, KeyHelp, MouseMode, Scene, SceneContext};
+pub use scene::{
+    action_for_key, key_help, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneContext,
+};
 
 /// The scenes `--scene` can name.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]

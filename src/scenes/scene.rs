@@ -50,6 +50,32 @@ pub struct KeyHelp {
     pub help: &'static str,
 }
 
+/// One key of a scene: the key as listed, the scene's action, and what it does.
+pub type Binding<A> = (char, A, &'static str);
+
+/// The key list of a scene's bindings, in their order (a `const` so that `--help` can list a
+/// scene's keys without building it).
+pub const fn key_help<A: Copy, const N: usize>(bindings: &[Binding<A>; N]) -> [KeyHelp; N] {
+    let mut keys = [KeyHelp { key: ' ', help: "" }; N];
+    let mut i = 0;
+    while i < N {
+        keys[i] = KeyHelp {
+            key: bindings[i].0,
+            help: bindings[i].2,
+        };
+        i += 1;
+    }
+    keys
+}
+
+/// The action bound to `key` (letters either case).
+pub fn action_for_key<A: Copy>(bindings: &[Binding<A>], key: char) -> Option<A> {
+    bindings
+        .iter()
+        .find(|(k, _, _)| *k == key.to_ascii_uppercase())
+        .map(|&(_, action, _)| action)
+}
+
 /// The seam between the front ends and a program.
 pub trait Scene {
     /// Draws one frame into the bound framebuffer (the front end has set the viewport): the scene

@@ -30,10 +30,10 @@ use crate::common::shader::{load_program, shader_path, Program};
 use crate::common::texture::{load_bmp_custom, Texture};
 use crate::common::vboindexer::{IndexedMesh, Indices};
 use crate::gl::buffers::MeshBuffers;
-use crate::gl::Gl;
+use crate::gl::{bind_textures, Gl};
 use crate::Result;
 
-use super::scene::{FrameInput, KeyHelp, MouseMode, Scene, SceneContext};
+use super::scene::{key_help, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneContext};
 use super::tutorial13::CLEAR_COLOR;
 
 /// The article's `DEFAULT_LIGHT_Z`: the light's height, where a click puts it back.
@@ -97,7 +97,7 @@ pub enum Action {
 }
 
 /// The scene's keys and their actions, in the order they are listed.
-const BINDINGS: [(char, Action, &str); 2] = [
+const BINDINGS: [Binding<Action>; 2] = [
     (
         'Y',
         Action::ToggleFlipGreen,
@@ -111,25 +111,11 @@ const BINDINGS: [(char, Action, &str); 2] = [
 ];
 
 /// The key list `--help` and the window print.
-pub const KEYS: &[KeyHelp] = &{
-    let mut keys = [KeyHelp { key: ' ', help: "" }; BINDINGS.len()];
-    let mut i = 0;
-    while i < BINDINGS.len() {
-        keys[i] = KeyHelp {
-            key: BINDINGS[i].0,
-            help: BINDINGS[i].2,
-        };
-        i += 1;
-    }
-    keys
-};
+pub const KEYS: &[KeyHelp] = &key_help(&BINDINGS);
 
 /// The action of a key of [`KEYS`].
 pub fn action_for_key(key: char) -> Option<Action> {
-    BINDINGS
-        .iter()
-        .find(|(k, _, _)| *k == key.to_ascii_uppercase())
-        .map(|&(_, action, _)| action)
+    super::scene::action_for_key(&BINDINGS, key)
 }
 
 /// Where the sprite is drawn in a `width × height` window: its lower-left corner and side, in whole
@@ -333,11 +319,7 @@ impl Scene for Sprite {
                 (&self.diffuse_texture, &p.diffuse_texture),
                 (&self.normal_texture, &p.normal_texture),
             ];
-            for (unit, (texture, sampler)) in textures.into_iter().enumerate() {
-                gl.active_texture(glow::TEXTURE0 + unit as u32);
-                gl.bind_texture(glow::TEXTURE_2D, Some(texture.id));
-                gl.uniform_1_i32(sampler.as_ref(), unit as i32);
-            }
+            bind_textures(gl, &textures);
         }
         self.quad.draw();
     }

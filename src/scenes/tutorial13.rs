@@ -19,7 +19,7 @@ use crate::common::texture::{load_bmp_custom, load_dds, Texture};
 use crate::common::vboindexer::{index_vbo_tbn, IndexedMesh};
 use crate::debug::lines::DebugLines;
 use crate::gl::buffers::MeshBuffers;
-use crate::gl::Gl;
+use crate::gl::{bind_textures, Gl};
 use crate::mesh::MeshOptions;
 use crate::Result;
 
@@ -217,11 +217,7 @@ impl Tutorial13 {
                 (&self.normal_texture, &p.normal_texture_id),
                 (&self.specular_texture, &p.specular_texture_id),
             ];
-            for (unit, (texture, sampler)) in textures.into_iter().enumerate() {
-                gl.active_texture(glow::TEXTURE0 + unit as u32);
-                gl.bind_texture(glow::TEXTURE_2D, Some(texture.id));
-                gl.uniform_1_i32(sampler.as_ref(), unit as i32);
-            }
+            bind_textures(gl, &textures);
         }
 
         // The attribute buffers, the index buffer, glDrawElements.

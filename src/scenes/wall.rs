@@ -20,7 +20,7 @@ use crate::common::objloader::TriangleSoup;
 use crate::common::shader::{load_program, shader_path, Program};
 use crate::common::texture::{load_bmp_custom, Texture};
 use crate::gl::buffers::MeshBuffers;
-use crate::gl::Gl;
+use crate::gl::{bind_textures, Gl};
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
 
@@ -241,11 +241,7 @@ impl Scene for Wall {
                 (&self.diffuse_texture, &p.diffuse_sampler),
                 (&self.normal_texture, &p.normal_sampler),
             ];
-            for (unit, (texture, sampler)) in textures.into_iter().enumerate() {
-                gl.active_texture(glow::TEXTURE0 + unit as u32);
-                gl.bind_texture(glow::TEXTURE_2D, Some(texture.id));
-                gl.uniform_1_i32(sampler.as_ref(), unit as i32);
-            }
+            bind_textures(gl, &textures);
         }
         self.buffers.draw();
     }

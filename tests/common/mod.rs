@@ -189,6 +189,22 @@ pub fn files_under(dir: &Path) -> Vec<PathBuf> {
     files
 }
 
+/// The binary's headless frame (`--headless --screenshot NAME` plus `args`), run in `dir`.
+pub fn headless_screenshot(dir: &Path, name: &str, args: &[&str]) -> RgbImage {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_tutorial13"))
+        .args(["--headless", "--screenshot", name])
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    image::open(dir.join(name)).unwrap().into_rgb8()
+}
+
 /// Where a failing image test leaves its frame and difference map: target/test-output/.
 pub fn output_dir() -> PathBuf {
     let out = manifest().join("target/test-output");
