@@ -134,7 +134,8 @@ struct Cli {
     #[arg(long, value_name = "F", default_value_t = 0.5, value_parser = parse_fraction, requires = "compare")]
     split: f32,
 
-    /// Normal map's green channel: up the picture (OpenGL, the tutorial's) or down (DirectX) (key Y)
+    /// Normal map's green channel: up the picture (OpenGL, the tutorial's) or down (DirectX); the
+    /// cylinder and sprite scenes (key Y)
     #[arg(long, value_enum, value_name = "DIR", default_value_t = GreenArg::Up)]
     green: GreenArg,
 
@@ -159,10 +160,6 @@ struct Cli {
     /// Z > 0 [default: 0.4,0.6,0.075]; in the window the mouse takes over once it moves
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_light)]
     light: Option<glam::Vec3>,
-
-    /// Sprite scene: read the normal map's green channel the other way up (key Y)
-    #[arg(long)]
-    flip_green: bool,
 
     /// Sprite scene: measure the light's distance in the sprite's own pixels, not in window heights
     /// (key I)
@@ -426,7 +423,7 @@ fn run(cli: Cli) -> Result<()> {
         wall: WallOptions { space: cli.space },
         sprite: SpriteOptions {
             light: cli.light.unwrap_or(SpriteOptions::default().light),
-            flip_green: cli.flip_green,
+            flip_green: cli.green == GreenArg::Down,
             independent_falloff: cli.independent_falloff,
         },
         cube: CubeOptions {

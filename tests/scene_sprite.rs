@@ -338,7 +338,7 @@ fn green_flip_equals_an_inverted_green_channel() {
     assert!(renderer.scene.key('Y').unwrap(), "Y is the flip key");
     assert!(renderer.scene_ref::<Sprite>().flip_green);
     assert!(
-        renderer.scene.status().contains("green flipped"),
+        renderer.scene.status().contains("green down (flipped)"),
         "{}",
         renderer.scene.status()
     );
@@ -639,7 +639,7 @@ fn light_arg(light: Vec3) -> String {
 // light, bit for bit), if moving the mouse over the window does not bring the light to the pixel
 // under it (the frame must equal the headless frame with that --light, bit for bit), if the wheel
 // does not raise it by whole notches of 0.01 (the title shows the light), if a click does not put it back
-// at 0.075, or if Y does not flip the green channel as --flip-green does.
+// at 0.075, or if Y does not flip the green channel as --green down does.
 #[test]
 fn the_window_light_follows_the_mouse() {
     let dir = scratch("window");
@@ -718,15 +718,15 @@ fn the_window_light_follows_the_mouse() {
 
     xvfb.xdotool(&["key", "y"]);
     wait_for("the flip in the title", || {
-        title().contains("green flipped").then_some(())
+        title().contains("green down (flipped)").then_some(())
     });
     let flipped = shot();
     let expected = headless_shot(
         &dir,
         "flipped.png",
-        &["--light", &light_arg(light), "--flip-green"],
+        &["--light", &light_arg(light), "--green", "down"],
     );
-    assert!(flipped == expected, "Y in the window is not --flip-green");
+    assert!(flipped == expected, "Y in the window is not --green down");
 
     xvfb.xdotool(&["key", "Escape"]);
     let status = wait_for("the program's exit", || app.try_wait().unwrap());

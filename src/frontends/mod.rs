@@ -9,10 +9,11 @@ pub mod window;
 use std::path::PathBuf;
 use std::time::{Duration, Instant, SystemTime};
 
-use crate::scenes::{Scene, SceneName};
+use crate::scenes::{MouseMode, Scene, SceneName};
 
-/// The window's own keys, whatever the scene (the scene's follow them in the list).
-pub const WINDOW_KEYS: &[(&str, &str)] = &[
+/// The window's mouse look and camera keys, listed for scenes with [`MouseMode::Look`] (the
+/// first two before the scene's keys, the rest after them).
+pub const LOOK_KEYS: &[(&str, &str)] = &[
     ("mouse", "look around (the cursor is grabbed and hidden)"),
     ("arrow keys", "move forward / back, strafe left / right"),
     ("R", "camera back to the tutorial's start"),
@@ -20,6 +21,10 @@ pub const WINDOW_KEYS: &[(&str, &str)] = &[
         "Tab",
         "release the cursor (losing focus does too); a click grabs it again",
     ),
+];
+
+/// The window's own keys, whatever the scene (listed after the scene's).
+pub const WINDOW_KEYS: &[(&str, &str)] = &[
     ("Enter", "next scene (see --scene)"),
     (
         "F5",
@@ -32,18 +37,24 @@ pub const WINDOW_KEYS: &[(&str, &str)] = &[
     ("Esc", "quit (closing the window quits too)"),
 ];
 
-/// How many of [`WINDOW_KEYS`] come before the scene's keys in the list.
-const KEYS_BEFORE_SCENE: usize = 2;
-
-/// The key list printed at start and by `--help`: the window's keys, then the scene's.
+/// The key list printed at start and by `--help`: what the mouse does (the window's mouse look, or
+/// the scene's own use of a free cursor), the scene's keys, then the window's.
 pub fn key_list(scene: SceneName) -> String {
-    let (before, after) = WINDOW_KEYS.split_at(KEYS_BEFORE_SCENE);
+    let (before, after): (&[_], &[_]) = match scene.mouse_mode() {
+        MouseMode::Look => LOOK_KEYS.split_at(2),
+        // The camera keys would steer a camera such a scene does not have.
+        MouseMode::Cursor => (scene.mouse_help(), &[]),
+    };
     let own = |keys: &'static [(&str, &'static str)]| {
         keys.iter().map(|&(key, help)| (key.to_string(), help))
     };
     let scene_keys = scene.keys().iter().map(|k| (k.key.to_string(), k.help));
     let mut text = format!("Keys (window, scene {scene}):");
-    for (key, help) in own(before).chain(scene_keys).chain(own(after)) {
+    for (key, help) in own(before)
+        .chain(scene_keys)
+        .chain(own(after))
+        .chain(own(WINDOW_KEYS))
+    {
         text.push_str(&format!("\n  {key:<15} {help}"));
     }
     text
@@ -166,7 +177,8 @@ mod tests {
     }
 
     // Fails if a scene binds a key the window already uses (the window would take it first and the
-    // scene's action could never be reached), or if the key list leaves out a window or scene key.
+    // scene's action could never be reached), if the key list leaves out a window or scene key, or
+    // if it promises mouse look where the cursor stays free (or leaves the mouse out).
     #[test]
     fn scene_keys_are_free_and_listed() {
         for &scene in SceneName::ALL {
@@ -174,6 +186,7 @@ mod tests {
             for help in scene.keys() {
                 let taken = WINDOW_KEYS
                     .iter()
+                    .chain(LOOK_KEYS)
                     .any(|&(key, _)| key == help.key.to_string());
                 assert!(!taken, "{scene}: key {} is the window's", help.key);
                 assert!(list.contains(&format!("\n  {:<15} {}", help.key, help.help)));
@@ -181,6 +194,16 @@ mod tests {
             for &(key, help) in WINDOW_KEYS {
                 assert!(list.contains(&format!("\n  {key:<15} {help}")), "{key}");
             }
+            let look = scene.mouse_mode() == MouseMode::Look;
+            for &(key, help) in LOOK_KEYS {
+                let listed = list.contains(&format!("\n  {key:<15} {help}"));
+                assert_eq!(listed, look, "{scene}: {key}");
+            }
+            assert_eq!(scene.mouse_help().is_empty(), look, "{scene}");
+            assert!(
+                list.contains("\n  mouse "),
+                "{scene}: the mouse is not listed"
+            );
         }
     }
 }

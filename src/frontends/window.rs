@@ -283,7 +283,7 @@ impl ApplicationHandler for App {
                 state: ElementState::Pressed,
                 button: MouseButton::Left,
                 ..
-            } if !frozen => match running.scene.mouse_mode() {
+            } if !frozen => match running.scene_name.mouse_mode() {
                 MouseMode::Look => running.set_cursor_grab(true),
                 MouseMode::Cursor => {
                     running.scene.click();
@@ -625,7 +625,7 @@ impl Running {
     /// Grabs (and hides) the cursor for mouse look, or releases it. A scene that follows the absolute
     /// cursor is never grabbed.
     fn set_cursor_grab(&mut self, grab: bool) {
-        let grab = grab && self.scene.mouse_mode() == MouseMode::Look;
+        let grab = grab && self.scene_name.mouse_mode() == MouseMode::Look;
         if grab == self.grabbed {
             return;
         }

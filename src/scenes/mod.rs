@@ -87,6 +87,24 @@ impl SceneName {
         }
     }
 
+    /// Mouse look (the tutorial's) or the free cursor, known without building the scene (like its
+    /// keys) so that the key list can say what the mouse does.
+    pub fn mouse_mode(self) -> MouseMode {
+        match self {
+            SceneName::Sprite => MouseMode::Cursor,
+            SceneName::Cylinder | SceneName::Wall | SceneName::Cube => MouseMode::Look,
+        }
+    }
+
+    /// What the mouse, wheel and click do in a scene with [`MouseMode::Cursor`] (mouse-look scenes
+    /// have the window's mouse look and list nothing here).
+    pub fn mouse_help(self) -> &'static [(&'static str, &'static str)] {
+        match self {
+            SceneName::Sprite => sprite::MOUSE_HELP,
+            SceneName::Cylinder | SceneName::Wall | SceneName::Cube => &[],
+        }
+    }
+
     /// Loads the scene on the current context.
     pub fn build(self, context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
         Ok(match self {

@@ -33,7 +33,7 @@ pub struct FrameInput {
     pub time: f32,
 }
 
-/// How a scene wants the mouse.
+/// How a scene wants the mouse (see [`SceneName::mouse_mode`](super::SceneName::mouse_mode)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MouseMode {
     /// The tutorial's mouse look: the cursor is grabbed and hidden, motion turns the camera.
@@ -111,11 +111,6 @@ pub trait Scene {
     /// A left click in a scene with [`MouseMode::Cursor`] (with mouse look, a click grabs the cursor
     /// instead). Ignored unless the scene uses it.
     fn click(&mut self) {}
-
-    /// Mouse look (the default) or the free cursor.
-    fn mouse_mode(&self) -> MouseMode {
-        MouseMode::Look
-    }
 
     /// For tests and tools that reach into a particular scene.
     fn as_any(&self) -> &dyn Any;

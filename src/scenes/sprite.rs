@@ -33,7 +33,7 @@ use crate::gl::buffers::MeshBuffers;
 use crate::gl::{bind_textures, Gl};
 use crate::Result;
 
-use super::scene::{key_help, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneContext};
+use super::scene::{key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext};
 use super::tutorial13::CLEAR_COLOR;
 
 /// The article's `DEFAULT_LIGHT_Z`: the light's height, where a click puts it back.
@@ -71,7 +71,7 @@ pub const SHADERS: [&str; 2] = ["Sprite.vertexshader", "Sprite.fragmentshader"];
 pub struct SpriteOptions {
     /// `--light X,Y,Z`: x and y from 0 to 1 across the window (y up), z the height.
     pub light: Vec3,
-    /// `--flip-green`: read the normal map's green channel the other way up.
+    /// `--green down`: read the normal map's green channel the other way up (as a "green down" map).
     pub flip_green: bool,
     /// `--independent-falloff`: measure the light's distance in the sprite's own pixels.
     pub independent_falloff: bool,
@@ -101,13 +101,26 @@ const BINDINGS: [Binding<Action>; 2] = [
     (
         'Y',
         Action::ToggleFlipGreen,
-        "normal map's green channel as made / flipped (the article's FlipY problem)",
+        "normal map's green channel up (as made) / down (flipped: the article's FlipY problem)",
     ),
     (
         'I',
         Action::ToggleIndependentFalloff,
         "falloff in window heights (article) / resolution-independent (the sprite's own pixels)",
     ),
+];
+
+/// What the mouse does here, listed in place of the window's mouse look (the cursor stays free).
+pub const MOUSE_HELP: &[(&str, &str)] = &[
+    (
+        "mouse",
+        "the light's x and y follow the pointer (the cursor stays free)",
+    ),
+    (
+        "wheel",
+        "light higher (away from you) / lower, 0.01 a notch",
+    ),
+    ("left click", "light back to the article's height, 0.075"),
 ];
 
 /// The key list `--help` and the window print.
@@ -344,9 +357,9 @@ impl Scene for Sprite {
             l.z,
             if self.following { " on the mouse" } else { "" },
             if self.flip_green {
-                "flipped"
+                "down (flipped)"
             } else {
-                "as made"
+                "up (as made)"
             },
             if self.independent_falloff {
                 "resolution-independent"
@@ -380,10 +393,6 @@ impl Scene for Sprite {
     /// A click puts the light back at the article's height.
     fn click(&mut self) {
         self.light.z = DEFAULT_LIGHT_Z;
-    }
-
-    fn mouse_mode(&self) -> MouseMode {
-        MouseMode::Cursor
     }
 
     fn as_any(&self) -> &dyn Any {
