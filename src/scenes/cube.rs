@@ -302,10 +302,6 @@ impl Scene for Cube {
             .is_some())
     }
 
-    fn keys(&self) -> &'static [KeyHelp] {
-        KEYS
-    }
-
     fn status(&self) -> String {
         let on = if self.normal_mapping { "on" } else { "off" };
         format!("normal mapping {on}")

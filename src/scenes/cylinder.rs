@@ -495,10 +495,6 @@ impl Scene for Cylinder {
         }
     }
 
-    fn keys(&self) -> &'static [KeyHelp] {
-        KEYS
-    }
-
     /// The tutorial's program, the debugging program and the line shader.
     fn shader_files(&self) -> Vec<PathBuf> {
         let dir = self.shader_dir.as_deref();

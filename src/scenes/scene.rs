@@ -85,9 +85,6 @@ pub trait Scene {
     /// A key of the scene's list was pressed (letters upper-case). `Ok(false)`: not one of its keys.
     fn key(&mut self, key: char) -> Result<bool>;
 
-    /// The scene's keys, for the start-up message, `--help` and the README.
-    fn keys(&self) -> &'static [KeyHelp];
-
     /// One line for the title bar and the log: the scene's current switches.
     fn status(&self) -> String;
 

@@ -343,10 +343,6 @@ impl Scene for Sprite {
             .is_some())
     }
 
-    fn keys(&self) -> &'static [KeyHelp] {
-        KEYS
-    }
-
     /// The light and both switches.
     fn status(&self) -> String {
         let l = self.light;

@@ -24,7 +24,7 @@ use crate::gl::{bind_textures, Gl};
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
 
-use super::scene::{FrameInput, KeyHelp, Scene, SceneContext};
+use super::scene::{key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext};
 use super::tutorial13::init_gl_state;
 
 /// The article's light.
@@ -99,11 +99,27 @@ pub struct WallOptions {
     pub space: LightingSpace,
 }
 
-/// The scene's keys.
-pub const KEYS: &[KeyHelp] = &[KeyHelp {
-    key: 'S',
-    help: "lighting space: view, tangent, none (no normal map)",
-}];
+/// What a key (or a test) can change.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Action {
+    /// View space, tangent space, then no normal map.
+    NextSpace,
+}
+
+/// The scene's keys and their actions, in the order they are listed.
+const BINDINGS: [Binding<Action>; 1] = [(
+    'S',
+    Action::NextSpace,
+    "lighting space: view, tangent, none (no normal map)",
+)];
+
+/// The key list `--help` and the window print.
+pub const KEYS: &[KeyHelp] = &key_help(&BINDINGS);
+
+/// The action of a key of [`KEYS`].
+pub fn action_for_key(key: char) -> Option<Action> {
+    super::scene::action_for_key(&BINDINGS, key)
+}
 
 type Uniform = Option<glow::UniformLocation>;
 
@@ -247,17 +263,13 @@ impl Scene for Wall {
     }
 
     fn key(&mut self, key: char) -> Result<bool> {
-        match key.to_ascii_uppercase() {
-            'S' => {
+        Ok(match action_for_key(key) {
+            Some(Action::NextSpace) => {
                 self.space = self.space.next();
-                Ok(true)
+                true
             }
-            _ => Ok(false),
-        }
-    }
-
-    fn keys(&self) -> &'static [KeyHelp] {
-        KEYS
+            None => false,
+        })
     }
 
     fn status(&self) -> String {
