@@ -2,10 +2,9 @@
 //! constant-linear-quadratic falloff. Headless frames, measured against what the article describes;
 //! each test prints the numbers it measured (`cargo test --test scene_sprite -- --nocapture`).
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
 
 use glam::{DVec3, Vec2, Vec3};
 use image::{Rgb, RgbImage};
@@ -19,7 +18,7 @@ use tutorial13::scenes::sprite::{
 use tutorial13::scenes::{SceneName, SceneOptions};
 
 mod common;
-use common::xvfb::Xvfb;
+use common::xvfb::{wait_exit, wait_for, Xvfb};
 use common::{assert_matches_golden, frame, own_assets, pixel_diff, scratch};
 
 /// Side of the sprite's textures.
@@ -606,24 +605,6 @@ fn first_frame_matches_golden() {
 // ---------------------------------------------------------------------------------------------
 // The window, driven through a private Xvfb with xdotool (as tests/window_input.rs does).
 
-/// How long a window step may take on two busy cores.
-const STEP_TIMEOUT: Duration = Duration::from_secs(60);
-
-/// Polls `get` every 100 ms until it gives something, or fails after [`STEP_TIMEOUT`].
-fn wait_for<T>(what: &str, mut get: impl FnMut() -> Option<T>) -> T {
-    let start = Instant::now();
-    loop {
-        if let Some(value) = get() {
-            return value;
-        }
-        assert!(
-            start.elapsed() < STEP_TIMEOUT,
-            "{what}: nothing after {STEP_TIMEOUT:?}"
-        );
-        std::thread::sleep(Duration::from_millis(100));
-    }
-}
-
 /// The headless frame of the sprite scene with these extra arguments, as the binary writes it.
 fn headless_shot(dir: &Path, name: &str, args: &[&str]) -> RgbImage {
     common::headless_screenshot(dir, name, &[&["--scene", "sprite"], args].concat())
@@ -644,33 +625,14 @@ fn light_arg(light: Vec3) -> String {
 fn the_window_light_follows_the_mouse() {
     let dir = scratch("window");
     let xvfb = Xvfb::start();
-    let mut app = Command::new(env!("CARGO_BIN_EXE_tutorial13"))
-        .args(["--scene", "sprite"])
-        .current_dir(&dir)
-        .env("DISPLAY", &xvfb.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env_remove("RUST_LOG")
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let window = wait_for("the window", || {
-        if let Some(status) = app.try_wait().unwrap() {
-            panic!("the program exited ({status}) before its window appeared");
-        }
-        let found = xvfb.xdotool(&["search", "--name", "Tutorial 13"]);
-        found.lines().next().map(str::to_string)
-    });
+    let mut app = xvfb.start_program(&dir, &["--scene", "sprite"]);
+    let window = xvfb.wait_for_window(&mut app);
     xvfb.xdotool(&["windowfocus", "--sync", &window]);
     let mut shots = 0;
     let mut shot = || {
         shots += 1;
         std::thread::sleep(Duration::from_millis(300));
-        xvfb.xdotool(&["key", "p"]);
-        let path = dir.join(format!("tutorial13-{shots}.png"));
-        // Written by rename: whole once it exists.
-        wait_for("the screenshot", || image::open(&path).ok()).into_rgb8()
+        xvfb.screenshot(&dir, shots)
     };
     let title = || xvfb.xdotool(&["getwindowname", &window]);
 
@@ -729,12 +691,6 @@ fn the_window_light_follows_the_mouse() {
     assert!(flipped == expected, "Y in the window is not --green down");
 
     xvfb.xdotool(&["key", "Escape"]);
-    let status = wait_for("the program's exit", || app.try_wait().unwrap());
-    let mut stderr = String::new();
-    app.stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut stderr)
-        .unwrap();
+    let (status, stderr) = wait_exit(&mut app);
     assert!(status.success(), "{stderr}");
 }

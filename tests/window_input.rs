@@ -4,96 +4,11 @@
 //! headless frame, which equals the window's frame bit for bit at the tutorial's start.
 
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use common::xvfb::Xvfb;
+use common::xvfb::{wait_exit, wait_for, Xvfb};
 
 mod common;
-
-/// How long a step may take on two busy cores before the test gives up.
-const STEP_TIMEOUT: Duration = Duration::from_secs(60);
-
-/// The id of the tutorial's window, once it is mapped.
-fn wait_for_window(xvfb: &Xvfb, app: &mut Child) -> String {
-    let start = Instant::now();
-    loop {
-        let found = xvfb.xdotool(&["search", "--name", "Tutorial 13"]);
-        if let Some(id) = found.lines().next() {
-            return id.to_string();
-        }
-        if app.try_wait().unwrap().is_some() {
-            let (status, stderr) = wait_exit(app);
-            panic!("the program exited ({status}) before its window appeared:\n{stderr}");
-        }
-        assert!(
-            start.elapsed() < STEP_TIMEOUT,
-            "no window after {STEP_TIMEOUT:?}"
-        );
-        std::thread::sleep(Duration::from_millis(100));
-    }
-}
-
-/// The program in a window on `xvfb`, started in `dir` (where P writes tutorial13-N.png).
-fn start_window(xvfb: &Xvfb, dir: &Path) -> Child {
-    start_window_with(xvfb, dir, &[])
-}
-
-/// [`start_window`] with more arguments.
-fn start_window_with(xvfb: &Xvfb, dir: &Path, args: &[&std::ffi::OsStr]) -> Child {
-    Command::new(env!("CARGO_BIN_EXE_tutorial13"))
-        .args(args)
-        .current_dir(dir)
-        .env("DISPLAY", &xvfb.display)
-        .env_remove("WAYLAND_DISPLAY")
-        .env_remove("RUST_LOG")
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap()
-}
-
-fn wait_exit(app: &mut Child) -> (std::process::ExitStatus, String) {
-    let start = Instant::now();
-    let status = loop {
-        if let Some(status) = app.try_wait().unwrap() {
-            break status;
-        }
-        if start.elapsed() > STEP_TIMEOUT {
-            let _ = app.kill();
-            panic!("the program did not exit within {STEP_TIMEOUT:?}");
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    };
-    let mut stderr = String::new();
-    use std::io::Read;
-    app.stderr
-        .take()
-        .unwrap()
-        .read_to_string(&mut stderr)
-        .unwrap();
-    (status, stderr)
-}
-
-/// Presses P and waits for the numbered screenshot it writes.
-fn screenshot(xvfb: &Xvfb, dir: &Path, n: u32) -> image::RgbImage {
-    xvfb.xdotool(&["key", "p"]);
-    let path = dir.join(format!("tutorial13-{n}.png"));
-    let start = Instant::now();
-    loop {
-        // The file appears by rename, so it is whole once it exists.
-        if let Ok(image) = image::open(&path) {
-            return image.into_rgb8();
-        }
-        assert!(
-            start.elapsed() < STEP_TIMEOUT,
-            "{} not written",
-            path.display()
-        );
-        std::thread::sleep(Duration::from_millis(100));
-    }
-}
 
 fn headless_first_frame(dir: &Path) -> image::RgbImage {
     common::headless_screenshot(dir, "headless.png", &[])
@@ -108,22 +23,22 @@ fn mouse_look_reset_release_and_grab() {
     let dir = common::scratch("keys");
     let start_frame = headless_first_frame(&dir);
     let xvfb = Xvfb::start();
-    let mut app = start_window(&xvfb, &dir);
-    let window = wait_for_window(&xvfb, &mut app);
+    let mut app = xvfb.start_program::<&str>(&dir, &[]);
+    let window = xvfb.wait_for_window(&mut app);
     xvfb.xdotool(&["windowfocus", "--sync", &window]);
     // A click grabs the cursor (Xvfb has no window manager, so focus may have come and gone).
     xvfb.xdotool(&["mousemove", "640", "512", "click", "1"]);
     std::thread::sleep(Duration::from_millis(300));
     xvfb.xdotool(&["mousemove_relative", "80", "30"]);
     std::thread::sleep(Duration::from_millis(300));
-    let turned = screenshot(&xvfb, &dir, 1);
+    let turned = xvfb.screenshot(&dir, 1);
     assert!(
         turned != start_frame,
         "mouse motion did not turn the camera"
     );
 
     xvfb.xdotool(&["key", "r"]);
-    let reset = screenshot(&xvfb, &dir, 2);
+    let reset = xvfb.screenshot(&dir, 2);
     assert!(
         reset == start_frame,
         "R did not restore the tutorial's start frame"
@@ -133,7 +48,7 @@ fn mouse_look_reset_release_and_grab() {
     std::thread::sleep(Duration::from_millis(300));
     xvfb.xdotool(&["mousemove_relative", "80", "30"]);
     std::thread::sleep(Duration::from_millis(300));
-    let released = screenshot(&xvfb, &dir, 3);
+    let released = xvfb.screenshot(&dir, 3);
     assert!(
         released == start_frame,
         "the released cursor still turned the camera"
@@ -143,25 +58,14 @@ fn mouse_look_reset_release_and_grab() {
     std::thread::sleep(Duration::from_millis(300));
     xvfb.xdotool(&["mousemove_relative", "80", "30"]);
     std::thread::sleep(Duration::from_millis(300));
-    let grabbed = screenshot(&xvfb, &dir, 4);
+    let grabbed = xvfb.screenshot(&dir, 4);
     assert!(
         grabbed != start_frame,
         "a click did not grab the cursor again"
     );
 
     // The once-a-second figure joins the status in the title instead of replacing it.
-    let start = Instant::now();
-    let title = loop {
-        let title = xvfb.xdotool(&["getwindowname", &window]);
-        if title.contains("ms/frame") {
-            break title;
-        }
-        assert!(
-            start.elapsed() < STEP_TIMEOUT,
-            "no ms/frame in the title: {title}"
-        );
-        std::thread::sleep(Duration::from_millis(200));
-    };
+    let title = wait_for_title(&xvfb, &window, "ms/frame", |t| t.contains("ms/frame"));
     for part in [
         "Tutorial 13 - Normal Mapping",
         "view lit",
@@ -185,8 +89,8 @@ fn mouse_look_reset_release_and_grab() {
 fn a_window_destroyed_from_outside_ends_with_one_line() {
     let dir = common::scratch("destroyed");
     let xvfb = Xvfb::start();
-    let mut app = start_window(&xvfb, &dir);
-    let window = wait_for_window(&xvfb, &mut app);
+    let mut app = xvfb.start_program::<&str>(&dir, &[]);
+    let window = xvfb.wait_for_window(&mut app);
     std::thread::sleep(Duration::from_millis(500));
     xvfb.xdotool(&["windowclose", &window]);
     let (status, stderr) = wait_exit(&mut app);
@@ -205,18 +109,10 @@ fn a_window_destroyed_from_outside_ends_with_one_line() {
 
 /// Waits until the window's title satisfies `ok`, and returns it.
 fn wait_for_title(xvfb: &Xvfb, window: &str, what: &str, ok: impl Fn(&str) -> bool) -> String {
-    let start = Instant::now();
-    loop {
+    wait_for(what, || {
         let title = xvfb.xdotool(&["getwindowname", window]);
-        if ok(&title) {
-            return title;
-        }
-        assert!(
-            start.elapsed() < STEP_TIMEOUT,
-            "{what}: the title is still {title:?}"
-        );
-        std::thread::sleep(Duration::from_millis(200));
-    }
+        ok(&title).then_some(title)
+    })
 }
 
 // Fails if saving a shader file in the --shaders folder does not change what the running window
@@ -236,13 +132,13 @@ fn saving_a_shader_reloads_it_in_the_window() {
     let start_frame = headless_first_frame(&dir);
     let xvfb = Xvfb::start();
     let args = ["--shaders".as_ref(), shaders.as_os_str()];
-    let mut app = start_window_with(&xvfb, &dir, &args);
-    let window = wait_for_window(&xvfb, &mut app);
+    let mut app = xvfb.start_program(&dir, &args);
+    let window = xvfb.wait_for_window(&mut app);
     xvfb.xdotool(&["windowfocus", "--sync", &window]);
     let mut shots = 0;
     let mut shot = || {
         shots += 1;
-        screenshot(&xvfb, &dir, shots)
+        xvfb.screenshot(&dir, shots)
     };
     assert!(
         shot() == start_frame,
@@ -253,18 +149,10 @@ fn saving_a_shader_reloads_it_in_the_window() {
     let end = good.rfind('}').unwrap();
     let halved = format!("{}    color *= 0.5;\n}}\n", &good[..end]);
     std::fs::write(&fragment, &halved).unwrap();
-    let start = Instant::now();
-    let edited = loop {
+    let edited = wait_for("the saved shader reloaded", || {
         std::thread::sleep(Duration::from_millis(300));
-        let frame = shot();
-        if frame != start_frame {
-            break frame;
-        }
-        assert!(
-            start.elapsed() < STEP_TIMEOUT,
-            "the saved shader was not reloaded"
-        );
-    };
+        Some(shot()).filter(|frame| *frame != start_frame)
+    });
 
     // A typo, saved: the title says so, the edited shader keeps drawing.
     std::fs::write(&fragment, halved.replace("color *= 0.5;", "color *= 0.5")).unwrap();

@@ -1,13 +1,18 @@
 //! A private X server for the window tests, driven with xdotool as a user would drive the window.
 //! Needs the Debian packages xvfb and xdotool (.ci/run installs them).
 
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
+use std::ffi::OsStr;
+use std::io::{BufRead, BufReader, Read};
+use std::path::Path;
+use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::{mpsc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 /// How long the server may take to accept a client on two busy cores.
 const READY_TIMEOUT: Duration = Duration::from_secs(60);
+
+/// How long a window step (a window appearing, a screenshot, an exit) may take on two busy cores.
+pub const STEP_TIMEOUT: Duration = Duration::from_secs(60);
 
 /// One server at a time per test binary: two started at once can both pick the same free display.
 static ONE_SERVER: Mutex<()> = Mutex::new(());
@@ -91,6 +96,81 @@ impl Xvfb {
             .unwrap_or_else(|e| panic!("cannot run xdotool ({e}): apt-get install xdotool"));
         String::from_utf8_lossy(&out.stdout).into_owned()
     }
+}
+
+/// Window tests: the program itself on this server, and what a user sees of it.
+impl Xvfb {
+    /// The program in a window on this display, started in `dir` (where P writes tutorial13-N.png),
+    /// with its stderr kept for [`wait_exit`].
+    pub fn start_program<S: AsRef<OsStr>>(&self, dir: &Path, args: &[S]) -> Child {
+        Command::new(env!("CARGO_BIN_EXE_tutorial13"))
+            .args(args)
+            .current_dir(dir)
+            .env("DISPLAY", &self.display)
+            .env_remove("WAYLAND_DISPLAY")
+            .env_remove("RUST_LOG")
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap()
+    }
+
+    /// The id of the program's window once it is mapped; fails with the program's stderr if it
+    /// exits first.
+    pub fn wait_for_window(&self, app: &mut Child) -> String {
+        wait_for("the window", || {
+            if app.try_wait().unwrap().is_some() {
+                let (status, stderr) = wait_exit(app);
+                panic!("the program exited ({status}) before its window appeared:\n{stderr}");
+            }
+            let found = self.xdotool(&["search", "--name", "Tutorial 13"]);
+            found.lines().next().map(str::to_string)
+        })
+    }
+
+    /// Presses P and waits for the numbered screenshot the window writes into `dir`.
+    pub fn screenshot(&self, dir: &Path, n: u32) -> image::RgbImage {
+        self.xdotool(&["key", "p"]);
+        let path = dir.join(format!("tutorial13-{n}.png"));
+        // The file appears by rename, so it is whole once it exists.
+        wait_for(&format!("{}", path.display()), || image::open(&path).ok()).into_rgb8()
+    }
+}
+
+/// Polls `get` every 100 ms until it gives something, or fails after [`STEP_TIMEOUT`].
+pub fn wait_for<T>(what: &str, mut get: impl FnMut() -> Option<T>) -> T {
+    let start = Instant::now();
+    loop {
+        if let Some(value) = get() {
+            return value;
+        }
+        assert!(
+            start.elapsed() < STEP_TIMEOUT,
+            "{what}: nothing after {STEP_TIMEOUT:?}"
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+/// Waits for the program to exit (killing it after [`STEP_TIMEOUT`]): its status and stderr.
+pub fn wait_exit(app: &mut Child) -> (ExitStatus, String) {
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = app.try_wait().unwrap() {
+            break status;
+        }
+        if start.elapsed() > STEP_TIMEOUT {
+            let _ = app.kill();
+            panic!("the program did not exit within {STEP_TIMEOUT:?}");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let mut stderr = String::new();
+    if let Some(mut pipe) = app.stderr.take() {
+        pipe.read_to_string(&mut stderr).unwrap();
+    }
+    (status, stderr)
 }
 
 impl Drop for Xvfb {
