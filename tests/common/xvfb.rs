@@ -32,6 +32,9 @@ impl Xvfb {
         let mut child = Command::new("Xvfb")
             .args(["-displayfd", "1", "-screen", "0", "1280x1024x24"])
             .args(["-nolisten", "tcp"])
+            // Without it the server resets whenever its last client leaves (the readiness probe,
+            // an xdotool call), and a program connecting during the reset is refused: "no display".
+            .arg("-noreset")
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
