@@ -181,6 +181,8 @@ struct Running {
     timer: FrameTimer,
     /// The last "ms/frame" figure, kept for the title.
     ms_per_frame: Option<f64>,
+    /// The title the window has now (set again only when it changes).
+    shown_title: String,
     screenshots_taken: u32,
     /// Saving a shader file reloads the scene's programs.
     shader_watch: ShaderWatch,
@@ -262,10 +264,7 @@ impl ApplicationHandler for App {
                     _ if pressed => {
                         if let Some(key) = key_char(code) {
                             match running.scene.key(key) {
-                                Ok(true) => {
-                                    log::info!("{}", running.scene.status());
-                                    running.update_title();
-                                }
+                                Ok(true) => log::info!("{}", running.scene.status()),
                                 Ok(false) => {}
                                 Err(e) => log::error!("{e}"),
                             }
@@ -285,10 +284,7 @@ impl ApplicationHandler for App {
                 ..
             } if !frozen => match running.scene_name.mouse_mode() {
                 MouseMode::Look => running.set_cursor_grab(true),
-                MouseMode::Cursor => {
-                    running.scene.click();
-                    running.update_title();
-                }
+                MouseMode::Cursor => running.scene.click(),
             },
             WindowEvent::MouseWheel { delta, .. } if !frozen => {
                 let notches = match delta {
@@ -297,7 +293,6 @@ impl ApplicationHandler for App {
                     MouseScrollDelta::PixelDelta(p) => p.y as f32 / 20.0,
                 };
                 running.scene.scroll(notches);
-                running.update_title();
             }
             WindowEvent::Resized(size) => {
                 running
@@ -585,6 +580,7 @@ impl Running {
             frames_drawn: 0,
             timer: FrameTimer::new(),
             ms_per_frame: None,
+            shown_title: String::new(),
             screenshots_taken: 0,
             shader_watch,
             shader_error: None,
@@ -594,7 +590,6 @@ impl Running {
         if options.frames.is_none() {
             running.set_cursor_grab(true);
         }
-        running.update_title();
         Ok(running)
     }
 
@@ -618,7 +613,6 @@ impl Running {
         self.set_cursor_grab(true);
         println!("{}", key_list(name));
         log::info!("scene {name}: {}", self.scene.status());
-        self.update_title();
         Ok(())
     }
 
@@ -653,8 +647,9 @@ impl Running {
 
     /// "Tutorial 13 - Normal Mapping - 3.2 ms/frame - view lit | lines off | ...": the figure and
     /// the scene's switches together, so that neither hides the other; a shader that failed to
-    /// reload comes first.
-    fn update_title(&self) {
+    /// reload comes first. Called after every frame, so that whatever changed the scene (a key, the
+    /// mouse moving a light, the wheel) shows at once; the window is told only of a change.
+    fn update_title(&mut self) {
         let ms = self
             .ms_per_frame
             .map_or(String::new(), |ms| format!(" - {ms:.3} ms/frame"));
@@ -662,8 +657,11 @@ impl Running {
             .shader_error
             .as_ref()
             .map_or(String::new(), |e| format!(" - {e}"));
-        self.window
-            .set_title(&format!("{TITLE}{error}{ms} - {}", self.scene.status()));
+        let title = format!("{TITLE}{error}{ms} - {}", self.scene.status());
+        if title != self.shown_title {
+            self.window.set_title(&title);
+            self.shown_title = title;
+        }
     }
 
     /// Live shader editing: compiles the scene's shaders again. A shader that does not compile
@@ -680,7 +678,6 @@ impl Running {
                 self.shader_error = Some(shader_error_title(&e));
             }
         }
-        self.update_title();
     }
 
     /// `P`: tutorial13-1.png, tutorial13-2.png, ... in the current folder, never overwriting.
@@ -738,8 +735,8 @@ impl Running {
         if let Some(ms) = self.timer.tick(now) {
             println!("{ms:.3} ms/frame");
             self.ms_per_frame = Some(ms);
-            self.update_title();
         }
+        self.update_title();
         Ok(())
     }
 
