@@ -28,7 +28,7 @@
 //!   With U growing to the right and V upwards on the cylinder, T therefore points *left* and B
 //!   *down* across the picture. Red must then grow with `+dh/dx` and green with `+dh/dy` (x to the
 //!   right, y up the picture): the usual OpenGL normal map turned by 180°. Made that way, a brick
-//!   lit from above has bright top edges (checked in `tests/assets.rs` with the crate's own tangent
+//!   lit from above has bright top edges (checked in `tests/all/assets.rs` with the crate's own tangent
 //!   code). The tutorial's own `normal.bmp` agrees on red but has green the other way round.
 
 pub mod cube;

@@ -2,11 +2,13 @@
 //! The article says both give the same result; these tests measure how close they are, check the
 //! lighting formula pixel by pixel against the article's numbers, and keep a golden image.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 
-use common::{assert_matches_golden, frame, own_assets, pixel_diff, renderer, scratch, H, W};
+use crate::common::{
+    assert_matches_golden, frame, own_assets, pixel_diff, renderer, scratch, H, W,
+};
 use glam::{Vec3, Vec4};
 use image::RgbImage;
 use tutorial13::assets::encode_bmp;

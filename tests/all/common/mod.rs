@@ -161,11 +161,17 @@ pub fn is_background(p: &Rgb<u8>) -> bool {
     p.0 == BACKGROUND
 }
 
-/// A fresh, empty folder for one test: target/tmp/<test binary>-<name>. Emptied when the test starts,
-/// kept after it ends so that a failure's files can be looked at.
+/// A fresh, empty folder for one test: target/tmp/<test file>-<name>, the file being the caller's (the
+/// tests share one binary, so two files may use the same name). Emptied when the test starts, kept
+/// after it ends so that a failure's files can be looked at.
+#[track_caller]
 pub fn scratch(name: &str) -> PathBuf {
-    let dir =
-        Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{}-{name}", env!("CARGO_CRATE_NAME")));
+    let caller = Path::new(std::panic::Location::caller().file());
+    let file = caller
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("test");
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("{file}-{name}"));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("create {}: {e}", dir.display()));
     dir
@@ -258,6 +264,7 @@ pub fn assert_matches_golden(frame: &RgbImage, name: &str, min_score: f64) {
 
 /// An asset folder with `obj_text` as cylinder.obj, a flat normal map, and diffuse and specular
 /// maps of one colour each.
+#[track_caller]
 pub fn flat_assets(name: &str, obj_text: &str, diffuse: [u8; 4], specular: [u8; 4]) -> PathBuf {
     let dir = scratch(name);
     std::fs::write(dir.join("cylinder.obj"), obj_text).unwrap();
@@ -272,6 +279,7 @@ pub fn flat_assets(name: &str, obj_text: &str, diffuse: [u8; 4], specular: [u8; 
 }
 
 /// The project's cylinder with a flat normal map and white diffuse and specular maps.
+#[track_caller]
 pub fn flat_white_assets(name: &str) -> PathBuf {
     let obj = std::fs::read_to_string(own_assets().join("cylinder.obj")).unwrap();
     flat_assets(name, &obj, [255; 4], [255; 4])

@@ -4,11 +4,11 @@
 //! drawing the lines leaves the next frame untouched. `TUTORIAL13_DUMP=1` writes the frames to
 //! target/test-output/.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 
-use common::{hybrid_score, original_assets, output_dir, own_assets, H, W};
+use crate::common::{hybrid_score, original_assets, output_dir, own_assets, H, W};
 use glam::{Mat4, Vec2, Vec3};
 use image::{RgbImage, RgbaImage};
 use tutorial13::common::shader::crate_shader_dir;

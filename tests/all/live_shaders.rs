@@ -2,11 +2,11 @@
 //! same reload between two frames. A learner's edit shows in the next frame; a shader that does not
 //! compile is reported with its file and the driver's log, and the last good programs keep drawing.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 
-use common::{frame, own_assets, pixel_diff, renderer, scratch};
+use crate::common::{frame, own_assets, pixel_diff, renderer, scratch};
 use image::RgbImage;
 use tutorial13::common::shader::crate_shader_dir;
 use tutorial13::gl::Profile;

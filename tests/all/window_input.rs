@@ -6,9 +6,9 @@
 use std::path::Path;
 use std::time::Duration;
 
-use common::xvfb::{wait_exit, wait_for, Xvfb};
+use crate::common::xvfb::{wait_exit, wait_for, Xvfb};
 
-mod common;
+use crate::common;
 
 fn headless_first_frame(dir: &Path) -> image::RgbImage {
     common::headless_screenshot(dir, "headless.png", &[])

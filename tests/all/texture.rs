@@ -8,7 +8,7 @@ use tutorial13::common::texture::{
 };
 use tutorial13::Error;
 
-mod common;
+use crate::common;
 
 // ---------------------------------------------------------------------------------------------
 // Builders

@@ -6,11 +6,11 @@
 //! that a pixel's colour follows from the article's formula alone: emissive (0, 0.01, 0) + 0.09 ×
 //! texel on a face the light does not reach.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 
-use common::*;
+use crate::common::*;
 use glam::{Mat4, Vec3};
 use image::RgbImage;
 use tutorial13::assets::encode_bmp;

@@ -2,11 +2,9 @@
 //! down, the plain `2c − 1` expansion or the exact `c × 255/127 − 128/127`, and two-channel maps with z
 //! rebuilt. Each is checked against a map changed the way the convention says.
 
-mod common;
-
 use std::path::PathBuf;
 
-use common::{
+use crate::common::{
     flat_white_assets, frame, is_background, options, own_assets, pixel_diff, renderer, scratch,
 };
 use image::RgbImage;

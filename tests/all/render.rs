@@ -2,9 +2,7 @@
 //! a symmetric frame from symmetric inputs, golden images (`TUTORIAL13_UPDATE_GOLDEN=1` rewrites them
 //! after an intended change: look at them before committing), and the C++ original's frames.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::Vec3;
 use tutorial13::common::objloader::load_obj;
 use tutorial13::debug::lines::LineMode;

@@ -17,9 +17,9 @@ use tutorial13::scenes::sprite::{
 };
 use tutorial13::scenes::{SceneName, SceneOptions};
 
-mod common;
-use common::xvfb::{wait_exit, wait_for, Xvfb};
-use common::{assert_matches_golden, frame, own_assets, pixel_diff, scratch};
+use crate::common;
+use crate::common::xvfb::{wait_exit, wait_for, Xvfb};
+use crate::common::{assert_matches_golden, frame, own_assets, pixel_diff, scratch};
 
 /// Side of the sprite's textures.
 const TEXELS: u32 = 512;

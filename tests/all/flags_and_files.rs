@@ -8,7 +8,7 @@ use std::process::{Command, Output, Stdio};
 use tutorial13::assets::{generate_assets, make_assets};
 use tutorial13::Error;
 
-mod common;
+use crate::common;
 
 fn tutorial13(args: &[&str], dir: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_tutorial13"))

@@ -8,7 +8,7 @@ use tutorial13::assets::{
     brick_height_map, make_assets, normal_map_from_height, tutorial_cylinder_obj_text, ASSET_FILES,
 };
 
-mod common;
+use crate::common;
 
 const SIZE: usize = 1024;
 

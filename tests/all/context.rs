@@ -6,7 +6,7 @@ use tutorial13::gl::context::{HeadlessContext, OffscreenTarget};
 use tutorial13::gl::image::write_png;
 use tutorial13::gl::{context_info, gl_errors, Profile};
 
-mod common;
+use crate::common;
 
 fn software(profile: Profile) -> HeadlessContext {
     HeadlessContext::new(profile, false).unwrap_or_else(|e| panic!("{profile} context: {e}"))

@@ -13,7 +13,7 @@ use tutorial13::common::vboindexer::{
 use tutorial13::mesh::{build_mesh, grid_cylinder_obj_text, MeshOptions};
 use tutorial13::scenes::tutorial13::load_mesh;
 
-mod common;
+use crate::common;
 
 // Fails if loading, V negation or the 0.01 merging differ from the original, which turns the
 // tutorial's 64 triangles (192 corners) into 66 vertices with 16-bit indices.

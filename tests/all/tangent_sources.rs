@@ -1,11 +1,13 @@
 //! The three tangent sources of the cylinder scene (`--tangents`): the tutorial's, MikkTSpace's and
 //! the per-pixel frame from screen-space derivatives, on meshes where their agreement is known.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 
-use common::{frame, is_background, options, own_assets, pixel_diff, project, renderer, scratch};
+use crate::common::{
+    frame, is_background, options, own_assets, pixel_diff, project, renderer, scratch,
+};
 use glam::Vec3;
 use image::RgbImage;
 use tutorial13::common::objloader::{load_obj, TriangleSoup};

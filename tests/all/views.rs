@@ -2,9 +2,7 @@
 //! against its formula, equivalent shader paths against each other, and the switches where they must
 //! (and must not) change the picture.
 
-mod common;
-
-use common::*;
+use crate::common::*;
 use glam::{Mat3, Vec3};
 use image::RgbImage;
 use tutorial13::common::controls::Controls;

@@ -14,9 +14,9 @@ use image::RgbImage;
 use tutorial13::gl::context::HeadlessContext;
 use tutorial13::gl::Profile;
 
-mod common;
+use crate::common;
 
-use common::xvfb::Xvfb;
+use crate::common::xvfb::Xvfb;
 
 /// The background the tutorial clears to: glClearColor(0.0, 0.0, 0.4, 0.0).
 const CLEAR_RGB: [u8; 3] = [0, 0, 102];

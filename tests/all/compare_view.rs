@@ -1,9 +1,7 @@
 //! The compare view (`--compare A,B`, key K): two tangent sources in one frame, side by side or as a
 //! heat map of their difference.
 
-mod common;
-
-use common::{frame, options, own_assets, pixel_diff, renderer, rgb, W};
+use crate::common::{frame, options, own_assets, pixel_diff, renderer, rgb, W};
 use image::RgbImage;
 use tutorial13::debug::compare::{heat_map, CompareMode};
 use tutorial13::gl::Profile;

@@ -1,0 +1,30 @@
+//! Every integration test in one binary: one link instead of one per file, and one process whose
+//! helpers (`common`) are compiled once. Each module is one former test file, named for what it
+//! checks; run one with `cargo test --release -- <module>::` (see the README).
+
+mod common;
+
+mod assets;
+mod cli;
+mod compare_view;
+mod context;
+mod debug_lines;
+mod flags_and_files;
+mod fuzz;
+mod gl_helpers;
+mod live_shaders;
+mod normal_map_conventions;
+mod normalmap;
+mod obj_input;
+mod one_cell;
+mod pipeline;
+mod render;
+mod scene_cube;
+mod scene_sprite;
+mod scene_wall;
+mod scenes;
+mod tangent_overflow;
+mod tangent_sources;
+mod texture;
+mod views;
+mod window_input;
