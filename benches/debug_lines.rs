@@ -23,8 +23,8 @@ use tutorial13::debug::lines::{DebugLines, LineMode};
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::gl::{gl_errors, Profile};
 use tutorial13::mesh::grid_cylinder_obj_text;
+use tutorial13::scenes::cylinder::tutorial13::LIGHT_POS;
 use tutorial13::scenes::cylinder::Cylinder;
-use tutorial13::scenes::tutorial13::LIGHT_POS;
 use tutorial13::scenes::SceneOptions;
 
 /// 375 segments × 200 rings × 2 = 150 000 triangles; vertices stay more than 0.01 apart (0.063 around,

@@ -16,7 +16,7 @@ use crate::{Error, Result};
 pub const MAX_SIDE: u32 = 16384;
 
 /// The derivative filter.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum Kernel {
     /// 3×3 Sobel (weights 1 2 1 across the derivative), smooths noise a little.
     #[default]
@@ -28,7 +28,7 @@ pub enum Kernel {
 }
 
 /// Which way the green channel points.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum Green {
     /// +y up the picture (OpenGL's convention, the tutorial's).
     #[default]

@@ -49,7 +49,7 @@ const GL_CURRENT_BIT: u32 = 0x0001;
 const GL_TRANSFORM_BIT: u32 = 0x1000;
 
 /// How the debug lines are drawn.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum LineMode {
     /// The tutorial's immediate mode (compatibility profile only).
     Legacy,

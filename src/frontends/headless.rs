@@ -9,13 +9,13 @@ use glow::HasContext;
 use crate::common::controls::{Controls, Input};
 use crate::gl::context::{HeadlessContext, OffscreenTarget};
 use crate::gl::{check_gl_errors, Profile};
-use crate::scenes::{FrameInput, Scene, SceneContext, SceneName, SceneOptions};
+use crate::scenes::{FrameInput, Scene, SceneContext, SceneDescriptor, SceneOptions};
 use crate::Result;
 
 /// What to render headless.
 #[derive(Debug, Clone)]
 pub struct HeadlessOptions {
-    pub scene_name: SceneName,
+    pub descriptor: &'static SceneDescriptor,
     pub scene: SceneOptions,
     pub width: u32,
     pub height: u32,
@@ -30,7 +30,7 @@ impl Default for HeadlessOptions {
     /// The tutorial's frame: the cylinder, 1024×768, core profile, llvmpipe.
     fn default() -> Self {
         HeadlessOptions {
-            scene_name: SceneName::default(),
+            descriptor: crate::scenes::default_scene(),
             scene: SceneOptions::default(),
             width: 1024,
             height: 768,
@@ -46,7 +46,7 @@ pub struct HeadlessRenderer {
     // Field order is drop order: GL objects go before the context that owns them.
     pub scene: Box<dyn Scene>,
     /// Which scene [`HeadlessRenderer::scene`] is.
-    pub scene_name: SceneName,
+    pub descriptor: &'static SceneDescriptor,
     scene_options: SceneOptions,
     pub target: OffscreenTarget,
     pub controls: Controls,
@@ -69,10 +69,10 @@ impl HeadlessRenderer {
             context.info(),
             |name| context.get_proc_address(name),
         )?;
-        let scene = build_scene(&context, options.scene_name, &options.scene)?;
+        let scene = build_scene(&context, options.descriptor, &options.scene)?;
         Ok(HeadlessRenderer {
             scene,
-            scene_name: options.scene_name,
+            descriptor: options.descriptor,
             scene_options: options.scene.clone(),
             target,
             controls: Controls::for_viewport(options.width, options.height),
@@ -84,9 +84,9 @@ impl HeadlessRenderer {
     /// Replaces the scene with `name`, built from the same options (the window's scene key). The new
     /// scene is built first, so a failure leaves the current one in place; the old one's GL objects
     /// are deleted when it is dropped.
-    pub fn switch_scene(&mut self, name: SceneName) -> Result<()> {
+    pub fn switch_scene(&mut self, name: &'static SceneDescriptor) -> Result<()> {
         self.scene = build_scene(&self.context, name, &self.scene_options)?;
-        self.scene_name = name;
+        self.descriptor = name;
         Ok(())
     }
 
@@ -99,7 +99,8 @@ impl HeadlessRenderer {
     /// The scene as its own type, for tests and tools that reach into it. Panics if the renderer
     /// holds another scene.
     pub fn scene_mut<S: Scene + 'static>(&mut self) -> &mut S {
-        self.scene
+        // `*self.scene`: the scene in the box (the box itself is `Any` too).
+        (*self.scene)
             .as_any_mut()
             .downcast_mut()
             .expect("the renderer holds another scene")
@@ -107,7 +108,7 @@ impl HeadlessRenderer {
 
     /// [`HeadlessRenderer::scene_mut`], shared.
     pub fn scene_ref<S: Scene + 'static>(&self) -> &S {
-        self.scene
+        (*self.scene)
             .as_any()
             .downcast_ref()
             .expect("the renderer holds another scene")
@@ -167,7 +168,7 @@ impl HeadlessRenderer {
 
 fn build_scene(
     context: &HeadlessContext,
-    name: SceneName,
+    name: &'static SceneDescriptor,
     options: &SceneOptions,
 ) -> Result<Box<dyn Scene>> {
     let loader = |symbol: &std::ffi::CStr| context.get_proc_address(symbol);
@@ -176,5 +177,5 @@ fn build_scene(
         info: context.info(),
         loader: &loader,
     };
-    name.build(&scene_context, options)
+    (name.build)(&scene_context, options)
 }

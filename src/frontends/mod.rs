@@ -9,7 +9,7 @@ pub mod window;
 use std::path::PathBuf;
 use std::time::{Duration, Instant, SystemTime};
 
-use crate::scenes::{MouseMode, Scene, SceneName};
+use crate::scenes::{MouseMode, Scene, SceneDescriptor};
 
 /// The window's mouse look and camera keys, listed for scenes with [`MouseMode::Look`] (the
 /// first two before the scene's keys, the rest after them).
@@ -39,16 +39,16 @@ pub const WINDOW_KEYS: &[(&str, &str)] = &[
 
 /// The key list printed at start and by `--help`: what the mouse does (the window's mouse look, or
 /// the scene's own use of a free cursor), the scene's keys, then the window's.
-pub fn key_list(scene: SceneName) -> String {
-    let (before, after): (&[_], &[_]) = match scene.mouse_mode() {
+pub fn key_list(scene: &'static SceneDescriptor) -> String {
+    let (before, after): (&[_], &[_]) = match scene.mouse_mode {
         MouseMode::Look => LOOK_KEYS.split_at(2),
         // The camera keys would steer a camera such a scene does not have.
-        MouseMode::Cursor => (scene.mouse_help(), &[]),
+        MouseMode::Cursor => (scene.mouse_help, &[]),
     };
     let own = |keys: &'static [(&str, &'static str)]| {
         keys.iter().map(|&(key, help)| (key.to_string(), help))
     };
-    let scene_keys = scene.keys().iter().map(|k| (k.key.to_string(), k.help));
+    let scene_keys = scene.keys.iter().map(|k| (k.key.to_string(), k.help));
     let mut text = format!("Keys (window, scene {scene}):");
     for (key, help) in own(before)
         .chain(scene_keys)
@@ -181,9 +181,9 @@ mod tests {
     // if it promises mouse look where the cursor stays free (or leaves the mouse out).
     #[test]
     fn scene_keys_are_free_and_listed() {
-        for &scene in SceneName::ALL {
+        for scene in crate::scenes::SCENES {
             let list = key_list(scene);
-            for help in scene.keys() {
+            for help in scene.keys {
                 let taken = WINDOW_KEYS
                     .iter()
                     .chain(LOOK_KEYS)
@@ -194,12 +194,12 @@ mod tests {
             for &(key, help) in WINDOW_KEYS {
                 assert!(list.contains(&format!("\n  {key:<15} {help}")), "{key}");
             }
-            let look = scene.mouse_mode() == MouseMode::Look;
+            let look = scene.mouse_mode == MouseMode::Look;
             for &(key, help) in LOOK_KEYS {
                 let listed = list.contains(&format!("\n  {key:<15} {help}"));
                 assert_eq!(listed, look, "{scene}: {key}");
             }
-            assert_eq!(scene.mouse_help().is_empty(), look, "{scene}");
+            assert_eq!(scene.mouse_help.is_empty(), look, "{scene}");
             assert!(
                 list.contains("\n  mouse "),
                 "{scene}: the mouse is not listed"

@@ -38,7 +38,7 @@ use crate::common::controls::{Controls, Input};
 use crate::gl::context::OffscreenTarget;
 use crate::gl::image::{read_pixels_rgba, write_screenshot};
 use crate::gl::{check_gl_errors, context_info, ContextInfo, Gl, Profile};
-use crate::scenes::{FrameInput, MouseMode, Scene, SceneContext, SceneName, SceneOptions};
+use crate::scenes::{FrameInput, MouseMode, Scene, SceneContext, SceneDescriptor, SceneOptions};
 use crate::{Error, Result};
 
 pub const TITLE: &str = "Tutorial 13 - Normal Mapping";
@@ -46,7 +46,7 @@ pub const TITLE: &str = "Tutorial 13 - Normal Mapping";
 /// The command line's window-mode settings.
 #[derive(Debug, Clone)]
 pub struct WindowOptions {
-    pub scene_name: SceneName,
+    pub descriptor: &'static SceneDescriptor,
     pub scene: SceneOptions,
     pub size: (u32, u32),
     pub profile: Profile,
@@ -164,7 +164,7 @@ struct App {
 /// the surface and context, then the window.
 struct Running {
     scene: Box<dyn Scene>,
-    scene_name: SceneName,
+    descriptor: &'static SceneDescriptor,
     scene_options: SceneOptions,
     info: ContextInfo,
     gl: Gl,
@@ -213,7 +213,7 @@ impl ApplicationHandler for App {
         match Running::new(event_loop, &self.options) {
             Ok(running) => {
                 // Only now: a failure before this point prints its error alone, not after the keys.
-                println!("{}", key_list(self.options.scene_name));
+                println!("{}", key_list(self.options.descriptor));
                 running.window.request_redraw();
                 self.running = Some(running);
             }
@@ -242,7 +242,9 @@ impl ApplicationHandler for App {
                     KeyCode::Escape if pressed => event_loop.exit(),
                     KeyCode::Tab if pressed => running.set_cursor_grab(false),
                     KeyCode::Enter if pressed => {
-                        if let Err(e) = running.switch_scene(running.scene_name.next()) {
+                        if let Err(e) =
+                            running.switch_scene(crate::scenes::next(running.descriptor))
+                        {
                             log::error!("{e}");
                         }
                     }
@@ -282,7 +284,7 @@ impl ApplicationHandler for App {
                 state: ElementState::Pressed,
                 button: MouseButton::Left,
                 ..
-            } if !frozen => match running.scene_name.mouse_mode() {
+            } if !frozen => match running.descriptor.mouse_mode {
                 MouseMode::Look => running.set_cursor_grab(true),
                 MouseMode::Cursor => running.scene.click(),
             },
@@ -559,13 +561,13 @@ impl Running {
             info: &info,
             loader: &loader,
         };
-        let scene = options.scene_name.build(&scene_context, &options.scene)?;
+        let scene = (options.descriptor.build)(&scene_context, &options.scene)?;
         log::info!("{}", scene.status());
         let now = Instant::now();
         let shader_watch = ShaderWatch::new(&*scene);
         let mut running = Running {
             scene,
-            scene_name: options.scene_name,
+            descriptor: options.descriptor,
             scene_options: options.scene.clone(),
             info,
             gl,
@@ -595,7 +597,7 @@ impl Running {
 
     /// The scene key: builds `name` on this context (the current scene stays if that fails), drops
     /// the old scene's GL objects, and prints the new scene's keys.
-    fn switch_scene(&mut self, name: SceneName) -> Result<()> {
+    fn switch_scene(&mut self, name: &'static SceneDescriptor) -> Result<()> {
         let display = self.context.display();
         let loader = |symbol: &std::ffi::CStr| display.get_proc_address(symbol);
         let scene_context = SceneContext {
@@ -603,10 +605,10 @@ impl Running {
             info: &self.info,
             loader: &loader,
         };
-        let scene = name.build(&scene_context, &self.scene_options)?;
+        let scene = (name.build)(&scene_context, &self.scene_options)?;
         self.set_cursor_grab(false);
         self.scene = scene;
-        self.scene_name = name;
+        self.descriptor = name;
         self.shader_watch = ShaderWatch::new(&*self.scene);
         self.shader_error = None;
         self.controls = Controls::default();
@@ -619,7 +621,7 @@ impl Running {
     /// Grabs (and hides) the cursor for mouse look, or releases it. A scene that follows the absolute
     /// cursor is never grabbed.
     fn set_cursor_grab(&mut self, grab: bool) {
-        let grab = grab && self.scene_name.mouse_mode() == MouseMode::Look;
+        let grab = grab && self.descriptor.mouse_mode == MouseMode::Look;
         if grab == self.grabbed {
             return;
         }
@@ -769,7 +771,6 @@ impl Running {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scenes::SceneName;
 
     // Fails if winit's source path reaches the user's error line, or if other reasons are altered.
     #[test]
@@ -804,8 +805,8 @@ mod tests {
         .collect();
         assert_eq!(typeable, ['A', 'Z', '0', '9']);
         assert_eq!(key_char(KeyCode::Escape), None);
-        for &scene in SceneName::ALL {
-            for help in scene.keys() {
+        for scene in crate::scenes::SCENES {
+            for help in scene.keys {
                 assert!(
                     help.key.is_ascii_uppercase() || help.key.is_ascii_digit(),
                     "{scene}: key {:?} cannot be typed",

@@ -5,6 +5,7 @@
 pub mod buffers;
 pub mod context;
 pub mod image;
+pub mod state;
 
 use std::fmt;
 
@@ -14,7 +15,7 @@ pub use crate::common::Gl;
 use crate::{Error, Result};
 
 /// Which OpenGL profile a context has (or is asked for).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Profile {
     /// 3.2+ core profile: what the tutorial asks GLFW for.
     Core,

@@ -1,192 +1,119 @@
-//! Scenes: the programs the front ends can run. Each owns its meshes, textures, shaders, uniforms,
-//! keys and status line; the window, headless mode, `--bench` and the tests drive any of them through
-//! the small [`Scene`] trait and know nothing of cylinders.
+//! Scenes: the programs the front ends can run. Each is a folder that owns its meshes, textures,
+//! shaders, uniforms, GL state, command-line arguments, keys and status line, and describes itself in
+//! one [`SceneDescriptor`] (`SCENE`); [`SCENES`] lists them, and is all the rest of the program knows.
+//! The window, headless mode, `--bench` and the tests drive any of them through the [`Scene`] trait.
 //!
-//! | scene      | program                                                         | file            |
-//! |------------|-----------------------------------------------------------------|-----------------|
-//! | `cylinder` | Tutorial 13 (`tutorial13.cpp`), with its debugging aids as keys | [`cylinder`], [`tutorial13`] |
-//! | `sprite`   | Article 001: a 2D normal-mapped sprite, its light on the mouse   | [`sprite`]      |
-//! | `cube`     | article 003: Blinn-Phong in tangent space, normal mapping on/off | [`cube`]        |
-//! | `wall`     | article 004: a stone wall lit in view space or in tangent space  | [`wall`]        |
+//! | scene      | program                                                | folder         |
+//! |------------|--------------------------------------------------------|----------------|
+//! | `cylinder` | Tutorial 13 (`tutorial13.cpp`), its debugging aids as keys | [`cylinder`] ([`cylinder::tutorial13`]) |
+//! | `sprite`   | article 001: a 2D normal-mapped sprite, its light on the mouse | [`sprite`] |
+//! | `cube`     | article 003: Blinn-Phong in tangent space, normal mapping on/off | [`cube`] |
+//! | `wall`     | article 004: a stone wall lit in view space or in tangent space | [`wall`] |
 
 pub mod cube;
 pub mod cylinder;
 mod scene;
 pub mod sprite;
-pub mod tutorial13;
 pub mod wall;
 
-use std::fmt;
-use std::path::{Path, PathBuf};
-
-use crate::Result;
+use clap::parser::ValueSource;
 
 pub use scene::{
-    action_for_key, key_help, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneContext,
+    action_for_key, crate_assets_dir, key_help, read_args, AsAny, Binding, FrameInput, KeyHelp,
+    MouseMode, PerScene, Scene, SceneArgs, SceneContext, SceneDescriptor, SceneOption,
+    SceneOptions, SharedArgs,
 };
 
-/// The scenes `--scene` can name.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
-pub enum SceneName {
-    /// Tutorial 13's normal-mapped cylinder.
-    #[default]
-    Cylinder,
-    /// Article 001's 2D normal-mapped sprite with a mouse-driven light.
-    Sprite,
-    /// Article 004's stone wall, lit in view space or in tangent space.
-    Wall,
-    /// Article 003's stone cube: Blinn-Phong in tangent space.
-    Cube,
+/// Every scene, in the order the Enter key steps through them; the first is the default. Adding a
+/// scene is its folder, one line here, and its tests.
+pub static SCENES: [&SceneDescriptor; 4] =
+    [&cylinder::SCENE, &sprite::SCENE, &cube::SCENE, &wall::SCENE];
+
+/// The scene the program starts with when `--scene` is not given.
+pub fn default_scene() -> &'static SceneDescriptor {
+    SCENES[0]
 }
 
-impl SceneName {
-    /// Every scene, in the order the scene key steps through them.
-    pub const ALL: &'static [SceneName] = &[
-        SceneName::Cylinder,
-        SceneName::Sprite,
-        SceneName::Cube,
-        SceneName::Wall,
-    ];
-
-    /// The `--scene` name.
-    pub fn name(self) -> &'static str {
-        match self {
-            SceneName::Cylinder => "cylinder",
-            SceneName::Sprite => "sprite",
-            SceneName::Wall => "wall",
-            SceneName::Cube => "cube",
-        }
-    }
-
-    /// One line for `--help` and the README.
-    pub fn description(self) -> &'static str {
-        match self {
-            SceneName::Cylinder => "Tutorial 13: the normal-mapped cylinder (the default)",
-            SceneName::Sprite => {
-                "Article 001: a 2D normal-mapped rock lit by a light on the mouse (wheel: height, \
-                 click: reset)"
-            }
-            SceneName::Wall => "a stone wall lit in view space or in tangent space (article 004)",
-            SceneName::Cube => "article 003: a stone cube, Blinn-Phong in tangent space",
-        }
-    }
-
-    /// The next scene, wrapping around.
-    pub fn next(self) -> SceneName {
-        let i = Self::ALL.iter().position(|&s| s == self).unwrap_or(0);
-        Self::ALL[(i + 1) % Self::ALL.len()]
-    }
-
-    /// The scene's keys, without building it (for `--help`).
-    pub fn keys(self) -> &'static [KeyHelp] {
-        match self {
-            SceneName::Cylinder => cylinder::KEYS,
-            SceneName::Sprite => sprite::KEYS,
-            SceneName::Wall => wall::KEYS,
-            SceneName::Cube => cube::KEYS,
-        }
-    }
-
-    /// Mouse look (the tutorial's) or the free cursor, known without building the scene (like its
-    /// keys) so that the key list can say what the mouse does.
-    pub fn mouse_mode(self) -> MouseMode {
-        match self {
-            SceneName::Sprite => MouseMode::Cursor,
-            SceneName::Cylinder | SceneName::Wall | SceneName::Cube => MouseMode::Look,
-        }
-    }
-
-    /// What the mouse, wheel and click do in a scene with [`MouseMode::Cursor`] (mouse-look scenes
-    /// have the window's mouse look and list nothing here).
-    pub fn mouse_help(self) -> &'static [(&'static str, &'static str)] {
-        match self {
-            SceneName::Sprite => sprite::MOUSE_HELP,
-            SceneName::Cylinder | SceneName::Wall | SceneName::Cube => &[],
-        }
-    }
-
-    /// Loads the scene on the current context.
-    pub fn build(self, context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
-        Ok(match self {
-            SceneName::Cylinder => Box::new(cylinder::Cylinder::new(
-                context,
-                &options.assets_dir(),
-                options.shader_dir(),
-                options.cylinder,
-            )?),
-            SceneName::Wall => Box::new(wall::Wall::new(
-                context,
-                &options.assets_dir(),
-                options.shader_dir(),
-                options.wall,
-            )?),
-            SceneName::Sprite => Box::new(sprite::Sprite::new(
-                context,
-                &options.assets_dir(),
-                options.shader_dir(),
-                options.sprite,
-            )?),
-            SceneName::Cube => Box::new(cube::Cube::new(
-                context,
-                &options.assets_dir(),
-                options.shader_dir(),
-                options.cube,
-            )?),
+/// The scene `--scene NAME` names.
+pub fn find(name: &str) -> Result<&'static SceneDescriptor, String> {
+    SCENES
+        .iter()
+        .copied()
+        .find(|scene| scene.name == name)
+        .ok_or_else(|| {
+            let names: Vec<_> = SCENES.iter().map(|s| s.name).collect();
+            format!("unknown scene '{name}': use {}", names.join(", "))
         })
-    }
 }
 
-impl fmt::Display for SceneName {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
-    }
+/// The scene after `scene`, wrapping around (the Enter key).
+pub fn next(scene: &SceneDescriptor) -> &'static SceneDescriptor {
+    let i = SCENES.iter().position(|s| *s == scene).unwrap_or(0);
+    SCENES[(i + 1) % SCENES.len()]
 }
 
-impl std::str::FromStr for SceneName {
-    type Err = String;
-
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        Self::ALL
-            .iter()
-            .copied()
-            .find(|scene| scene.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<_> = Self::ALL.iter().map(|s| s.name()).collect();
-                format!("unknown scene '{s}': use {}", names.join(", "))
-            })
-    }
+/// `command` with the flags several scenes share and every scene's own arguments, each scene's under
+/// a heading of its own.
+pub fn command_line(command: clap::Command) -> clap::Command {
+    let command = <SharedArgs as clap::Args>::augment_args(command);
+    SCENES
+        .iter()
+        .fold(command, |command, scene| (scene.args)(command))
 }
 
-/// Where a scene's files come from, and the switches it starts with.
-#[derive(Debug, Clone, Default)]
-pub struct SceneOptions {
-    /// `--assets DIR`; `None` = the crate's own assets/ folder.
-    pub assets: Option<PathBuf>,
-    /// `--shaders DIR`; `None` = the crate's shaders/ folder, else the copies built into the binary.
-    pub shaders: Option<PathBuf>,
-    /// The cylinder scene's switches.
-    pub cylinder: cylinder::CylinderOptions,
-    /// The sprite scene's light and switches.
-    pub sprite: sprite::SpriteOptions,
-    /// The wall scene's switches.
-    pub wall: wall::WallOptions,
-    /// The cube scene's switches.
-    pub cube: cube::CubeOptions,
+/// Every scene's options from a command line parsed with [`command_line`], for a program that starts
+/// with `scene`. A flag that `scene` does not read is an error naming the scenes that do: no flag is
+/// ever silently ignored.
+pub fn scene_options(
+    matches: &clap::ArgMatches,
+    scene: &SceneDescriptor,
+    mut options: SceneOptions,
+) -> Result<SceneOptions, String> {
+    let given = |id: &str| matches.value_source(id) == Some(ValueSource::CommandLine);
+    let shared = <SharedArgs as clap::Args>::augment_args(clap::Command::new("shared"));
+    for arg in shared.get_arguments() {
+        let id = arg.get_id().as_str();
+        if given(id) && !scene.shared_args.contains(&id) {
+            let readers: Vec<_> = SCENES
+                .iter()
+                .filter(|s| s.shared_args.contains(&id))
+                .map(|s| s.name)
+                .collect();
+            let (last, others) = readers.split_last().expect("a shared flag has readers");
+            let readers = match others {
+                [] => format!("scene {last}"),
+                _ => format!("scenes {} and {last}", others.join(", ")),
+            };
+            return Err(format!(
+                "{} is an option of {readers}, not of scene {} (choose one with --scene)",
+                flag(arg),
+                scene.name
+            ));
+        }
+    }
+    for other in SCENES.iter().filter(|s| ***s != *scene) {
+        let args = (other.args)(clap::Command::new(other.name));
+        let stray = args
+            .get_arguments()
+            .find(|a| given(a.get_id().as_str()))
+            .map(flag);
+        if let Some(stray) = stray {
+            return Err(format!(
+                "{stray} is an option of scene {}, not of scene {} (add --scene {})",
+                other.name, scene.name, other.name
+            ));
+        }
+    }
+    for scene in SCENES {
+        (scene.read_args)(matches, &mut options).map_err(|e| e.to_string())?;
+    }
+    Ok(options)
 }
 
-impl SceneOptions {
-    /// The asset folder in use.
-    pub fn assets_dir(&self) -> PathBuf {
-        self.assets.clone().unwrap_or_else(crate_assets_dir)
+/// `--long` as the user typed it.
+fn flag(arg: &clap::Arg) -> String {
+    match arg.get_long() {
+        Some(long) => format!("--{long}"),
+        None => arg.get_id().to_string(),
     }
-
-    /// The shader folder given on the command line, if any.
-    pub fn shader_dir(&self) -> Option<&Path> {
-        self.shaders.as_deref()
-    }
-}
-
-/// The crate's own assets/ folder, wherever the binary is started from.
-pub fn crate_assets_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets")
 }

@@ -1,15 +1,194 @@
 //! The seam between the front ends and a program: what a scene is built on, what it gets each frame,
-//! and what it must answer. The registry of scenes ([`super::SceneName`]) sits above the scenes and
-//! this file below them, so no scene imports the module that imports it.
+//! what it must answer, and how it describes itself ([`SceneDescriptor`]). The list of scenes
+//! ([`super::SCENES`]) sits above the scenes and this file below them, so no scene imports the module
+//! that imports it.
 
 use std::any::Any;
 use std::ffi::{c_void, CStr};
-use std::path::PathBuf;
+use std::fmt;
+use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec2};
 
 use crate::gl::{ContextInfo, Gl};
 use crate::Result;
+
+/// All the rest of the program knows of a scene: each scene's folder defines one (`SCENE`), and one
+/// line in [`super::SCENES`] adds it to the command line, the Enter key, `--help` and `docs/keys.md`.
+pub struct SceneDescriptor {
+    /// The `--scene` name.
+    pub name: &'static str,
+    /// One line for `--help`, the README and the title: what the scene shows and where it comes from.
+    pub description: &'static str,
+    /// Mouse look (the tutorial's) or a free cursor.
+    pub mouse_mode: MouseMode,
+    /// The scene's keys, from the same bindings its key handler reads.
+    pub keys: &'static [KeyHelp],
+    /// What the mouse, wheel and click do in a scene with [`MouseMode::Cursor`] (mouse-look scenes
+    /// have the window's mouse look and list nothing here).
+    pub mouse_help: &'static [(&'static str, &'static str)],
+    /// The scene's command-line arguments: its [`SceneArgs`] struct, under a heading of its own.
+    pub args: fn(clap::Command) -> clap::Command,
+    /// Which of the flags several scenes read ([`SharedArgs`]) this one reads, by argument id.
+    pub shared_args: &'static [&'static str],
+    /// Reads the scene's arguments from the parsed command line into [`SceneOptions`].
+    pub read_args: fn(&clap::ArgMatches, &mut SceneOptions) -> std::result::Result<(), clap::Error>,
+    /// Loads the scene on the current context, with its options from `options` (its defaults where
+    /// `options` holds none).
+    pub build: fn(&SceneContext, &SceneOptions) -> Result<Box<dyn Scene>>,
+}
+
+impl PartialEq for SceneDescriptor {
+    fn eq(&self, other: &Self) -> bool {
+        self.name == other.name
+    }
+}
+
+impl Eq for SceneDescriptor {}
+
+impl fmt::Debug for SceneDescriptor {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "SceneDescriptor({})", self.name)
+    }
+}
+
+impl fmt::Display for SceneDescriptor {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name)
+    }
+}
+
+/// A scene's command-line arguments (a `clap::Args` struct in its folder) and the options they give.
+pub trait SceneArgs: clap::Args + clap::FromArgMatches {
+    /// What the scene is built with; its `Default` is the scene without any flag.
+    type Options: SceneOption + Default;
+
+    /// The options these arguments (and the flags several scenes share) ask for.
+    fn options(&self, shared: &SharedArgs) -> Self::Options;
+}
+
+/// [`SceneDescriptor::read_args`] for a scene whose arguments are `A`.
+pub fn read_args<A: SceneArgs>(
+    matches: &clap::ArgMatches,
+    options: &mut SceneOptions,
+) -> std::result::Result<(), clap::Error> {
+    let shared = <SharedArgs as clap::FromArgMatches>::from_arg_matches(matches)?;
+    let args = A::from_arg_matches(matches)?;
+    options.set(args.options(&shared));
+    Ok(())
+}
+
+// Flags that mean the same in several scenes: each scene's descriptor names those it reads, so that
+// one given to a scene that does not read it is an error, not ignored. (A plain comment: clap would
+// make a doc comment the program's `about`.)
+#[derive(clap::Args, Debug, Clone, Default)]
+#[command(next_help_heading = "Several scenes")]
+pub struct SharedArgs {
+    /// Normal map's green channel: up the picture (OpenGL, the tutorial's) or down (DirectX)
+    /// [scenes: cylinder, sprite] (key Y)
+    #[arg(long, value_enum, value_name = "DIR", default_value_t = crate::normalmap::Green::Up)]
+    pub green: crate::normalmap::Green,
+}
+
+/// A value a scene is built with (its options type): any plain data.
+pub trait SceneOption: Any + fmt::Debug + Send + Sync {
+    fn clone_box(&self) -> Box<dyn SceneOption>;
+    fn option_any(&self) -> &dyn Any;
+    fn option_any_mut(&mut self) -> &mut dyn Any;
+}
+
+impl<T: Any + Clone + fmt::Debug + Send + Sync> SceneOption for T {
+    fn clone_box(&self) -> Box<dyn SceneOption> {
+        Box::new(self.clone())
+    }
+    fn option_any(&self) -> &dyn Any {
+        self
+    }
+    fn option_any_mut(&mut self) -> &mut dyn Any {
+        self
+    }
+}
+
+impl Clone for Box<dyn SceneOption> {
+    fn clone(&self) -> Self {
+        // `(**self)`: the boxed value's clone, not the blanket impl's clone of the box itself.
+        (**self).clone_box()
+    }
+}
+
+/// Where the scenes' files come from, and each scene's options (by type: a scene that finds none of
+/// its type starts with its defaults). A new scene needs no field here.
+#[derive(Debug, Clone, Default)]
+pub struct SceneOptions {
+    /// `--assets DIR`; `None` = the crate's own assets/ folder.
+    pub assets: Option<PathBuf>,
+    /// `--shaders DIR`; `None` = the crate's shaders/ folder, else the copies built into the binary.
+    pub shaders: Option<PathBuf>,
+    /// Each scene's options, by type (through [`SceneOptions::get`] and [`SceneOptions::set`]).
+    pub per_scene: PerScene,
+}
+
+/// The scenes' options, one value of each type (see [`SceneOptions`]).
+#[derive(Debug, Clone, Default)]
+pub struct PerScene(Vec<Box<dyn SceneOption>>);
+
+impl SceneOptions {
+    /// The asset folder in use.
+    pub fn assets_dir(&self) -> PathBuf {
+        self.assets.clone().unwrap_or_else(crate_assets_dir)
+    }
+
+    /// The shader folder given on the command line, if any.
+    pub fn shader_dir(&self) -> Option<&Path> {
+        self.shaders.as_deref()
+    }
+
+    /// The options of type `T`, or `T`'s defaults.
+    pub fn get<T: SceneOption + Clone + Default>(&self) -> T {
+        self.find::<T>().cloned().unwrap_or_default()
+    }
+
+    /// The options of type `T` to change (set to `T`'s defaults first if there were none).
+    pub fn get_mut<T: SceneOption + Default>(&mut self) -> &mut T {
+        let i = match self.position::<T>() {
+            Some(i) => i,
+            None => {
+                self.per_scene.0.push(Box::new(T::default()));
+                self.per_scene.0.len() - 1
+            }
+        };
+        let any = (*self.per_scene.0[i]).option_any_mut();
+        any.downcast_mut().expect("found by its type")
+    }
+
+    /// Replaces the options of `value`'s type.
+    pub fn set<T: SceneOption + Default>(&mut self, value: T) {
+        *self.get_mut::<T>() = value;
+    }
+
+    /// These options with `value` set.
+    pub fn with<T: SceneOption + Default>(mut self, value: T) -> Self {
+        self.set(value);
+        self
+    }
+
+    fn position<T: SceneOption>(&self) -> Option<usize> {
+        self.per_scene
+            .0
+            .iter()
+            .position(|o| (**o).option_any().is::<T>())
+    }
+
+    fn find<T: SceneOption>(&self) -> Option<&T> {
+        let i = self.position::<T>()?;
+        (*self.per_scene.0[i]).option_any().downcast_ref()
+    }
+}
+
+/// The crate's own assets/ folder, wherever the binary is started from.
+pub fn crate_assets_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets")
+}
 
 /// Everything a scene is built on: the GL function table, what the context is, and the context's
 /// entry-point loader (for what glow does not load, such as the immediate-mode functions).
@@ -33,7 +212,7 @@ pub struct FrameInput {
     pub time: f32,
 }
 
-/// How a scene wants the mouse (see [`SceneName::mouse_mode`](super::SceneName::mouse_mode)).
+/// How a scene wants the mouse (see [`SceneDescriptor::mouse_mode`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MouseMode {
     /// The tutorial's mouse look: the cursor is grabbed and hidden, motion turns the camera.
@@ -77,7 +256,7 @@ pub fn action_for_key<A: Copy>(bindings: &[Binding<A>], key: char) -> Option<A> 
 }
 
 /// The seam between the front ends and a program.
-pub trait Scene {
+pub trait Scene: AsAny {
     /// Draws one frame into the bound framebuffer (the front end has set the viewport): the scene
     /// clears it itself, as the tutorial's loop does.
     fn draw(&mut self, frame: &FrameInput);
@@ -108,8 +287,19 @@ pub trait Scene {
     /// A left click in a scene with [`MouseMode::Cursor`] (with mouse look, a click grabs the cursor
     /// instead). Ignored unless the scene uses it.
     fn click(&mut self) {}
+}
 
-    /// For tests and tools that reach into a particular scene.
+/// For tests and tools that reach into a particular scene: every scene has it, none writes it.
+pub trait AsAny: Any {
     fn as_any(&self) -> &dyn Any;
     fn as_any_mut(&mut self) -> &mut dyn Any;
+}
+
+impl<T: Any> AsAny for T {
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+    fn as_any_mut(&mut self) -> &mut dyn Any {
+        self
+    }
 }

@@ -396,6 +396,46 @@ fn help_lists_the_keys_and_every_flag() {
     );
 }
 
+// Fails if a flag of another scene is ignored again (exit 0 and a frame drawn without it), if the
+// error does not name the scene the flag belongs to, or if anything is written: the cases a new user
+// hit, run as the binary.
+#[test]
+fn a_flag_of_another_scene_stops_the_program_before_rendering() {
+    let scratch = common::scratch("other_scene_flag");
+    let shot = scratch.join("frame.png");
+    for (args, flag, owner) in [
+        (&["--light", "0.5,0.5,0.1"][..], "--light", "scene sprite"),
+        (&["--space", "tangent"][..], "--space", "scene wall"),
+        (
+            &["--scene", "wall", "--view", "normal"][..],
+            "--view",
+            "scene cylinder",
+        ),
+        (
+            &["--scene", "sprite", "--debug-lines"][..],
+            "--debug-lines",
+            "scene cylinder",
+        ),
+        (
+            &["--scene", "cube", "--green", "down"][..],
+            "--green",
+            "scenes cylinder and sprite",
+        ),
+    ] {
+        let out = run(tutorial13()
+            .args(args)
+            .args(["--headless", "--screenshot"])
+            .arg(&shot));
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = text(&out.stderr);
+        assert!(
+            err.contains(&format!("{flag} is an option of {owner}, not of scene")),
+            "{args:?}: {err}"
+        );
+        assert!(!shot.exists(), "{args:?}: a frame was written");
+    }
+}
+
 // ---------------------------------------------------------------------------------------------------
 // 5. No display
 

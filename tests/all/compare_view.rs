@@ -11,13 +11,19 @@ use tutorial13::tangents::TangentSource;
 
 fn alone(source: TangentSource) -> RgbImage {
     let mut options = options(own_assets(), Profile::Core);
-    options.scene.cylinder.tangents = source;
+    options
+        .scene
+        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
+        .tangents = source;
     frame(&mut renderer(&options))
 }
 
 fn compared(sources: [TangentSource; 2], mode: CompareMode, split: f32) -> RgbImage {
     let mut options = options(own_assets(), Profile::Core);
-    options.scene.cylinder.compare = Some(CompareOptions {
+    options
+        .scene
+        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
+        .compare = Some(CompareOptions {
         sources,
         mode,
         split,
@@ -68,7 +74,10 @@ fn each_half_is_its_source_drawn_alone() {
 fn the_heat_map_is_the_difference_of_the_sources_alone() {
     let sources = [TangentSource::Tutorial, TangentSource::MikkTSpace];
     let mut options = options(own_assets(), Profile::Core);
-    options.scene.cylinder.compare = Some(CompareOptions {
+    options
+        .scene
+        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
+        .compare = Some(CompareOptions {
         sources,
         mode: CompareMode::Difference,
         split: 0.5,

@@ -15,8 +15,8 @@ use tutorial13::common::shader::crate_shader_dir;
 use tutorial13::debug::lines::{DebugLines, LegacyGl, LineMode};
 use tutorial13::frontends::headless::HeadlessRenderer;
 use tutorial13::gl::{gl_errors, Profile};
+use tutorial13::scenes::cylinder::tutorial13::LIGHT_POS;
 use tutorial13::scenes::cylinder::Cylinder;
-use tutorial13::scenes::tutorial13::LIGHT_POS;
 
 const BLUE: [u8; 3] = [0, 0, 255];
 const RED: [u8; 3] = [255, 0, 0];
@@ -659,7 +659,7 @@ fn rebuild_takes_the_new_mesh() {
     let obj = common::scratch("rebuild").join("cylinder.obj");
     std::fs::write(&obj, tutorial13::assets::tutorial_cylinder_obj_text(24)).unwrap();
     let other = std::rc::Rc::new(
-        tutorial13::scenes::tutorial13::load_mesh(&obj, Default::default()).unwrap(),
+        tutorial13::scenes::cylinder::tutorial13::load_mesh(&obj, Default::default()).unwrap(),
     );
     assert_ne!(other, r.scene_ref::<Cylinder>().tutorial.mesh);
     for mode in [LineMode::Legacy, LineMode::Shader] {

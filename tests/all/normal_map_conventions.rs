@@ -16,8 +16,16 @@ use tutorial13::scenes::Scene;
 
 fn render(assets: PathBuf, convention: NormalMapConvention, view: &str) -> RgbImage {
     let mut options = options(assets, Profile::Core);
-    options.scene.cylinder.switches.convention = convention;
-    options.scene.cylinder.switches.view = view.parse().unwrap();
+    options
+        .scene
+        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
+        .switches
+        .convention = convention;
+    options
+        .scene
+        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
+        .switches
+        .view = view.parse().unwrap();
     frame(&mut renderer(&options))
 }
 

@@ -11,7 +11,7 @@ use tutorial13::common::vboindexer::{
     index_vbo, index_vbo_tbn, index_vbo_tbn_linear, IndexOptions, Indices,
 };
 use tutorial13::mesh::{build_mesh, grid_cylinder_obj_text, MeshOptions};
-use tutorial13::scenes::tutorial13::load_mesh;
+use tutorial13::scenes::cylinder::tutorial13::load_mesh;
 
 use crate::common;
 

@@ -17,7 +17,6 @@ use tutorial13::assets::encode_bmp;
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::gl::Profile;
 use tutorial13::scenes::cube::{model_matrix, Cube, Face, FACES, HALF_SIZE};
-use tutorial13::scenes::SceneName;
 
 /// FACES' order: front (+z), back, right (+x), left, top (+y), bottom.
 const FRONT: Face = FACES[0];
@@ -30,7 +29,7 @@ const AMBIENT: f32 = 0.09;
 
 fn cube_options(assets: PathBuf) -> HeadlessOptions {
     let mut options = options(assets, Profile::Core);
-    options.scene_name = SceneName::Cube;
+    options.descriptor = &tutorial13::scenes::cube::SCENE;
     options
 }
 
@@ -151,7 +150,10 @@ fn normal_mapping_off_and_on_differ_on_lit_faces() {
     }
 
     let mut flag_off = cube_options(own_assets());
-    flag_off.scene.cube.normal_mapping = false;
+    flag_off
+        .scene
+        .get_mut::<tutorial13::scenes::cube::CubeOptions>()
+        .normal_mapping = false;
     let mut second = common::renderer(&flag_off);
     assert_eq!(second.scene.status(), "normal mapping off");
     assert!(

@@ -15,7 +15,7 @@ use tutorial13::scenes::sprite::{
     cursor_to_light, sprite_rect, Sprite, SpriteOptions, DEFAULT_LIGHT_Z, DIFFUSE_FILE,
     NORMAL_FILE, Z_MAX, Z_MIN,
 };
-use tutorial13::scenes::{SceneName, SceneOptions};
+use tutorial13::scenes::SceneOptions;
 
 use crate::common;
 use crate::common::xvfb::{wait_exit, wait_for, Xvfb};
@@ -30,12 +30,12 @@ fn sprite_options(
     size: (u32, u32),
 ) -> HeadlessOptions {
     HeadlessOptions {
-        scene_name: SceneName::Sprite,
+        descriptor: &tutorial13::scenes::sprite::SCENE,
         scene: SceneOptions {
             assets,
-            sprite,
             ..Default::default()
-        },
+        }
+        .with(sprite),
         width: size.0,
         height: size.1,
         ..Default::default()

@@ -15,15 +15,18 @@ use tutorial13::assets::encode_bmp;
 use tutorial13::common::controls::Controls;
 use tutorial13::gl::Profile;
 use tutorial13::scenes::wall::{LightingSpace, Wall, LIGHT_POSITION_WORLDSPACE};
-use tutorial13::scenes::{Scene, SceneName};
+use tutorial13::scenes::Scene;
 
 fn options(
     assets: PathBuf,
     space: LightingSpace,
 ) -> tutorial13::frontends::headless::HeadlessOptions {
     let mut options = common::options(assets, Profile::Core);
-    options.scene_name = SceneName::Wall;
-    options.scene.wall.space = space;
+    options.descriptor = &tutorial13::scenes::wall::SCENE;
+    options
+        .scene
+        .get_mut::<tutorial13::scenes::wall::WallOptions>()
+        .space = space;
     options
 }
 

@@ -28,8 +28,14 @@ fn assets_with_mesh(name: &str, obj: &str) -> PathBuf {
 
 fn render(assets: PathBuf, source: TangentSource, mesh: MeshOptions) -> RgbImage {
     let mut options = options(assets, Profile::Core);
-    options.scene.cylinder.tangents = source;
-    options.scene.cylinder.mesh = mesh;
+    options
+        .scene
+        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
+        .tangents = source;
+    options
+        .scene
+        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
+        .mesh = mesh;
     frame(&mut renderer(&options))
 }
 
@@ -54,7 +60,11 @@ f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n";
 
 fn render_normalized_tbn(assets: PathBuf) -> RgbImage {
     let mut options = options(assets, Profile::Core);
-    options.scene.cylinder.switches.normalize_tbn = true;
+    options
+        .scene
+        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
+        .switches
+        .normalize_tbn = true;
     frame(&mut renderer(&options))
 }
 
@@ -253,7 +263,10 @@ fn mikktspace_and_the_tutorial_agree_on_the_cylinder_up_to_the_flip() {
 #[test]
 fn the_source_key_cycles_and_comes_back_to_the_tutorials_frame() {
     let mut options = options(own_assets(), Profile::Core);
-    options.scene.cylinder.debug_lines = true;
+    options
+        .scene
+        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
+        .debug_lines = true;
     let mut r = renderer(&options);
     let start = frame(&mut r);
     let mut seen = Vec::new();

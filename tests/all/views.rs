@@ -14,9 +14,9 @@ use tutorial13::debug::views::{ColorView, ShaderSwitches};
 use tutorial13::frontends::headless::HeadlessRenderer;
 use tutorial13::gl::Profile;
 use tutorial13::mesh::grid_cylinder_obj_text;
+use tutorial13::scenes::cylinder::tutorial13::LIGHT_POS;
 use tutorial13::scenes::cylinder::Action;
 use tutorial13::scenes::cylinder::Cylinder;
-use tutorial13::scenes::tutorial13::LIGHT_POS;
 
 fn view(name: &str) -> ColorView {
     name.parse().unwrap()
@@ -374,8 +374,14 @@ fn every_switch_renders_without_gl_errors_in_both_profiles() {
 #[test]
 fn legacy_lines_in_a_core_context_fall_back_with_a_notice() {
     let mut options = options(own_assets(), Profile::Core);
-    options.scene.cylinder.debug_lines = true;
-    options.scene.cylinder.line_mode = Some(LineMode::Legacy);
+    options
+        .scene
+        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
+        .debug_lines = true;
+    options
+        .scene
+        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
+        .line_mode = Some(LineMode::Legacy);
     let mut core = renderer(&options);
     assert_eq!(
         core.scene_mut::<Cylinder>().line_mode(),
@@ -388,11 +394,17 @@ fn legacy_lines_in_a_core_context_fall_back_with_a_notice() {
         .to_string();
     assert!(notice.contains("compatibility"), "{notice}");
     let with_lines = frame(&mut core);
-    options.scene.cylinder.debug_lines = false;
+    options
+        .scene
+        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
+        .debug_lines = false;
     let without = frame(&mut renderer(&options));
     assert!(count_differing(&with_lines, &without) > 500);
     // In a compatibility context the same request draws in immediate mode, with the same pixels.
-    options.scene.cylinder.debug_lines = true;
+    options
+        .scene
+        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
+        .debug_lines = true;
     options.profile = Profile::Compat;
     let mut compat = renderer(&options);
     assert_eq!(

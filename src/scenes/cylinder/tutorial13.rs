@@ -4,7 +4,7 @@
 //! the CPU pipeline (`loadOBJ`, `computeTangentBasis`, `indexVBO_TBN`), the buffers. Then the frame
 //! ([`Tutorial13::draw`]): clear, matrices, uniforms, textures, the draw, and the immediate-mode debug
 //! lines. The window and the GLFW loop are the front ends' (`frontends/`); the learner's switches,
-//! colour views and keys are the cylinder scene's ([`super::cylinder`]).
+//! colour views and keys are the cylinder scene's ([`super`]).
 
 use std::path::Path;
 use std::rc::Rc;

@@ -5,7 +5,9 @@
 //! pipeline's switches (Gram-Schmidt, handedness, normalize before summing: the mesh is rebuilt), and
 //! the TBN debug lines (immediate mode, or the line shader).
 
-use std::any::Any;
+pub mod args;
+pub mod tutorial13;
+
 use std::path::{Path, PathBuf};
 
 use glow::HasContext;
@@ -16,13 +18,47 @@ use crate::debug::compare::{CompareMode, CompareView};
 use crate::debug::lines::{DebugLines, LegacyGl, LineMode, LINE_SHADERS};
 use crate::debug::views::ShaderSwitches;
 use crate::gl::buffers::MeshBuffers;
+use crate::gl::state::GlState;
 use crate::gl::Gl;
 use crate::mesh::MeshOptions;
 use crate::tangents::TangentSource;
 use crate::Result;
 
-use super::scene::{key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext};
-use super::tutorial13::{NormalMappingProgram, Tutorial13, LIGHT_POS, SHADERS};
+use super::scene::{
+    key_help, read_args, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneArgs, SceneContext,
+    SceneDescriptor, SceneOptions,
+};
+pub use args::CylinderArgs;
+use tutorial13::{NormalMappingProgram, Tutorial13, CLEAR_COLOR, LIGHT_POS, SHADERS};
+
+/// The scene as the rest of the program knows it.
+pub static SCENE: SceneDescriptor = SceneDescriptor {
+    name: "cylinder",
+    description: "Tutorial 13: the normal-mapped cylinder, with its debugging aids as keys (the \
+                  default)",
+    mouse_mode: MouseMode::Look,
+    keys: KEYS,
+    mouse_help: &[],
+    args: <CylinderArgs as clap::Args>::augment_args,
+    shared_args: &["green"],
+    read_args: read_args::<CylinderArgs>,
+    build,
+};
+
+fn build(context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
+    let cylinder = options.get::<<CylinderArgs as SceneArgs>::Options>();
+    let scene = Cylinder::new(
+        context,
+        &options.assets_dir(),
+        options.shader_dir(),
+        cylinder,
+    )?;
+    Ok(Box::new(scene))
+}
+
+/// The tutorial's state (`init_gl_state`), applied at the start of every frame: another scene may
+/// have drawn on this context since the cylinder was built.
+const GL_STATE: GlState = GlState::opaque_3d(CLEAR_COLOR);
 
 /// What the compare view starts with (`--compare A,B`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -289,11 +325,6 @@ impl Cylinder {
         self.comparison.as_ref().and(self.compare_view.as_ref())
     }
 
-    /// The compare view, to change its mode or split.
-    pub fn compare_view_mut(&mut self) -> Option<&mut CompareView> {
-        self.compare_view.as_mut()
-    }
-
     /// " | compare A | B at 50 %" or " | compare A − B: N pixels differ, max M levels", or nothing.
     fn compare_status(&self) -> String {
         let (Some((sources, _)), Some(view)) = (&self.comparison, &self.compare_view) else {
@@ -446,6 +477,7 @@ impl Cylinder {
 
 impl Scene for Cylinder {
     fn draw(&mut self, frame: &FrameInput) {
+        GL_STATE.apply(&self.gl);
         if self.comparison.is_some() && self.compare_view.is_some() {
             let (sources, buffers) = self.comparison.take().expect("checked");
             let mut view = self.compare_view.take().expect("checked");
@@ -544,14 +576,6 @@ impl Scene for Cylinder {
             sw.convention,
             self.tangent_source,
         ) + &self.compare_status()
-    }
-
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-
-    fn as_any_mut(&mut self) -> &mut dyn Any {
-        self
     }
 }
 

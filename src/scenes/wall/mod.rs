@@ -9,7 +9,8 @@
 //! that holds exactly in arithmetic when the TBN matrix is a rotation (unit, orthogonal T, B, N, as on
 //! this square), and the tests measure how close the two programs' frames are in floating point.
 
-use std::any::Any;
+pub mod args;
+
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec2, Vec3};
@@ -20,12 +21,39 @@ use crate::common::objloader::TriangleSoup;
 use crate::common::shader::{load_program, shader_path, Program};
 use crate::common::texture::{load_bmp_custom, Texture};
 use crate::gl::buffers::MeshBuffers;
+use crate::gl::state::GlState;
 use crate::gl::{bind_textures, Gl};
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
 
-use super::scene::{key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext};
-use super::tutorial13::init_gl_state;
+use super::scene::{
+    key_help, read_args, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneArgs, SceneContext,
+    SceneDescriptor, SceneOptions,
+};
+pub use args::WallArgs;
+
+/// The scene as the rest of the program knows it.
+pub static SCENE: SceneDescriptor = SceneDescriptor {
+    name: "wall",
+    description: "Article 004: a stone wall lit in view space or in tangent space",
+    mouse_mode: MouseMode::Look,
+    keys: KEYS,
+    mouse_help: &[],
+    args: <WallArgs as clap::Args>::augment_args,
+    shared_args: &[],
+    read_args: read_args::<WallArgs>,
+    build,
+};
+
+fn build(context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
+    let wall = options.get::<<WallArgs as SceneArgs>::Options>();
+    let scene = Wall::new(context, &options.assets_dir(), options.shader_dir(), wall)?;
+    Ok(Box::new(scene))
+}
+
+/// The tutorial's state (dark blue background, depth test with LESS, back faces culled), applied at
+/// the start of every frame: another scene may have drawn on this context since this one was built.
+const GL_STATE: GlState = GlState::opaque_3d([0.0, 0.0, 0.4, 0.0]);
 
 /// The article's light.
 pub const LIGHT_POSITION_WORLDSPACE: Vec3 = Vec3::new(4.0, 0.0, 4.0);
@@ -234,10 +262,9 @@ impl Scene for Wall {
             .position(|&s| s == self.space)
             .unwrap_or(0)];
         let light = LIGHT_POSITION_WORLDSPACE;
+        GL_STATE.apply(gl);
         // SAFETY: the program, uniforms and textures all belong to this context.
         unsafe {
-            // Another scene may have run on this context: set the state this one relies on.
-            init_gl_state(gl);
             gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
             gl.use_program(Some(p.program.id));
             let matrix = |location: &Uniform, m: Mat4| {
@@ -292,13 +319,5 @@ impl Scene for Wall {
     fn reload_shaders(&mut self) -> Result<()> {
         self.programs = load_programs(&self.gl, self.shader_dir.as_deref())?;
         Ok(())
-    }
-
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-
-    fn as_any_mut(&mut self) -> &mut dyn Any {
-        self
     }
 }

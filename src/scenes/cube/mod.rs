@@ -10,7 +10,8 @@
 //! (`CubeBlinnPhong.*`) do the rest, as the article's do: the light, halfway and normal vectors are
 //! brought into tangent space per vertex, the lighting is done per fragment.
 
-use std::any::Any;
+pub mod args;
+
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec2, Vec3};
@@ -21,12 +22,39 @@ use crate::common::shader::{load_program, shader_path, Program};
 use crate::common::texture::{load_bmp_custom, Texture};
 use crate::common::vboindexer::IndexedMesh;
 use crate::gl::buffers::MeshBuffers;
+use crate::gl::state::GlState;
 use crate::gl::{bind_textures, Gl};
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
 
-use super::scene::{key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext};
-use super::tutorial13::init_gl_state;
+use super::scene::{
+    key_help, read_args, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneArgs, SceneContext,
+    SceneDescriptor, SceneOptions,
+};
+pub use args::CubeArgs;
+
+/// The scene as the rest of the program knows it.
+pub static SCENE: SceneDescriptor = SceneDescriptor {
+    name: "cube",
+    description: "Article 003: a stone cube lit Blinn-Phong in tangent space",
+    mouse_mode: MouseMode::Look,
+    keys: KEYS,
+    mouse_help: &[],
+    args: <CubeArgs as clap::Args>::augment_args,
+    shared_args: &[],
+    read_args: read_args::<CubeArgs>,
+    build,
+};
+
+fn build(context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
+    let cube = options.get::<<CubeArgs as SceneArgs>::Options>();
+    let scene = Cube::new(context, &options.assets_dir(), options.shader_dir(), cube)?;
+    Ok(Box::new(scene))
+}
+
+/// The tutorial's state (dark blue background, depth test with LESS, back faces culled), applied at
+/// the start of every frame: another scene may have drawn on this context since this one was built.
+const GL_STATE: GlState = GlState::opaque_3d([0.0, 0.0, 0.4, 0.0]);
 
 /// The cube's switches, as the command line sets them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -240,8 +268,6 @@ impl Cube {
         options: CubeOptions,
     ) -> Result<Self> {
         let gl = context.gl;
-        // The tutorial's state: dark blue background, depth test, back faces culled.
-        init_gl_state(gl);
         let program = CubeProgram::load(gl, shader_dir)?;
         let diffuse_texture = load_bmp_custom(gl, &assets.join(DIFFUSE_FILE))?;
         let normal_texture = load_bmp_custom(gl, &assets.join(NORMAL_FILE))?;
@@ -271,6 +297,7 @@ impl Scene for Cube {
         let gl = &self.gl;
         let p = &self.program;
         let light = self.light_position_worldspace;
+        GL_STATE.apply(gl);
         // SAFETY: the program, its uniforms and the textures all belong to this context.
         unsafe {
             gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
@@ -319,14 +346,6 @@ impl Scene for Cube {
     fn reload_shaders(&mut self) -> Result<()> {
         self.program = CubeProgram::load(&self.gl, self.shader_dir.as_deref())?;
         Ok(())
-    }
-
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-
-    fn as_any_mut(&mut self) -> &mut dyn Any {
-        self
     }
 }
 

@@ -17,7 +17,8 @@
 //! - The wheel moves the light by [`Z_STEP`] per notch (away from the user: higher), kept within
 //!   [`Z_MIN`]..=[`Z_MAX`]; a click puts it back at the article's 0.075.
 
-use std::any::Any;
+pub mod args;
+
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -30,11 +31,38 @@ use crate::common::shader::{load_program, shader_path, Program};
 use crate::common::texture::{load_bmp_custom, Texture};
 use crate::common::vboindexer::{IndexedMesh, Indices};
 use crate::gl::buffers::MeshBuffers;
+use crate::gl::state::GlState;
 use crate::gl::{bind_textures, Gl};
 use crate::Result;
 
-use super::scene::{key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext};
-use super::tutorial13::CLEAR_COLOR;
+use super::scene::{
+    key_help, read_args, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneArgs, SceneContext,
+    SceneDescriptor, SceneOptions,
+};
+pub use args::SpriteArgs;
+
+/// The scene as the rest of the program knows it.
+pub static SCENE: SceneDescriptor = SceneDescriptor {
+    name: "sprite",
+    description: "Article 001: a 2D normal-mapped rock lit by a light on the mouse",
+    mouse_mode: MouseMode::Cursor,
+    keys: KEYS,
+    mouse_help: MOUSE_HELP,
+    args: <SpriteArgs as clap::Args>::augment_args,
+    shared_args: &["green"],
+    read_args: read_args::<SpriteArgs>,
+    build,
+};
+
+fn build(context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
+    let sprite = options.get::<<SpriteArgs as SceneArgs>::Options>();
+    let scene = Sprite::new(context, &options.assets_dir(), options.shader_dir(), sprite)?;
+    Ok(Box::new(scene))
+}
+
+/// A flat sprite needs neither depth nor culling; the background is the tutorial's dark blue, as in
+/// every scene. Applied at the start of every frame.
+const GL_STATE: GlState = GlState::flat([0.0, 0.0, 0.4, 0.0]);
 
 /// The article's `DEFAULT_LIGHT_Z`: the light's height, where a click puts it back.
 pub const DEFAULT_LIGHT_Z: f32 = 0.075;
@@ -303,13 +331,9 @@ impl Scene for Sprite {
             * Mat4::from_scale(Vec3::new(side as f32, side as f32, 1.0));
         let mvp = projection * model;
         let pixels_per_unit = TEXELS_PER_UNIT * side as f32 / SPRITE_TEXELS as f32;
-        let [r, g, b, a] = CLEAR_COLOR;
+        GL_STATE.apply(gl);
         // SAFETY: the program, uniforms, textures and buffers all belong to this context.
         unsafe {
-            // A flat sprite needs neither depth nor culling (the cylinder sets its own on building).
-            gl.disable(glow::DEPTH_TEST);
-            gl.disable(glow::CULL_FACE);
-            gl.clear_color(r, g, b, a);
             gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
 
             gl.use_program(Some(p.program.id));
@@ -389,14 +413,6 @@ impl Scene for Sprite {
     /// A click puts the light back at the article's height.
     fn click(&mut self) {
         self.light.z = DEFAULT_LIGHT_Z;
-    }
-
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-
-    fn as_any_mut(&mut self) -> &mut dyn Any {
-        self
     }
 }
 

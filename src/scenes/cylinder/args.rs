@@ -1,0 +1,132 @@
+//! The cylinder scene's command-line arguments: the switches its keys toggle, to start with.
+
+use crate::common::tangentspace::TangentOptions;
+use crate::common::vboindexer::IndexOptions;
+use crate::debug::compare::CompareMode;
+use crate::debug::lines::LineMode;
+use crate::debug::views::{ColorView, NormalMapConvention, ShaderSwitches};
+use crate::mesh::MeshOptions;
+use crate::normalmap::Green;
+use crate::scenes::scene::{SceneArgs, SharedArgs};
+use crate::tangents::TangentSource;
+
+use super::{CompareOptions, CylinderOptions};
+
+#[derive(clap::Args, Debug, Clone)]
+#[command(next_help_heading = "Scene cylinder")]
+pub struct CylinderArgs {
+    /// Start with the TBN debug lines on (key L)
+    #[arg(long)]
+    pub debug_lines: bool,
+
+    /// How to draw the debug lines: the tutorial's immediate mode (needs --profile compat) or a line
+    /// shader [default: immediate mode where the context allows it, else the shader, with a notice]
+    /// (key M)
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub debug_lines_mode: Option<LineMode>,
+
+    /// Colour view: lit, light, light01, eye, eye01, normal, normal01, optionally .x/.y/.z (keys V, C)
+    #[arg(long, value_name = "NAME", default_value = "lit")]
+    pub view: ColorView,
+
+    /// Exercise 1: normalize tangents and bitangents before summing them (key N)
+    #[arg(long)]
+    pub normalize_before_sum: bool,
+
+    /// Skip the Gram-Schmidt step of the tangent basis (key G)
+    #[arg(long)]
+    pub no_gram_schmidt: bool,
+
+    /// Skip the handedness fix of the tangent basis (key H)
+    #[arg(long)]
+    pub no_handedness: bool,
+
+    /// Constant specular colour 0.3 instead of the specular texture (key S)
+    #[arg(long)]
+    pub no_specular_texture: bool,
+
+    /// Normalize the camera-space T, B, N as the article's text does (key T)
+    #[arg(long)]
+    pub normalize_tbn: bool,
+
+    /// Where the tangent frame comes from: the tutorial's computeTangentBasis + indexVBO_TBN,
+    /// MikkTSpace, or none (a per-pixel frame from screen-space derivatives) (key F)
+    #[arg(long, value_name = "SOURCE", default_value = "tutorial")]
+    pub tangents: TangentSource,
+
+    /// Compare two tangent sources in one frame: A left of the split line, B right of it
+    /// (e.g. tutorial,mikktspace) (key K; A and D move the split)
+    #[arg(long, value_name = "A,B", value_parser = parse_pair)]
+    pub compare: Option<[TangentSource; 2]>,
+
+    /// With --compare: show the per-pixel difference as a heat map (its largest difference is
+    /// printed and in the title) instead of the two sides
+    #[arg(long, requires = "compare")]
+    pub compare_difference: bool,
+
+    /// With --compare: where the split line is, as a fraction of the width from the left
+    #[arg(long, value_name = "F", default_value_t = 0.5, value_parser = parse_fraction, requires = "compare")]
+    pub split: f32,
+
+    /// Read normal-map bytes as c*255/127-128/127 (128 is exactly 0) instead of 2c-1 (key E)
+    #[arg(long)]
+    pub exact_expansion: bool,
+
+    /// The normal map holds x and y only; rebuild z = sqrt(1 - x² - y²) (key Z)
+    #[arg(long)]
+    pub two_channel: bool,
+}
+
+impl SceneArgs for CylinderArgs {
+    type Options = CylinderOptions;
+
+    fn options(&self, shared: &SharedArgs) -> CylinderOptions {
+        CylinderOptions {
+            mesh: MeshOptions {
+                tangents: TangentOptions {
+                    gram_schmidt: !self.no_gram_schmidt,
+                    handedness: !self.no_handedness,
+                },
+                indexing: IndexOptions {
+                    normalize_before_sum: self.normalize_before_sum,
+                },
+            },
+            switches: ShaderSwitches {
+                normalize_tbn: self.normalize_tbn,
+                specular_texture: !self.no_specular_texture,
+                view: self.view,
+                convention: NormalMapConvention {
+                    green_down: shared.green == Green::Down,
+                    exact_expansion: self.exact_expansion,
+                    two_channel: self.two_channel,
+                },
+            },
+            debug_lines: self.debug_lines,
+            line_mode: self.debug_lines_mode,
+            tangents: self.tangents,
+            compare: self.compare.map(|sources| CompareOptions {
+                sources,
+                mode: if self.compare_difference {
+                    CompareMode::Difference
+                } else {
+                    CompareMode::Split
+                },
+                split: self.split,
+            }),
+        }
+    }
+}
+
+fn parse_pair(s: &str) -> std::result::Result<[TangentSource; 2], String> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("'{s}' is not A,B, e.g. tutorial,mikktspace"))?;
+    Ok([a.trim().parse()?, b.trim().parse()?])
+}
+
+fn parse_fraction(s: &str) -> std::result::Result<f32, String> {
+    s.parse::<f32>()
+        .ok()
+        .filter(|f| (0.0..=1.0).contains(f))
+        .ok_or_else(|| format!("'{s}' is not a number from 0 to 1"))
+}
