@@ -88,6 +88,11 @@ pub fn find_shader(name: &str, dir: Option<&Path>) -> Result<ShaderFile> {
 pub struct Program {
     gl: Gl,
     pub id: glow::Program,
+    /// "vertex + fragment": the files it was built from, for errors about it.
+    pub files: PathBuf,
+    /// Every name the two sources declare `uniform`, used or not (the compiler drops unused ones, so
+    /// GL alone cannot tell a misspelt name from one the shader merely does not use).
+    pub declared_uniforms: Vec<String>,
 }
 
 impl Drop for Program {
@@ -130,14 +135,15 @@ pub fn load_shaders(gl: &Gl, vertex: &ShaderFile, fragment: &ShaderFile) -> Resu
         gl.detach_shader(id, fs);
         gl.delete_shader(vs);
         gl.delete_shader(fs);
+        let files = PathBuf::from(format!(
+            "{} + {}",
+            vertex.path.display(),
+            fragment.path.display()
+        ));
         if !linked {
             gl.delete_program(id);
             return Err(Error::Shader {
-                path: PathBuf::from(format!(
-                    "{} + {}",
-                    vertex.path.display(),
-                    fragment.path.display()
-                )),
+                path: files,
                 stage: "linking",
                 log: log.trim_end().to_string(),
             });
@@ -145,7 +151,14 @@ pub fn load_shaders(gl: &Gl, vertex: &ShaderFile, fragment: &ShaderFile) -> Resu
         if !log.trim().is_empty() {
             log::debug!("link log: {}", log.trim_end());
         }
-        Ok(Program { gl: gl.clone(), id })
+        let mut declared_uniforms = declared_uniforms(&vertex.source);
+        declared_uniforms.extend(self::declared_uniforms(&fragment.source));
+        Ok(Program {
+            gl: gl.clone(),
+            id,
+            files,
+            declared_uniforms,
+        })
     }
 }
 
@@ -168,4 +181,46 @@ unsafe fn compile(gl: &Gl, kind: u32, file: &ShaderFile) -> Result<glow::Shader>
 /// Vertex and fragment shader of one program, found by [`find_shader`], then linked.
 pub fn load_program(gl: &Gl, vertex: &str, fragment: &str, dir: Option<&Path>) -> Result<Program> {
     load_shaders(gl, &find_shader(vertex, dir)?, &find_shader(fragment, dir)?)
+}
+
+/// The names a GLSL source declares with `uniform` (`uniform vec3 A;`, `uniform float a, b[2];`,
+/// with or without a `layout(...)` before it), comments left out. A plain reading of declarations,
+/// not a GLSL parser: uniform blocks (`uniform Block { ... }`) are not listed (the project has none).
+pub fn declared_uniforms(source: &str) -> Vec<String> {
+    let mut text = String::with_capacity(source.len());
+    let mut rest = source;
+    // Comments out: `//` to the end of the line, `/* */` anywhere.
+    while !rest.is_empty() {
+        if let Some(after) = rest.strip_prefix("//") {
+            rest = after.find('\n').map_or("", |i| &after[i..]);
+        } else if let Some(after) = rest.strip_prefix("/*") {
+            rest = after.find("*/").map_or("", |i| &after[i + 2..]);
+            text.push(' ');
+        } else {
+            let c = rest.chars().next().expect("not empty");
+            text.push(c);
+            rest = &rest[c.len_utf8()..];
+        }
+    }
+    let mut names = Vec::new();
+    for statement in text.split(';') {
+        let mut words = statement.split_whitespace().skip_while(|w| *w != "uniform");
+        if words.next().is_none() {
+            continue;
+        }
+        // After `uniform`: optional precision, the type, then the names.
+        let declarators: Vec<&str> = words.collect();
+        let names_from = declarators
+            .iter()
+            .position(|w| !matches!(*w, "lowp" | "mediump" | "highp"))
+            .map_or(declarators.len(), |type_at| type_at + 1);
+        let joined = declarators[names_from.min(declarators.len())..].join(" ");
+        for name in joined.split(',') {
+            let name = name.split(['[', '=']).next().unwrap_or("").trim();
+            if !name.is_empty() && !name.contains('{') {
+                names.push(name.to_string());
+            }
+        }
+    }
+    names
 }

@@ -21,7 +21,7 @@ use std::rc::Rc;
 use glam::{Mat4, Vec3};
 use glow::HasContext;
 
-use crate::common::shader::{load_program, Program};
+use crate::common::shader::load_program;
 use crate::common::vboindexer::IndexedMesh;
 use crate::gl::{ContextInfo, Gl, Profile};
 use crate::{Error, Result};
@@ -277,16 +277,22 @@ const LINE_VERTEX_STRIDE: i32 = std::mem::size_of::<LineVertex>() as i32;
 /// The line shader's two files.
 pub const LINE_SHADERS: [&str; 2] = ["DebugLines.vertexshader", "DebugLines.fragmentshader"];
 
-fn load_line_program(gl: &Gl, shader_dir: Option<&Path>) -> Result<Program> {
+crate::uniforms! {
+    /// `DebugLines.*`: one matrix.
+    struct LineProgram for Program {
+        mvp: "MVP",
+    }
+}
+
+fn load_line_program(gl: &Gl, shader_dir: Option<&Path>) -> Result<LineProgram> {
     let [vertex, fragment] = LINE_SHADERS;
-    load_program(gl, vertex, fragment, shader_dir)
+    LineProgram::new(load_program(gl, vertex, fragment, shader_dir)?)
 }
 
 /// The core-profile path's GL objects: program, VAO and the one vertex buffer. Deleted on drop.
 struct ShaderLines {
     gl: Gl,
-    program: Program,
-    mvp: Option<glow::UniformLocation>,
+    program: LineProgram,
     vao: glow::VertexArray,
     buffer: glow::Buffer,
     vertex_count: i32,
@@ -295,7 +301,6 @@ struct ShaderLines {
 impl ShaderLines {
     fn new(gl: &Gl, shader_dir: Option<&Path>, source: &TbnSource) -> Result<Self> {
         let program = load_line_program(gl, shader_dir)?;
-        let mvp = program.uniform("MVP");
         // SAFETY: objects are created on the current context; the previous VAO binding is restored.
         let (vao, buffer) = unsafe {
             let vao = gl.create_vertex_array().map_err(|e| Error::gl(PART, e))?;
@@ -321,7 +326,6 @@ impl ShaderLines {
         let mut lines = ShaderLines {
             gl: gl.clone(),
             program,
-            mvp,
             vao,
             buffer,
             vertex_count: 0,
@@ -362,8 +366,9 @@ impl ShaderLines {
         unsafe {
             let previous_program = gl.get_parameter_program(glow::CURRENT_PROGRAM);
             let previous_vao = gl.get_parameter_vertex_array(glow::VERTEX_ARRAY_BINDING);
-            gl.use_program(Some(self.program.id));
-            gl.uniform_matrix_4_f32_slice(self.mvp.as_ref(), false, &mvp.to_cols_array());
+            gl.use_program(Some(self.program.program.id));
+            let location = self.program.mvp.as_ref();
+            gl.uniform_matrix_4_f32_slice(location, false, &mvp.to_cols_array());
             gl.bind_vertex_array(Some(self.vao));
             // In batches: llvmpipe sets up a long draw's lines much more slowly than short draws'.
             let mut first = 0;
@@ -487,9 +492,7 @@ impl DebugLines {
     /// keep the program they had.
     pub fn reload_shaders(&mut self) -> Result<()> {
         if let Some(shader) = &mut self.shader {
-            let program = load_line_program(&self.gl, self.shader_dir.as_deref())?;
-            shader.mvp = program.uniform("MVP");
-            shader.program = program;
+            shader.program = load_line_program(&self.gl, self.shader_dir.as_deref())?;
         }
         Ok(())
     }

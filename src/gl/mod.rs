@@ -6,6 +6,7 @@ pub mod buffers;
 pub mod context;
 pub mod image;
 pub mod state;
+pub mod uniforms;
 
 use std::fmt;
 

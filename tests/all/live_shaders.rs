@@ -143,3 +143,57 @@ fn every_program_reloads_and_a_failure_keeps_them_all() {
     r.reload_shaders().unwrap();
     assert!(frame(&mut r) == with_lines);
 }
+
+// Fails if a uniform the shaders no longer declare (a learner renames `MV3x3` to `MV3X3` in both
+// files) loads anyway and draws with a matrix that is never set, if the error does not name
+// the file and the missing name, or if the refused reload changes the frame; and if a declared
+// uniform the shader merely stops using (removed by the compiler) is refused.
+#[test]
+fn a_misspelt_uniform_is_refused_and_an_unused_one_is_not() {
+    let (mut r, dir) = renderer_on_copied_shaders("uniform-typo");
+    let first = frame(&mut r);
+    let vertex = dir.join("NormalMapping.vertexshader");
+    let fragment = dir.join(FRAGMENT);
+    let good = std::fs::read_to_string(&vertex).unwrap();
+    let good_fragment = std::fs::read_to_string(&fragment).unwrap();
+    assert!(good.contains("MV3x3"), "the vertex shader uses MV3x3");
+    write(&vertex, &good.replace("MV3x3", "MV3X3"));
+    write(&fragment, &good_fragment.replace("MV3x3", "MV3X3"));
+    let error = r
+        .reload_shaders()
+        .expect_err("a misspelt uniform is refused");
+    let message = error.to_string();
+    assert!(
+        message.contains("NormalMapping.vertexshader") && message.contains("'MV3x3'"),
+        "{message}"
+    );
+    assert!(frame(&mut r) == first, "a refused reload changed the frame");
+    write(&fragment, &good_fragment);
+
+    // Declared, no longer used: the light's position is declared and ignored (the light is put at
+    // the camera), so the compiler drops it, and the program must still load and draw.
+    let at_camera = good.replace("(V * vec4(LightPosition_worldspace, 1.0)).xyz", "vec3(0.0)");
+    assert_ne!(at_camera, good, "the edit found its line");
+    write(&vertex, &at_camera);
+    r.reload_shaders()
+        .expect("a declared but unused uniform is not an error");
+    assert!(frame(&mut r) != first, "the edit did not show");
+}
+
+// Fails if the reading of `uniform` declarations misses a name or invents one: comments, several
+// names in one declaration, arrays, precision and layout qualifiers.
+#[test]
+fn declared_uniforms_are_read_from_the_source() {
+    let source = "#version 330 core\n\
+        // uniform mat4 Commented;\n\
+        /* uniform vec3 Blocked; */\n\
+        uniform mat4 MVP;\n\
+        uniform highp float A, B[2];\n\
+        layout(location = 3) uniform vec3 Light = vec3(0);\n\
+        in vec3 uniformish;\n\
+        void main() { gl_Position = MVP * vec4(A); }\n";
+    assert_eq!(
+        tutorial13::common::shader::declared_uniforms(source),
+        ["MVP", "A", "B", "Light"]
+    );
+}

@@ -18,7 +18,7 @@ use glam::{Mat4, Vec2, Vec3};
 use glow::HasContext;
 
 use crate::common::objloader::TriangleSoup;
-use crate::common::shader::{load_program, shader_path, Program};
+use crate::common::shader::{load_program, shader_path};
 use crate::common::texture::{load_bmp_custom, Texture};
 use crate::common::vboindexer::IndexedMesh;
 use crate::gl::buffers::MeshBuffers;
@@ -210,34 +210,28 @@ pub fn cube_mesh() -> IndexedMesh {
     build_mesh(&cube_soup(HALF_SIZE), MeshOptions::default())
 }
 
-type Uniform = Option<glow::UniformLocation>;
-
-/// The program and its uniform handles.
-pub struct CubeProgram {
-    pub program: Program,
-    projection: Uniform,
-    view: Uniform,
-    model: Uniform,
-    light: Uniform,
-    normal_mapping: Uniform,
-    diffuse_sampler: Uniform,
-    normal_sampler: Uniform,
+crate::uniforms! {
+    /// The program and its uniform handles.
+    pub struct CubeProgram for Program {
+        projection: "P",
+        view: "V",
+        model: "M",
+        light: "LightPosition_worldspace",
+        normal_mapping: "NormalMapping",
+        diffuse_sampler: "DiffuseTextureSampler",
+        normal_sampler: "NormalTextureSampler",
+    }
 }
 
 impl CubeProgram {
     pub fn load(gl: &Gl, shader_dir: Option<&Path>) -> Result<Self> {
         let [vertex_shader, fragment_shader] = SHADERS;
-        let program = load_program(gl, vertex_shader, fragment_shader, shader_dir)?;
-        Ok(CubeProgram {
-            projection: program.uniform("P"),
-            view: program.uniform("V"),
-            model: program.uniform("M"),
-            light: program.uniform("LightPosition_worldspace"),
-            normal_mapping: program.uniform("NormalMapping"),
-            diffuse_sampler: program.uniform("DiffuseTextureSampler"),
-            normal_sampler: program.uniform("NormalTextureSampler"),
-            program,
-        })
+        Self::new(load_program(
+            gl,
+            vertex_shader,
+            fragment_shader,
+            shader_dir,
+        )?)
     }
 }
 

@@ -591,35 +591,34 @@ pub const DEBUG_SHADERS: [&str; 2] = [
     "NormalMappingDebug.fragmentshader",
 ];
 
+crate::uniforms! {
+    /// `NormalMappingDebug.*`'s switches, beside the tutorial's handles.
+    pub struct DebugUniforms {
+        normalize_tbn: "NormalizeTBN",
+        specular_texture: "UseSpecularTexture",
+        green_down: "GreenDown",
+        exact_expansion: "ExactExpansion",
+        two_channel: "TwoChannel",
+        debug_view: "DebugView",
+        debug_mapped: "DebugMapped",
+        debug_component: "DebugComponent",
+    }
+}
+
 /// `NormalMappingDebug`: the tutorial's uniforms plus one per switch.
 pub struct DebugProgram {
     gl: Gl,
     pub program: NormalMappingProgram,
-    normalize_tbn: Option<glow::UniformLocation>,
-    specular_texture: Option<glow::UniformLocation>,
-    green_down: Option<glow::UniformLocation>,
-    exact_expansion: Option<glow::UniformLocation>,
-    two_channel: Option<glow::UniformLocation>,
-    debug_view: Option<glow::UniformLocation>,
-    debug_mapped: Option<glow::UniformLocation>,
-    debug_component: Option<glow::UniformLocation>,
+    switches: DebugUniforms,
 }
 
 impl DebugProgram {
     pub fn load(gl: &Gl, shader_dir: Option<&Path>) -> Result<Self> {
         let [vertex_shader, fragment_shader] = DEBUG_SHADERS;
         let program = NormalMappingProgram::load(gl, vertex_shader, fragment_shader, shader_dir)?;
-        let uniform = |name| program.program.uniform(name);
         Ok(DebugProgram {
             gl: gl.clone(),
-            normalize_tbn: uniform("NormalizeTBN"),
-            specular_texture: uniform("UseSpecularTexture"),
-            green_down: uniform("GreenDown"),
-            exact_expansion: uniform("ExactExpansion"),
-            two_channel: uniform("TwoChannel"),
-            debug_view: uniform("DebugView"),
-            debug_mapped: uniform("DebugMapped"),
-            debug_component: uniform("DebugComponent"),
+            switches: DebugUniforms::locate(&program.program)?,
             program,
         })
     }
@@ -628,23 +627,24 @@ impl DebugProgram {
     pub fn set_switches(&self, switches: ShaderSwitches) {
         let gl = &self.gl;
         let view = switches.view;
+        let u = &self.switches;
         // SAFETY: the program and its uniforms belong to this context.
         unsafe {
             gl.use_program(Some(self.program.program.id));
-            gl.uniform_1_i32(self.normalize_tbn.as_ref(), switches.normalize_tbn as i32);
+            gl.uniform_1_i32(u.normalize_tbn.as_ref(), switches.normalize_tbn as i32);
             gl.uniform_1_i32(
-                self.specular_texture.as_ref(),
+                u.specular_texture.as_ref(),
                 switches.specular_texture as i32,
             );
             let convention = switches.convention;
-            gl.uniform_1_i32(self.green_down.as_ref(), convention.green_down as i32);
+            gl.uniform_1_i32(u.green_down.as_ref(), convention.green_down as i32);
             let exact = convention.exact_expansion as i32;
-            gl.uniform_1_i32(self.exact_expansion.as_ref(), exact);
-            gl.uniform_1_i32(self.two_channel.as_ref(), convention.two_channel as i32);
-            gl.uniform_1_i32(self.debug_view.as_ref(), view.vector as i32);
-            gl.uniform_1_i32(self.debug_mapped.as_ref(), view.mapped as i32);
+            gl.uniform_1_i32(u.exact_expansion.as_ref(), exact);
+            gl.uniform_1_i32(u.two_channel.as_ref(), convention.two_channel as i32);
+            gl.uniform_1_i32(u.debug_view.as_ref(), view.vector as i32);
+            gl.uniform_1_i32(u.debug_mapped.as_ref(), view.mapped as i32);
             let component = view.component.map_or(-1, i32::from);
-            gl.uniform_1_i32(self.debug_component.as_ref(), component);
+            gl.uniform_1_i32(u.debug_component.as_ref(), component);
         }
     }
 }

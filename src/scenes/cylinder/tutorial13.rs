@@ -13,7 +13,7 @@ use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
 
 use crate::common::objloader::load_obj;
-use crate::common::shader::{load_program, Program};
+use crate::common::shader::load_program;
 use crate::common::tangentspace::compute_tangent_basis;
 use crate::common::texture::{load_bmp_custom, load_dds, Texture};
 use crate::common::vboindexer::{index_vbo_tbn, IndexedMesh};
@@ -46,37 +46,26 @@ pub fn init_gl_state(gl: &Gl) {
 /// The tutorial's two shader files.
 pub const SHADERS: [&str; 2] = ["NormalMapping.vertexshader", "NormalMapping.fragmentshader"];
 
-type Uniform = Option<glow::UniformLocation>;
-
-/// `programID` and the handles the tutorial gets with `glGetUniformLocation`.
-pub struct NormalMappingProgram {
-    pub program: Program,
-    pub matrix_id: Uniform,
-    pub view_matrix_id: Uniform,
-    pub model_matrix_id: Uniform,
-    pub model_view_3x3_matrix_id: Uniform,
-    pub diffuse_texture_id: Uniform,
-    pub normal_texture_id: Uniform,
-    pub specular_texture_id: Uniform,
-    pub light_id: Uniform,
+crate::uniforms! {
+    /// `programID` and the handles the tutorial gets with `glGetUniformLocation`. The debugging
+    /// shaders (`NormalMappingDebug.*`) and the per-pixel frame's (`NormalMappingDerivative.*`) use
+    /// the same names.
+    pub struct NormalMappingProgram for Program {
+        matrix_id: "MVP",
+        view_matrix_id: "V",
+        model_matrix_id: "M",
+        model_view_3x3_matrix_id: "MV3x3",
+        diffuse_texture_id: "DiffuseTextureSampler",
+        normal_texture_id: "NormalTextureSampler",
+        specular_texture_id: "SpecularTextureSampler",
+        light_id: "LightPosition_worldspace",
+    }
 }
 
 impl NormalMappingProgram {
-    /// `LoadShaders(vertex, fragment)` and every handle. The debugging shaders
-    /// (`NormalMappingDebug.*`) have the same names, plus their own switches.
+    /// `LoadShaders(vertex, fragment)` and every handle.
     pub fn load(gl: &Gl, vertex: &str, fragment: &str, shader_dir: Option<&Path>) -> Result<Self> {
-        let program = load_program(gl, vertex, fragment, shader_dir)?;
-        Ok(NormalMappingProgram {
-            matrix_id: program.uniform("MVP"),
-            view_matrix_id: program.uniform("V"),
-            model_matrix_id: program.uniform("M"),
-            model_view_3x3_matrix_id: program.uniform("MV3x3"),
-            diffuse_texture_id: program.uniform("DiffuseTextureSampler"),
-            normal_texture_id: program.uniform("NormalTextureSampler"),
-            specular_texture_id: program.uniform("SpecularTextureSampler"),
-            light_id: program.uniform("LightPosition_worldspace"),
-            program,
-        })
+        Self::new(load_program(gl, vertex, fragment, shader_dir)?)
     }
 }
 

@@ -27,7 +27,7 @@ use glow::HasContext;
 use crate::assets::sprite::SPRITE_SIZE;
 /// The two texture files, under the assets folder, as `make-assets` writes them.
 pub use crate::assets::sprite::{DIFFUSE_FILE, NORMAL_FILE};
-use crate::common::shader::{load_program, shader_path, Program};
+use crate::common::shader::{load_program, shader_path};
 use crate::common::texture::{load_bmp_custom, Texture};
 use crate::common::vboindexer::{IndexedMesh, Indices};
 use crate::gl::buffers::MeshBuffers;
@@ -179,43 +179,27 @@ pub fn cursor_to_light(cursor: Vec2, (width, height): (u32, u32)) -> Vec2 {
     Vec2::new(centre.x / size.x, 1.0 - centre.y / size.y)
 }
 
-type Uniform = Option<glow::UniformLocation>;
-
-/// `Sprite.*` and its uniform handles.
-pub struct SpriteProgram {
-    pub program: Program,
-    mvp: Uniform,
-    diffuse_texture: Uniform,
-    normal_texture: Uniform,
-    resolution: Uniform,
-    light_position: Uniform,
-    light_color: Uniform,
-    ambient_color: Uniform,
-    falloff: Uniform,
-    flip_green: Uniform,
-    independent_falloff: Uniform,
-    pixels_per_unit: Uniform,
+crate::uniforms! {
+    /// `Sprite.*` and its uniform handles.
+    pub struct SpriteProgram for Program {
+        mvp: "MVP",
+        diffuse_texture: "DiffuseTextureSampler",
+        normal_texture: "NormalTextureSampler",
+        resolution: "Resolution",
+        light_position: "LightPosition_screenspace",
+        light_color: "LightColor",
+        ambient_color: "AmbientColor",
+        falloff: "Falloff",
+        flip_green: "FlipGreen",
+        independent_falloff: "IndependentFalloff",
+        pixels_per_unit: "PixelsPerUnit",
+    }
 }
 
 impl SpriteProgram {
     pub fn load(gl: &Gl, shader_dir: Option<&Path>) -> Result<Self> {
         let [vertex, fragment] = SHADERS;
-        let program = load_program(gl, vertex, fragment, shader_dir)?;
-        let uniform = |name| program.uniform(name);
-        Ok(SpriteProgram {
-            mvp: uniform("MVP"),
-            diffuse_texture: uniform("DiffuseTextureSampler"),
-            normal_texture: uniform("NormalTextureSampler"),
-            resolution: uniform("Resolution"),
-            light_position: uniform("LightPosition_screenspace"),
-            light_color: uniform("LightColor"),
-            ambient_color: uniform("AmbientColor"),
-            falloff: uniform("Falloff"),
-            flip_green: uniform("FlipGreen"),
-            independent_falloff: uniform("IndependentFalloff"),
-            pixels_per_unit: uniform("PixelsPerUnit"),
-            program,
-        })
+        Self::new(load_program(gl, vertex, fragment, shader_dir)?)
     }
 }
 

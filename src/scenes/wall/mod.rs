@@ -18,7 +18,7 @@ use glow::HasContext;
 
 use crate::assets::wall::{DIFFUSE, NORMAL};
 use crate::common::objloader::TriangleSoup;
-use crate::common::shader::{load_program, shader_path, Program};
+use crate::common::shader::{load_program, shader_path};
 use crate::common::texture::{load_bmp_custom, Texture};
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::state::GlState;
@@ -149,41 +149,26 @@ pub fn action_for_key(key: char) -> Option<Action> {
     super::scene::action_for_key(&BINDINGS, key)
 }
 
-type Uniform = Option<glow::UniformLocation>;
-
-/// One of the three programs and its uniforms (the same names in all three).
-struct WallProgram {
-    program: Program,
-    m: Uniform,
-    v: Uniform,
-    p: Uniform,
-    light_position: Uniform,
-    light_color: Uniform,
-    light_intensity: Uniform,
-    specular_reflectivity: Uniform,
-    specular_lobe_factor: Uniform,
-    diffuse_sampler: Uniform,
-    normal_sampler: Uniform,
+crate::uniforms! {
+    /// One of the three programs and its uniforms (the same names in all three).
+    struct WallProgram for Program {
+        m: "M",
+        v: "V",
+        p: "P",
+        light_position: "LightPosition_worldspace",
+        light_color: "LightColor",
+        light_intensity: "LightIntensity",
+        specular_reflectivity: "SpecularReflectivity",
+        specular_lobe_factor: "SpecularLobeFactor",
+        diffuse_sampler: "DiffuseTextureSampler",
+        normal_sampler: "NormalTextureSampler" optional("WallNoNormalMap has no normal map"),
+    }
 }
 
 impl WallProgram {
     fn load(gl: &Gl, space: LightingSpace, shader_dir: Option<&Path>) -> Result<Self> {
         let [vertex, fragment] = space.shaders();
-        let program = load_program(gl, vertex, fragment, shader_dir)?;
-        let uniform = |name| program.uniform(name);
-        Ok(WallProgram {
-            m: uniform("M"),
-            v: uniform("V"),
-            p: uniform("P"),
-            light_position: uniform("LightPosition_worldspace"),
-            light_color: uniform("LightColor"),
-            light_intensity: uniform("LightIntensity"),
-            specular_reflectivity: uniform("SpecularReflectivity"),
-            specular_lobe_factor: uniform("SpecularLobeFactor"),
-            diffuse_sampler: uniform("DiffuseTextureSampler"),
-            normal_sampler: uniform("NormalTextureSampler"),
-            program,
-        })
+        Self::new(load_program(gl, vertex, fragment, shader_dir)?)
     }
 }
 
@@ -267,7 +252,7 @@ impl Scene for Wall {
         unsafe {
             gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
             gl.use_program(Some(p.program.id));
-            let matrix = |location: &Uniform, m: Mat4| {
+            let matrix = |location: &crate::gl::uniforms::Uniform, m: Mat4| {
                 gl.uniform_matrix_4_f32_slice(location.as_ref(), false, &m.to_cols_array());
             };
             matrix(&p.m, self.model_matrix);
