@@ -12,7 +12,7 @@ use std::ffi::{c_void, CStr};
 
 use glow::HasContext;
 
-use crate::gl::context::{ColorBuffer, OffscreenTarget};
+use crate::gl::offscreen::{ColorBuffer, OffscreenTarget};
 use crate::gl::{ContextInfo, Gl};
 use crate::Result;
 

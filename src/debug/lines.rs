@@ -23,6 +23,7 @@ use glow::HasContext;
 
 use crate::common::shader::load_program;
 use crate::common::vboindexer::IndexedMesh;
+use crate::gl::objects::Owned;
 use crate::gl::{ContextInfo, Gl, Profile};
 use crate::{Error, Result};
 
@@ -292,42 +293,36 @@ fn load_line_program(gl: &Gl, shader_dir: Option<&Path>) -> Result<LineProgram> 
 /// The core-profile path's GL objects: program, VAO and the one vertex buffer. Deleted on drop.
 struct ShaderLines {
     gl: Gl,
+    // Field order is drop order: the buffer, the VAO that points at it, then the program.
+    buffer: Owned<glow::Buffer>,
+    vao: Owned<glow::VertexArray>,
     program: LineProgram,
-    vao: glow::VertexArray,
-    buffer: glow::Buffer,
     vertex_count: i32,
 }
 
 impl ShaderLines {
     fn new(gl: &Gl, shader_dir: Option<&Path>, source: &TbnSource) -> Result<Self> {
         let program = load_line_program(gl, shader_dir)?;
-        // SAFETY: objects are created on the current context; the previous VAO binding is restored.
-        let (vao, buffer) = unsafe {
-            let vao = gl.create_vertex_array().map_err(|e| Error::gl(PART, e))?;
-            let buffer = match gl.create_buffer() {
-                Ok(buffer) => buffer,
-                Err(e) => {
-                    gl.delete_vertex_array(vao);
-                    return Err(Error::gl(PART, e));
-                }
-            };
+        let lines_vao = Owned::<glow::VertexArray>::create(gl, PART)?;
+        let buffer = Owned::<glow::Buffer>::create(gl, PART)?;
+        // SAFETY: the objects belong to this context; the previous bindings are restored.
+        unsafe {
             let previous_vao = gl.get_parameter_vertex_array(glow::VERTEX_ARRAY_BINDING);
             let previous_buffer = gl.get_parameter_buffer(glow::ARRAY_BUFFER_BINDING);
-            gl.bind_vertex_array(Some(vao));
-            gl.bind_buffer(glow::ARRAY_BUFFER, Some(buffer));
+            gl.bind_vertex_array(Some(lines_vao.name()));
+            gl.bind_buffer(glow::ARRAY_BUFFER, Some(buffer.name()));
             gl.enable_vertex_attrib_array(0);
             gl.vertex_attrib_pointer_f32(0, 3, glow::FLOAT, false, LINE_VERTEX_STRIDE, 0);
             gl.enable_vertex_attrib_array(1);
             gl.vertex_attrib_pointer_f32(1, 4, glow::UNSIGNED_BYTE, true, LINE_VERTEX_STRIDE, 12);
             gl.bind_vertex_array(previous_vao);
             gl.bind_buffer(glow::ARRAY_BUFFER, previous_buffer);
-            (vao, buffer)
-        };
+        }
         let mut lines = ShaderLines {
             gl: gl.clone(),
-            program,
-            vao,
             buffer,
+            vao: lines_vao,
+            program,
             vertex_count: 0,
         };
         lines.upload(source)?;
@@ -348,7 +343,7 @@ impl ShaderLines {
         // ARRAY_BUFFER binding is restored.
         unsafe {
             let previous = gl.get_parameter_buffer(glow::ARRAY_BUFFER_BINDING);
-            gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.buffer));
+            gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.buffer.name()));
             gl.buffer_data_u8_slice(
                 glow::ARRAY_BUFFER,
                 bytemuck::cast_slice(&vertices),
@@ -369,7 +364,7 @@ impl ShaderLines {
             gl.use_program(Some(self.program.program.id));
             let location = self.program.mvp.as_ref();
             gl.uniform_matrix_4_f32_slice(location, false, &mvp.to_cols_array());
-            gl.bind_vertex_array(Some(self.vao));
+            gl.bind_vertex_array(Some(self.vao.name()));
             // In batches: llvmpipe sets up a long draw's lines much more slowly than short draws'.
             let mut first = 0;
             while first < self.vertex_count {
@@ -379,17 +374,6 @@ impl ShaderLines {
             }
             gl.bind_vertex_array(previous_vao);
             gl.use_program(previous_program);
-        }
-    }
-}
-
-impl Drop for ShaderLines {
-    fn drop(&mut self) {
-        // SAFETY: made by this context, which the shared `Gl` keeps alive; deleted once. The program
-        // deletes itself.
-        unsafe {
-            self.gl.delete_buffer(self.buffer);
-            self.gl.delete_vertex_array(self.vao);
         }
     }
 }

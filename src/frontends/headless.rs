@@ -7,7 +7,8 @@ use glam::Vec2;
 use glow::HasContext;
 
 use crate::common::controls::{Controls, Input};
-use crate::gl::context::{HeadlessContext, OffscreenTarget};
+use crate::gl::context::HeadlessContext;
+use crate::gl::offscreen::OffscreenTarget;
 use crate::gl::{check_gl_errors, Profile};
 use crate::scenes::{FrameInput, Scene, SceneContext, SceneDescriptor, SceneOptions};
 use crate::Result;
@@ -61,10 +62,9 @@ impl HeadlessRenderer {
         log::debug!("headless context: {}", context.info());
         let gl = context.gl().clone();
         // Stored like a window's buffers, so that the headless frame is the window's frame.
-        let target = OffscreenTarget::with_window_orientation_multisampled(
+        let target = OffscreenTarget::with_window_orientation(
             &gl,
-            options.width,
-            options.height,
+            (options.width, options.height),
             options.msaa,
             context.info(),
             |name| context.get_proc_address(name),

@@ -35,8 +35,8 @@ use winit::window::{CursorGrabMode, Window, WindowId};
 
 use super::{key_list, FrameTimer, ShaderWatch};
 use crate::common::controls::{Controls, Input};
-use crate::gl::context::OffscreenTarget;
 use crate::gl::image::{read_pixels_rgba, write_screenshot};
+use crate::gl::offscreen::OffscreenTarget;
 use crate::gl::{check_gl_errors, context_info, ContextInfo, Gl, Profile};
 use crate::scenes::{FrameInput, MouseMode, Scene, SceneContext, SceneDescriptor, SceneOptions};
 use crate::{Error, Result};
@@ -756,7 +756,7 @@ impl Running {
             let display = self.context.display();
             let loader = |name: &std::ffi::CStr| display.get_proc_address(name);
             let target =
-                OffscreenTarget::with_window_orientation(&self.gl, w, h, &self.info, loader)?;
+                OffscreenTarget::with_window_orientation(&self.gl, (w, h), 0, &self.info, loader)?;
             target.blit_from(None);
             target.read_rgba()
         } else {

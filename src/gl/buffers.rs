@@ -7,6 +7,7 @@
 use glow::HasContext;
 
 use crate::common::vboindexer::{IndexedMesh, Indices};
+use crate::gl::objects::Owned;
 use crate::gl::Gl;
 use crate::{Error, Result};
 
@@ -21,15 +22,16 @@ pub const BITANGENT: u32 = 4;
 struct Attribute {
     location: u32,
     components: i32,
-    buffer: glow::Buffer,
+    buffer: Owned<glow::Buffer>,
 }
 
-/// The buffers and the VAO they are drawn through. Deleted with the value.
+/// The buffers and the VAO they are drawn through. Deleted with the value (fields drop in order:
+/// the buffers, then the VAO that refers to them).
 pub struct MeshBuffers {
     gl: Gl,
-    vao: glow::VertexArray,
     attributes: Vec<Attribute>,
-    elements: glow::Buffer,
+    elements: Owned<glow::Buffer>,
+    vao: Owned<glow::VertexArray>,
     index_count: i32,
     index_type: u32,
 }
@@ -94,49 +96,42 @@ impl MeshBuffers {
                 mesh.indices.len()
             ))
         })?;
-        let gl_error = |reason| Error::gl("mesh buffers", reason);
-        // SAFETY: buffers are created and filled on the current context with slices that live
-        // through the calls; every name made is owned by `buffers` from then on, so its Drop
-        // deletes them even if a later step fails.
+        const PART: &str = "mesh buffers";
+        let (index_bytes, index_type): (&[u8], u32) = match &mesh.indices {
+            Indices::U16(v) => (bytemuck::cast_slice(v), glow::UNSIGNED_SHORT),
+            Indices::U32(v) => (bytemuck::cast_slice(v), glow::UNSIGNED_INT),
+        };
+        // Every object is owned from the moment it exists: a failure drops what was made.
+        let mut buffers = MeshBuffers {
+            gl: gl.clone(),
+            attributes: Vec::with_capacity(arrays.len()),
+            elements: Owned::create(gl, PART)?,
+            vao: Owned::create(gl, PART)?,
+            index_count,
+            index_type,
+        };
+        // SAFETY: the buffers are filled on the current context with slices that live through the
+        // calls; the objects belong to `buffers`.
         unsafe {
-            let vao = gl.create_vertex_array().map_err(gl_error)?;
-            let elements = match gl.create_buffer() {
-                Ok(buffer) => buffer,
-                Err(e) => {
-                    gl.delete_vertex_array(vao);
-                    return Err(gl_error(e));
-                }
-            };
-            let (index_bytes, index_type): (&[u8], u32) = match &mesh.indices {
-                Indices::U16(v) => (bytemuck::cast_slice(v), glow::UNSIGNED_SHORT),
-                Indices::U32(v) => (bytemuck::cast_slice(v), glow::UNSIGNED_INT),
-            };
-            let mut buffers = MeshBuffers {
-                gl: gl.clone(),
-                vao,
-                attributes: Vec::with_capacity(arrays.len()),
-                elements,
-                index_count,
-                index_type,
-            };
-            gl.bind_vertex_array(Some(vao));
+            gl.bind_vertex_array(Some(buffers.vao.name()));
             for (location, components, _, bytes, len) in arrays {
                 if len == 0 {
                     continue;
                 }
-                let buffer = gl.create_buffer().map_err(gl_error)?;
+                let buffer = Owned::create(gl, PART)?;
+                gl.bind_buffer(glow::ARRAY_BUFFER, Some(buffer.name()));
+                gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
                 buffers.attributes.push(Attribute {
                     location,
                     components,
                     buffer,
                 });
-                gl.bind_buffer(glow::ARRAY_BUFFER, Some(buffer));
-                gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, bytes, glow::STATIC_DRAW);
             }
-            gl.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, Some(elements));
+            let elements = Some(buffers.elements.name());
+            gl.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, elements);
             gl.buffer_data_u8_slice(glow::ELEMENT_ARRAY_BUFFER, index_bytes, glow::STATIC_DRAW);
-            Ok(buffers)
         }
+        Ok(buffers)
     }
 
     /// The locations this mesh enables, in order.
@@ -150,30 +145,17 @@ impl MeshBuffers {
         // SAFETY: every buffer belongs to this context; the pointers describe the data uploaded in
         // `new`, whose indices were checked against the vertex count.
         unsafe {
-            gl.bind_vertex_array(Some(self.vao));
+            gl.bind_vertex_array(Some(self.vao.name()));
             for a in &self.attributes {
                 gl.enable_vertex_attrib_array(a.location);
-                gl.bind_buffer(glow::ARRAY_BUFFER, Some(a.buffer));
+                gl.bind_buffer(glow::ARRAY_BUFFER, Some(a.buffer.name()));
                 gl.vertex_attrib_pointer_f32(a.location, a.components, glow::FLOAT, false, 0, 0);
             }
-            gl.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, Some(self.elements));
+            gl.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, Some(self.elements.name()));
             gl.draw_elements(glow::TRIANGLES, self.index_count, self.index_type, 0);
             for a in &self.attributes {
                 gl.disable_vertex_attrib_array(a.location);
             }
-        }
-    }
-}
-
-impl Drop for MeshBuffers {
-    fn drop(&mut self) {
-        // SAFETY: all made by this context, which the shared `Gl` keeps alive; deleted once.
-        unsafe {
-            for a in &self.attributes {
-                self.gl.delete_buffer(a.buffer);
-            }
-            self.gl.delete_buffer(self.elements);
-            self.gl.delete_vertex_array(self.vao);
         }
     }
 }

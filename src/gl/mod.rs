@@ -5,6 +5,8 @@
 pub mod buffers;
 pub mod context;
 pub mod image;
+pub mod objects;
+pub mod offscreen;
 pub mod state;
 pub mod uniforms;
 

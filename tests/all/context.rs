@@ -2,8 +2,9 @@
 //! Needs libegl1, libegl-mesa0 and libgl1-mesa-dri; no GPU, no X server.
 
 use glow::HasContext;
-use tutorial13::gl::context::{HeadlessContext, OffscreenTarget};
+use tutorial13::gl::context::HeadlessContext;
 use tutorial13::gl::image::write_png;
+use tutorial13::gl::offscreen::OffscreenTarget;
 use tutorial13::gl::{context_info, gl_errors, Profile};
 
 use crate::common;
@@ -84,7 +85,7 @@ fn read_back_is_top_row_first() {
 fn window_oriented_target_reads_back_top_row_first() {
     let ctx = software(Profile::Core);
     let info = ctx.info();
-    let target = OffscreenTarget::with_window_orientation(ctx.gl(), 64, 48, info, |name| {
+    let target = OffscreenTarget::with_window_orientation(ctx.gl(), (64, 48), 0, info, |name| {
         ctx.get_proc_address(name)
     })
     .unwrap();

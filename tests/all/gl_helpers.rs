@@ -5,7 +5,8 @@ use glam::{Vec2, Vec3};
 use glow::HasContext;
 use tutorial13::common::vboindexer::{IndexedMesh, Indices};
 use tutorial13::gl::buffers::MeshBuffers;
-use tutorial13::gl::context::{ColorBuffer, HeadlessContext, OffscreenTarget};
+use tutorial13::gl::context::HeadlessContext;
+use tutorial13::gl::offscreen::{ColorBuffer, OffscreenTarget};
 use tutorial13::gl::{gl_errors, Profile};
 use tutorial13::Error;
 
