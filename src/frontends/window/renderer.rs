@@ -1,0 +1,209 @@
+//! The scene in the window: builds it, draws a frame with the camera's matrices, reloads its shaders
+//! when a file is saved, keeps the "ms/frame" figure and the title, and saves screenshots. It is
+//! given the window's GL and input; it opens nothing itself.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use super::gl_window::GlWindow;
+use super::input::InputState;
+use super::TITLE;
+use crate::frontends::{key_list, FrameTimer, ShaderWatch};
+use crate::gl::check_gl_errors;
+use crate::gl::image::write_screenshot;
+use crate::scenes::{FrameInput, Scene, SceneDescriptor, SceneOptions};
+use crate::{Error, Result};
+
+/// The scene being drawn and what the window keeps about its frames.
+pub struct Renderer {
+    pub scene: Box<dyn Scene>,
+    pub descriptor: &'static SceneDescriptor,
+    scene_options: SceneOptions,
+    start: Instant,
+    last_time: Instant,
+    pub frames_drawn: u32,
+    timer: FrameTimer,
+    /// The last "ms/frame" figure, kept for the title.
+    ms_per_frame: Option<f64>,
+    /// The title the window has now (set again only when it changes).
+    shown_title: String,
+    screenshots_taken: u32,
+    /// Saving a shader file reloads the scene's programs.
+    shader_watch: ShaderWatch,
+    /// The last reload's error, for the title, until a good version is saved.
+    shader_error: Option<String>,
+}
+
+impl Renderer {
+    /// Builds `descriptor`'s scene on the window's context.
+    pub fn new(
+        gl_window: &GlWindow,
+        descriptor: &'static SceneDescriptor,
+        scene_options: &SceneOptions,
+    ) -> Result<Self> {
+        let scene = gl_window.with_scene_context(|c| (descriptor.build)(c, scene_options))?;
+        log::info!("{}", scene.status());
+        let now = Instant::now();
+        Ok(Renderer {
+            shader_watch: ShaderWatch::new(&*scene),
+            scene,
+            descriptor,
+            scene_options: scene_options.clone(),
+            start: now,
+            last_time: now,
+            frames_drawn: 0,
+            timer: FrameTimer::new(),
+            ms_per_frame: None,
+            shown_title: String::new(),
+            screenshots_taken: 0,
+            shader_error: None,
+        })
+    }
+
+    /// The scene key: builds `next` on this context (the current scene stays if that fails), drops
+    /// the old scene's GL objects, and prints the new scene's keys.
+    pub fn switch_scene(
+        &mut self,
+        gl_window: &GlWindow,
+        next: &'static SceneDescriptor,
+    ) -> Result<()> {
+        let scene = gl_window.with_scene_context(|c| (next.build)(c, &self.scene_options))?;
+        self.scene = scene;
+        self.descriptor = next;
+        self.shader_watch = ShaderWatch::new(&*self.scene);
+        self.shader_error = None;
+        println!("{}", key_list(next));
+        log::info!("scene {next}: {}", self.scene.status());
+        Ok(())
+    }
+
+    /// A key of the scene's list; the scene's status is logged when it was one.
+    pub fn scene_key(&mut self, key: char) {
+        match self.scene.key(key) {
+            Ok(true) => log::info!("{}", self.scene.status()),
+            Ok(false) => {}
+            Err(e) => log::error!("{e}"),
+        }
+    }
+
+    /// One frame into the back buffer (not yet swapped), with time frozen at 0 if `frozen`.
+    pub fn frame(
+        &mut self,
+        gl_window: &GlWindow,
+        input: &mut InputState,
+        frozen: bool,
+    ) -> Result<()> {
+        let now = Instant::now();
+        let delta_time = if frozen {
+            0.0
+        } else {
+            (now - self.last_time).as_secs_f32()
+        };
+        self.last_time = now;
+        if self.shader_watch.changed(&*self.scene, now) {
+            self.reload_shaders();
+        }
+        let frame_input = input.take_frame_input(frozen);
+        let size = gl_window.window.inner_size();
+        // The viewport and the projection's aspect follow the window (1024×768 is the tutorial's 4:3).
+        input.controls.set_viewport(size.width, size.height);
+        input
+            .controls
+            .compute_matrices_from_inputs(&frame_input, delta_time);
+        // SAFETY: a viewport of the window's size on the current context.
+        unsafe {
+            use glow::HasContext;
+            gl_window
+                .gl
+                .viewport(0, 0, size.width as i32, size.height as i32)
+        };
+        let time = if frozen {
+            0.0
+        } else {
+            (now - self.start).as_secs_f32()
+        };
+        self.scene.draw(&FrameInput {
+            projection: input.controls.projection_matrix(),
+            view: input.controls.view_matrix(),
+            cursor: input.cursor,
+            size: (size.width, size.height),
+            time,
+        });
+        check_gl_errors(&gl_window.gl, "frame")?;
+        self.frames_drawn += 1;
+        if let Some(ms) = self.timer.tick(now) {
+            println!("{ms:.3} ms/frame");
+            self.ms_per_frame = Some(ms);
+        }
+        self.update_title(gl_window);
+        Ok(())
+    }
+
+    /// "Tutorial 13 - Normal Mapping - 3.2 ms/frame - view lit | lines off | ...": the figure and
+    /// the scene's switches together, so that neither hides the other; a shader that failed to
+    /// reload comes first. Called after every frame, so that whatever changed the scene (a key, the
+    /// mouse moving a light, the wheel) shows at once; the window is told only of a change.
+    fn update_title(&mut self, gl_window: &GlWindow) {
+        let ms = self
+            .ms_per_frame
+            .map_or(String::new(), |ms| format!(" - {ms:.3} ms/frame"));
+        let error = self
+            .shader_error
+            .as_ref()
+            .map_or(String::new(), |e| format!(" - {e}"));
+        let title = format!("{TITLE}{error}{ms} - {}", self.scene.status());
+        if title != self.shown_title {
+            gl_window.window.set_title(&title);
+            self.shown_title = title;
+        }
+    }
+
+    /// Live shader editing: compiles the scene's shaders again. A shader that does not compile
+    /// leaves the last good programs drawing; its driver log goes to stderr and a short line to the
+    /// title until a good version is saved.
+    pub fn reload_shaders(&mut self) {
+        match self.scene.reload_shaders() {
+            Ok(()) => {
+                log::info!("shaders reloaded");
+                self.shader_error = None;
+            }
+            Err(e) => {
+                eprintln!("tutorial13: {e}");
+                self.shader_error = Some(shader_error_title(&e));
+            }
+        }
+    }
+
+    /// `P`: tutorial13-1.png, tutorial13-2.png, ... in the current folder, never overwriting.
+    pub fn save_numbered(&mut self, gl_window: &GlWindow) -> Result<()> {
+        let path = loop {
+            self.screenshots_taken += 1;
+            let path = PathBuf::from(format!("tutorial13-{}.png", self.screenshots_taken));
+            if !path.exists() {
+                break path;
+            }
+        };
+        save(gl_window, &path)
+    }
+}
+
+/// Reads the back buffer (the frame just drawn) and writes it as PNG.
+pub fn save(gl_window: &GlWindow, path: &Path) -> Result<()> {
+    write_screenshot(path, &gl_window.read_frame()?)?;
+    log::info!("wrote {}", path.display());
+    Ok(())
+}
+
+/// One short line for the title: which file failed and how (the log itself is on stderr).
+fn shader_error_title(error: &Error) -> String {
+    match error {
+        Error::Shader { path, stage, .. } => {
+            let file = path.file_name().unwrap_or(path.as_os_str());
+            format!(
+                "shader {stage} failed: {} (log on the terminal; the last good shaders draw)",
+                file.to_string_lossy()
+            )
+        }
+        other => format!("shader reload failed: {other}"),
+    }
+}
