@@ -38,6 +38,47 @@ pub struct SceneDescriptor {
     pub build: fn(&SceneContext, &SceneOptions) -> Result<Box<dyn Scene>>,
 }
 
+impl SceneDescriptor {
+    /// The descriptor of scene type `S`: mouse look, no mouse help, no shared flags (a scene that
+    /// differs sets those fields over this one).
+    pub const fn of<S: SceneType>(
+        name: &'static str,
+        description: &'static str,
+        keys: &'static [KeyHelp],
+    ) -> Self {
+        SceneDescriptor {
+            name,
+            description,
+            mouse_mode: MouseMode::Look,
+            keys,
+            mouse_help: &[],
+            args: <S::Args as clap::Args>::augment_args,
+            shared_args: &[],
+            read_args: read_args::<S::Args>,
+            build: build::<S>,
+        }
+    }
+}
+
+/// A scene's type as its folder defines it: its arguments, and how it loads.
+pub trait SceneType: Scene + Sized + 'static {
+    /// The scene's command-line arguments, and through them its options type.
+    type Args: SceneArgs;
+
+    /// Loads the scene on the current context: its files from `files` (`--assets`, `--shaders`),
+    /// its switches from `options`.
+    fn new(
+        context: &SceneContext,
+        files: &SceneOptions,
+        options: <Self::Args as SceneArgs>::Options,
+    ) -> Result<Self>;
+}
+
+/// [`SceneDescriptor::build`] of scene type `S`, with its options from `options`.
+fn build<S: SceneType>(context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
+    Ok(Box::new(S::new(context, options, options.get())?))
+}
+
 impl PartialEq for SceneDescriptor {
     fn eq(&self, other: &Self) -> bool {
         self.name == other.name
@@ -61,7 +102,7 @@ impl fmt::Display for SceneDescriptor {
 /// A scene's command-line arguments (a `clap::Args` struct in its folder) and the options they give.
 pub trait SceneArgs: clap::Args + clap::FromArgMatches {
     /// What the scene is built with; its `Default` is the scene without any flag.
-    type Options: SceneOption + Default;
+    type Options: SceneOption + Clone + Default;
 
     /// The options these arguments (and the flags several scenes share) ask for.
     fn options(&self, shared: &SharedArgs) -> Self::Options;
@@ -233,11 +274,17 @@ pub struct KeyHelp {
 pub type Binding<A> = (char, A, &'static str);
 
 /// The key list of a scene's bindings, in their order (a `const` so that `--help` can list a
-/// scene's keys without building it).
+/// scene's keys without building it). Two bindings of one key stop the build: the second could never
+/// be reached.
 pub const fn key_help<A: Copy, const N: usize>(bindings: &[Binding<A>; N]) -> [KeyHelp; N] {
     let mut keys = [KeyHelp { key: ' ', help: "" }; N];
     let mut i = 0;
     while i < N {
+        let mut j = 0;
+        while j < i {
+            assert!(bindings[j].0 != bindings[i].0, "two bindings share a key");
+            j += 1;
+        }
         keys[i] = KeyHelp {
             key: bindings[i].0,
             help: bindings[i].2,

@@ -177,3 +177,24 @@ fn a_flag_of_another_scene_is_an_error_naming_its_scene() {
         "only {checked} cases: are the scenes' arguments listed?"
     );
 }
+
+// Fails if a key is found in the wrong case only, an unbound key finds an action, or a scene lists
+// one key twice (the second binding could never be reached; `key_help` also refuses it when the
+// crate is built).
+#[test]
+fn keys_find_their_actions_in_either_case() {
+    let bindings: [tutorial13::scenes::Binding<u8>; 2] = [('L', 1, "lines"), ('7', 2, "seven")];
+    let find = |key| tutorial13::scenes::action_for_key(&bindings, key);
+    assert_eq!(
+        (find('l'), find('L'), find('7')),
+        (Some(1), Some(1), Some(2))
+    );
+    assert_eq!(find('Q'), None);
+    for scene in SCENES {
+        let mut keys: Vec<char> = scene.keys.iter().map(|k| k.key).collect();
+        keys.sort_unstable();
+        keys.dedup();
+        assert_eq!(keys.len(), scene.keys.len(), "{scene} lists a key twice");
+        assert!(!scene.keys.is_empty(), "{scene} has no keys");
+    }
+}

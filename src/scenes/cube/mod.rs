@@ -28,29 +28,17 @@ use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
 
 use super::scene::{
-    key_help, read_args, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneArgs, SceneContext,
-    SceneDescriptor, SceneOptions,
+    action_for_key, key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
+    SceneOptions, SceneType,
 };
 pub use args::CubeArgs;
 
 /// The scene as the rest of the program knows it.
-pub static SCENE: SceneDescriptor = SceneDescriptor {
-    name: "cube",
-    description: "Article 003: a stone cube lit Blinn-Phong in tangent space",
-    mouse_mode: MouseMode::Look,
-    keys: KEYS,
-    mouse_help: &[],
-    args: <CubeArgs as clap::Args>::augment_args,
-    shared_args: &[],
-    read_args: read_args::<CubeArgs>,
-    build,
-};
-
-fn build(context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
-    let cube = options.get::<<CubeArgs as SceneArgs>::Options>();
-    let scene = Cube::new(context, &options.assets_dir(), options.shader_dir(), cube)?;
-    Ok(Box::new(scene))
-}
+pub static SCENE: SceneDescriptor = SceneDescriptor::of::<Cube>(
+    "cube",
+    "Article 003: a stone cube lit Blinn-Phong in tangent space",
+    KEYS,
+);
 
 /// The tutorial's state (dark blue background, depth test with LESS, back faces culled), applied at
 /// the start of every frame: another scene may have drawn on this context since this one was built.
@@ -88,11 +76,6 @@ const BINDINGS: [Binding<Action>; 1] = [(
 
 /// The key list `--help` and the window print.
 pub const KEYS: &[KeyHelp] = &key_help(&BINDINGS);
-
-/// The action of a key of [`KEYS`].
-pub fn action_for_key(key: char) -> Option<Action> {
-    super::scene::action_for_key(&BINDINGS, key)
-}
 
 /// The cube's files under the asset folder (made by `make-assets`, see `assets/cube.rs`).
 pub const DIFFUSE_FILE: &str = "cube/diffuse.bmp";
@@ -252,15 +235,13 @@ pub struct Cube {
     shader_dir: Option<PathBuf>,
 }
 
-impl Cube {
+impl SceneType for Cube {
+    type Args = CubeArgs;
+
     /// Loads `cube/diffuse.bmp` and `cube/normal.bmp` from `assets` and the shaders from
     /// `shader_dir` (or the crate's), and builds the cube.
-    pub fn new(
-        context: &SceneContext,
-        assets: &Path,
-        shader_dir: Option<&Path>,
-        options: CubeOptions,
-    ) -> Result<Self> {
+    fn new(context: &SceneContext, files: &SceneOptions, options: CubeOptions) -> Result<Self> {
+        let (assets, shader_dir) = (&files.assets_dir(), files.shader_dir());
         let gl = context.gl;
         let program = CubeProgram::load(gl, shader_dir)?;
         let diffuse_texture = load_bmp_custom(gl, &assets.join(DIFFUSE_FILE))?;
@@ -278,7 +259,9 @@ impl Cube {
             shader_dir: shader_dir.map(Path::to_path_buf),
         })
     }
+}
 
+impl Cube {
     pub fn apply(&mut self, action: Action) {
         match action {
             Action::ToggleNormalMapping => self.normal_mapping ^= true,
@@ -318,7 +301,7 @@ impl Scene for Cube {
     }
 
     fn key(&mut self, key: char) -> Result<bool> {
-        Ok(action_for_key(key)
+        Ok(action_for_key(&BINDINGS, key)
             .map(|action| self.apply(action))
             .is_some())
     }
@@ -346,14 +329,6 @@ impl Scene for Cube {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    // Fails if the key list and the bindings disagree, or N does not toggle normal mapping.
-    #[test]
-    fn n_toggles_normal_mapping() {
-        assert_eq!(KEYS.len(), BINDINGS.len());
-        assert_eq!(action_for_key('n'), Some(Action::ToggleNormalMapping));
-        assert_eq!(action_for_key('L'), None);
-    }
 
     // Fails if a face is wound clockwise seen from outside, its normal is not the outward one, or a
     // texture would be mirrored on it (U × V must be the outward normal).

@@ -25,36 +25,22 @@ use crate::tangents::TangentSource;
 use crate::Result;
 
 use super::scene::{
-    key_help, read_args, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneArgs, SceneContext,
-    SceneDescriptor, SceneOptions,
+    action_for_key, key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
+    SceneOptions, SceneType,
 };
 pub use args::CylinderArgs;
 use tutorial13::{NormalMappingProgram, Tutorial13, CLEAR_COLOR, LIGHT_POS, SHADERS};
 
 /// The scene as the rest of the program knows it.
 pub static SCENE: SceneDescriptor = SceneDescriptor {
-    name: "cylinder",
-    description: "Tutorial 13: the normal-mapped cylinder, with its debugging aids as keys (the \
-                  default)",
-    mouse_mode: MouseMode::Look,
-    keys: KEYS,
-    mouse_help: &[],
-    args: <CylinderArgs as clap::Args>::augment_args,
     shared_args: &["green"],
-    read_args: read_args::<CylinderArgs>,
-    build,
+    ..SceneDescriptor::of::<Cylinder>(
+        "cylinder",
+        "Tutorial 13: the normal-mapped cylinder, with its debugging aids as keys (the \
+                  default)",
+        KEYS,
+    )
 };
-
-fn build(context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
-    let cylinder = options.get::<<CylinderArgs as SceneArgs>::Options>();
-    let scene = Cylinder::new(
-        context,
-        &options.assets_dir(),
-        options.shader_dir(),
-        cylinder,
-    )?;
-    Ok(Box::new(scene))
-}
 
 /// The tutorial's state (`init_gl_state`), applied at the start of every frame: another scene may
 /// have drawn on this context since the cylinder was built.
@@ -198,11 +184,6 @@ const BINDINGS: [Binding<Action>; 16] = [
 /// The key list `--help` and the window print.
 pub const KEYS: &[KeyHelp] = &key_help(&BINDINGS);
 
-/// The action of a key of [`KEYS`].
-pub fn action_for_key(key: char) -> Option<Action> {
-    super::scene::action_for_key(&BINDINGS, key)
-}
-
 /// Tutorial 13 and the state of its debugging aids.
 pub struct Cylinder {
     // Field order is drop order; all hold GL objects of the same context.
@@ -236,15 +217,17 @@ pub struct Cylinder {
     shader_dir: Option<PathBuf>,
 }
 
-impl Cylinder {
+impl SceneType for Cylinder {
+    type Args = CylinderArgs;
+
     /// Loads the tutorial's four files from `assets` and the shaders from `shader_dir` (or the
     /// crate's), and starts with `cylinder`'s switches.
-    pub fn new(
+    fn new(
         context: &SceneContext,
-        assets: &Path,
-        shader_dir: Option<&Path>,
+        files: &SceneOptions,
         cylinder: CylinderOptions,
     ) -> Result<Self> {
+        let (assets, shader_dir) = (&files.assets_dir(), files.shader_dir());
         let gl = context.gl;
         let tutorial = Tutorial13::new(gl, assets, shader_dir, cylinder.mesh)?;
         let debug_program = DebugProgram::load(gl, shader_dir)?;
@@ -283,7 +266,9 @@ impl Cylinder {
         scene.set_show_lines(cylinder.debug_lines)?;
         Ok(scene)
     }
+}
 
+impl Cylinder {
     /// The CPU pipeline's current switches.
     pub fn mesh_options(&self) -> MeshOptions {
         self.mesh_options
@@ -521,7 +506,7 @@ impl Scene for Cylinder {
     }
 
     fn key(&mut self, key: char) -> Result<bool> {
-        match action_for_key(key) {
+        match action_for_key(&BINDINGS, key) {
             Some(action) => self.apply(action).map(|()| true),
             None => Ok(false),
         }
@@ -646,29 +631,5 @@ impl DebugProgram {
             let component = view.component.map_or(-1, i32::from);
             gl.uniform_1_i32(u.debug_component.as_ref(), component);
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    // Fails if two keys share an action, a key has none, or the list and the bindings disagree.
-    #[test]
-    fn every_key_has_its_own_action() {
-        let mut actions = Vec::new();
-        for help in KEYS {
-            let action =
-                action_for_key(help.key).unwrap_or_else(|| panic!("{} has no action", help.key));
-            assert!(
-                !actions.contains(&action),
-                "{} repeats {action:?}",
-                help.key
-            );
-            actions.push(action);
-        }
-        assert_eq!(actions.len(), 16);
-        assert_eq!(action_for_key('l'), Some(Action::ToggleLines));
-        assert_eq!(action_for_key('Q'), None);
     }
 }

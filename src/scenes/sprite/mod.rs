@@ -36,29 +36,22 @@ use crate::gl::{bind_textures, Gl};
 use crate::Result;
 
 use super::scene::{
-    key_help, read_args, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneArgs, SceneContext,
-    SceneDescriptor, SceneOptions,
+    action_for_key, key_help, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneContext,
+    SceneDescriptor, SceneOptions, SceneType,
 };
 pub use args::SpriteArgs;
 
 /// The scene as the rest of the program knows it.
 pub static SCENE: SceneDescriptor = SceneDescriptor {
-    name: "sprite",
-    description: "Article 001: a 2D normal-mapped rock lit by a light on the mouse",
     mouse_mode: MouseMode::Cursor,
-    keys: KEYS,
     mouse_help: MOUSE_HELP,
-    args: <SpriteArgs as clap::Args>::augment_args,
     shared_args: &["green"],
-    read_args: read_args::<SpriteArgs>,
-    build,
+    ..SceneDescriptor::of::<Sprite>(
+        "sprite",
+        "Article 001: a 2D normal-mapped rock lit by a light on the mouse",
+        KEYS,
+    )
 };
-
-fn build(context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
-    let sprite = options.get::<<SpriteArgs as SceneArgs>::Options>();
-    let scene = Sprite::new(context, &options.assets_dir(), options.shader_dir(), sprite)?;
-    Ok(Box::new(scene))
-}
 
 /// A flat sprite needs neither depth nor culling; the background is the tutorial's dark blue, as in
 /// every scene. Applied at the start of every frame.
@@ -154,11 +147,6 @@ pub const MOUSE_HELP: &[(&str, &str)] = &[
 /// The key list `--help` and the window print.
 pub const KEYS: &[KeyHelp] = &key_help(&BINDINGS);
 
-/// The action of a key of [`KEYS`].
-pub fn action_for_key(key: char) -> Option<Action> {
-    super::scene::action_for_key(&BINDINGS, key)
-}
-
 /// Where the sprite is drawn in a `width × height` window: its lower-left corner and side, in whole
 /// pixels (y up).
 pub fn sprite_rect(width: u32, height: u32) -> (u32, u32, u32) {
@@ -223,15 +211,13 @@ pub struct Sprite {
     last_cursor: Option<Vec2>,
 }
 
-impl Sprite {
+impl SceneType for Sprite {
+    type Args = SpriteArgs;
+
     /// Loads `sprite/diffuse.bmp` and `sprite/normal.bmp` from `assets`, and the shaders from
     /// `shader_dir` (or the crate's).
-    pub fn new(
-        context: &SceneContext,
-        assets: &Path,
-        shader_dir: Option<&Path>,
-        options: SpriteOptions,
-    ) -> Result<Self> {
+    fn new(context: &SceneContext, files: &SceneOptions, options: SpriteOptions) -> Result<Self> {
+        let (assets, shader_dir) = (&files.assets_dir(), files.shader_dir());
         let gl = context.gl;
         let program = SpriteProgram::load(gl, shader_dir)?;
         let diffuse_texture = load_bmp_custom(gl, &assets.join(DIFFUSE_FILE))?;
@@ -271,7 +257,9 @@ impl Sprite {
             last_cursor: None,
         })
     }
+}
 
+impl Sprite {
     /// Applies one switch.
     pub fn apply(&mut self, action: Action) {
         match action {
@@ -346,7 +334,7 @@ impl Scene for Sprite {
     }
 
     fn key(&mut self, key: char) -> Result<bool> {
-        Ok(action_for_key(key)
+        Ok(action_for_key(&BINDINGS, key)
             .map(|action| self.apply(action))
             .is_some())
     }
@@ -403,21 +391,6 @@ impl Scene for Sprite {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    // Fails if two keys share an action, a key has none, or the list and the bindings disagree.
-    #[test]
-    fn every_key_has_its_own_action() {
-        let mut actions = Vec::new();
-        for help in KEYS {
-            let action =
-                action_for_key(help.key).unwrap_or_else(|| panic!("{} has no action", help.key));
-            assert!(!actions.contains(&action), "{} repeats", help.key);
-            actions.push(action);
-        }
-        assert_eq!(actions.len(), 2);
-        assert_eq!(action_for_key('y'), Some(Action::ToggleFlipGreen));
-        assert_eq!(action_for_key('Q'), None);
-    }
 
     // Fails if the sprite is not drawn at its own size where it fits, stops being square or centred,
     // or leaves whole pixels.

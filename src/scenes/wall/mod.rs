@@ -27,29 +27,17 @@ use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
 
 use super::scene::{
-    key_help, read_args, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneArgs, SceneContext,
-    SceneDescriptor, SceneOptions,
+    action_for_key, key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
+    SceneOptions, SceneType,
 };
 pub use args::WallArgs;
 
 /// The scene as the rest of the program knows it.
-pub static SCENE: SceneDescriptor = SceneDescriptor {
-    name: "wall",
-    description: "Article 004: a stone wall lit in view space or in tangent space",
-    mouse_mode: MouseMode::Look,
-    keys: KEYS,
-    mouse_help: &[],
-    args: <WallArgs as clap::Args>::augment_args,
-    shared_args: &[],
-    read_args: read_args::<WallArgs>,
-    build,
-};
-
-fn build(context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
-    let wall = options.get::<<WallArgs as SceneArgs>::Options>();
-    let scene = Wall::new(context, &options.assets_dir(), options.shader_dir(), wall)?;
-    Ok(Box::new(scene))
-}
+pub static SCENE: SceneDescriptor = SceneDescriptor::of::<Wall>(
+    "wall",
+    "Article 004: a stone wall lit in view space or in tangent space",
+    KEYS,
+);
 
 /// The tutorial's state (dark blue background, depth test with LESS, back faces culled), applied at
 /// the start of every frame: another scene may have drawn on this context since this one was built.
@@ -144,11 +132,6 @@ const BINDINGS: [Binding<Action>; 1] = [(
 /// The key list `--help` and the window print.
 pub const KEYS: &[KeyHelp] = &key_help(&BINDINGS);
 
-/// The action of a key of [`KEYS`].
-pub fn action_for_key(key: char) -> Option<Action> {
-    super::scene::action_for_key(&BINDINGS, key)
-}
-
 crate::uniforms! {
     /// One of the three programs and its uniforms (the same names in all three).
     struct WallProgram for Program {
@@ -184,14 +167,12 @@ pub struct Wall {
     shader_dir: Option<PathBuf>,
 }
 
-impl Wall {
+impl SceneType for Wall {
+    type Args = WallArgs;
+
     /// Loads the stone wall's two maps from `assets`/wall/ and the three programs.
-    pub fn new(
-        context: &SceneContext,
-        assets: &Path,
-        shader_dir: Option<&Path>,
-        options: WallOptions,
-    ) -> Result<Self> {
+    fn new(context: &SceneContext, files: &SceneOptions, options: WallOptions) -> Result<Self> {
+        let (assets, shader_dir) = (&files.assets_dir(), files.shader_dir());
         let gl = context.gl;
         let programs = load_programs(gl, shader_dir)?;
         let diffuse_texture = load_bmp_custom(gl, &assets.join(DIFFUSE))?;
@@ -211,6 +192,8 @@ impl Wall {
         })
     }
 }
+
+impl Wall {}
 
 fn load_programs(gl: &Gl, shader_dir: Option<&Path>) -> Result<Vec<WallProgram>> {
     LightingSpace::ALL
@@ -275,7 +258,7 @@ impl Scene for Wall {
     }
 
     fn key(&mut self, key: char) -> Result<bool> {
-        Ok(match action_for_key(key) {
+        Ok(match action_for_key(&BINDINGS, key) {
             Some(Action::NextSpace) => {
                 self.space = self.space.next();
                 true
