@@ -1,7 +1,7 @@
-//! The documentation against the code. `docs/keys.md` is generated from the scenes' key bindings
-//! and must be what the code makes now; every link in the markdown files points at a file (and
-//! heading) that exists; and the Rust names that docs/reading-guide.md and BENCHMARKS.md mention
-//! are defined in the code.
+//! The documentation against the code. `docs/keys.md` and the README's list of scenes are generated
+//! from the scenes' descriptors and must be what the code makes now; every link in the markdown
+//! files points at a file (and heading) that exists; and the Rust names that docs/reading-guide.md
+//! and BENCHMARKS.md mention are defined in the code.
 //!
 //! What the name check does, and what it does not (it reads text; it does not compile anything):
 //! - It reads every `.rs` file under src/, tests/, benches/, fuzz/ and examples/ with comments,
@@ -39,6 +39,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use tutorial13::frontends::keys_markdown;
+use tutorial13::scenes::SCENES;
 
 use crate::common;
 
@@ -47,8 +48,13 @@ const LINKED_DOCS: &[&str] = &[
     "README.md",
     "BENCHMARKS.md",
     "docs/reading-guide.md",
+    "docs/scenes.md",
     "docs/keys.md",
 ];
+
+/// The lines around the README's list of scenes (the start marker is the beginning of a line).
+const README_LIST_START: &str = "<!-- The list below is generated from SCENES";
+const README_LIST_END: &str = "<!-- End of the generated list. -->";
 
 /// The documents whose Rust names are checked.
 const NAMED_DOCS: &[&str] = &["docs/reading-guide.md", "BENCHMARKS.md"];
@@ -138,6 +144,47 @@ fn keys_md_matches_the_code() {
             line + 1
         );
     }
+}
+
+// Fails if the README's list of scenes (between its two marker lines) is not one line per scene of
+// SCENES, in their order, each the scene's name and its descriptor's description word for word.
+// With TUTORIAL13_UPDATE_DOCS=1 it rewrites the list instead (and says so).
+#[test]
+fn readme_scene_list_matches_the_code() {
+    let path = common::manifest().join("README.md");
+    let readme = read("README.md");
+    let start = readme
+        .find(README_LIST_START)
+        .and_then(|i| readme[i..].find('\n').map(|n| i + n + 1))
+        .expect("README.md has no start marker for the scene list");
+    let end = start
+        + readme[start..]
+            .find(README_LIST_END)
+            .expect("README.md has no end marker for the scene list");
+    let expected: String = SCENES
+        .iter()
+        .map(|scene| format!("- `{}`: {}\n", scene.name, scene.description))
+        .collect();
+    if std::env::var_os("TUTORIAL13_UPDATE_DOCS").is_some() {
+        let said = if readme[start..end] == expected {
+            "is already what the code makes"
+        } else {
+            let updated = format!("{}{expected}{}", &readme[..start], &readme[end..]);
+            fs::write(&path, updated).unwrap();
+            "rewritten from the code"
+        };
+        let _ = writeln!(
+            std::io::stderr(),
+            "README.md's scene list {said} (TUTORIAL13_UPDATE_DOCS)"
+        );
+        return;
+    }
+    assert_eq!(
+        readme[start..end],
+        expected,
+        "README.md's scene list is not SCENES'; rewrite it with: TUTORIAL13_UPDATE_DOCS=1 cargo test \
+         --release -- docs::"
+    );
 }
 
 // Fails if a link in README.md, BENCHMARKS.md or docs/*.md points at a file that does not exist,
