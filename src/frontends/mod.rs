@@ -40,6 +40,41 @@ pub const WINDOW_KEYS: &[(&str, &str)] = &[
 /// The key list printed at start and by `--help`: what the mouse does (the window's mouse look, or
 /// the scene's own use of a free cursor), the scene's keys, then the window's.
 pub fn key_list(scene: &'static SceneDescriptor) -> String {
+    let mut text = format!("Keys (window, scene {scene}):");
+    for (key, help) in key_rows(scene) {
+        text.push_str(&format!("\n  {key:<15} {help}"));
+    }
+    text
+}
+
+/// `docs/keys.md`: every scene of [`SCENES`](crate::scenes::SCENES), in their order, with its
+/// description and a table of the rows [`key_list`] prints for it. A test (tests/all/docs.rs) fails
+/// when the committed file differs from this.
+pub fn keys_markdown() -> String {
+    let cell = |text: &str| text.replace('|', "\\|");
+    let mut text = String::from(
+        "# Keys, scene by scene\n\n\
+         *Generated from the scenes' key bindings by `keys_markdown` (src/frontends/mod.rs); do not \
+         edit: the test `docs::keys_md_matches_the_code` (tests/all/docs.rs) fails when this file \
+         differs, and rewrites it when run with `TUTORIAL13_UPDATE_DOCS=1`.*\n\n\
+         The window prints the same list when a scene starts, and `--help` prints every scene's.\n",
+    );
+    for scene in crate::scenes::SCENES {
+        text.push_str(&format!(
+            "\n## {}\n\n`--scene {}`: {}\n\n| key | does |\n|---|---|\n",
+            scene.name,
+            scene.name,
+            cell(scene.description)
+        ));
+        for (key, help) in key_rows(scene) {
+            text.push_str(&format!("| {} | {} |\n", cell(&key), cell(help)));
+        }
+    }
+    text
+}
+
+/// The rows of a scene's key list, in the order [`key_list`] and [`keys_markdown`] give them.
+fn key_rows(scene: &'static SceneDescriptor) -> Vec<(String, &'static str)> {
     let (before, after): (&[_], &[_]) = match scene.mouse_mode {
         MouseMode::Look => LOOK_KEYS.split_at(2),
         // The camera keys would steer a camera such a scene does not have.
@@ -49,15 +84,11 @@ pub fn key_list(scene: &'static SceneDescriptor) -> String {
         keys.iter().map(|&(key, help)| (key.to_string(), help))
     };
     let scene_keys = scene.keys.iter().map(|k| (k.key.to_string(), k.help));
-    let mut text = format!("Keys (window, scene {scene}):");
-    for (key, help) in own(before)
+    own(before)
         .chain(scene_keys)
         .chain(own(after))
         .chain(own(WINDOW_KEYS))
-    {
-        text.push_str(&format!("\n  {key:<15} {help}"));
-    }
-    text
+        .collect()
 }
 
 /// The tutorial's once-a-second "ms/frame" figure, computed as the tutorial does: 1000 divided by

@@ -9,6 +9,7 @@ mod cli;
 mod compare_view;
 mod context;
 mod debug_lines;
+mod docs;
 mod flags_and_files;
 mod fuzz;
 mod gl_helpers;

@@ -220,6 +220,10 @@ impl SceneType for Sprite {
         let (assets, shader_dir) = (&files.assets_dir(), files.shader_dir());
         let gl = context.gl;
         let program = SpriteProgram::load(gl, shader_dir)?;
+        // The tutorial's loadBMP_custom, as for every scene's BMP: mipmaps, trilinear filtering and
+        // REPEAT, where the article's code samples with LINEAR and CLAMP_TO_EDGE. Kept on purpose (a
+        // departure listed in the README): it changes pixels only when the window scales the sprite
+        // below its 512 px (42 450 pixels at 400×300, by up to 16 levels).
         let diffuse_texture = load_bmp_custom(gl, &assets.join(DIFFUSE_FILE))?;
         let normal_texture = load_bmp_custom(gl, &assets.join(NORMAL_FILE))?;
         // Texture row 0 (t = 0) is the BMP's bottom row: at the bottom of the square, the picture
