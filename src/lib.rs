@@ -16,6 +16,7 @@
 //! the Rust that ports it.
 
 pub mod assets;
+pub mod choices;
 pub mod common;
 pub mod debug;
 pub mod error;

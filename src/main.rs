@@ -31,8 +31,8 @@ struct Cli {
     #[arg(long, value_name = "NAME", default_value = "cylinder", value_parser = scenes::find)]
     scene: &'static SceneDescriptor,
 
-    /// Folder with the scenes' files: cylinder.obj, diffuse.DDS, normal.bmp and specular.DDS (the
-    /// tutorial's own files work unchanged), sprite/, cube/, wall/ [default: the crate's assets/]
+    /// Folder with the scenes' files (docs/scenes.md lists them; the tutorial's own cylinder.obj,
+    /// diffuse.DDS, normal.bmp and specular.DDS work unchanged) [default: the crate's assets/]
     #[arg(long, value_name = "DIR")]
     assets: Option<PathBuf>,
 

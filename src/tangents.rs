@@ -25,30 +25,19 @@ use crate::mesh::{build_mesh, MeshOptions};
 use crate::{Error, Result};
 
 /// The three sources, in the order the key steps through them.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, clap::ValueEnum)]
 pub enum TangentSource {
     #[default]
     Tutorial,
+    #[value(name = "mikktspace")]
     MikkTSpace,
     Derivative,
 }
 
 impl TangentSource {
-    pub const ALL: [TangentSource; 3] = [Self::Tutorial, Self::MikkTSpace, Self::Derivative];
-
-    /// The `--tangents` name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Tutorial => "tutorial",
-            Self::MikkTSpace => "mikktspace",
-            Self::Derivative => "derivative",
-        }
-    }
-
-    /// The next source, wrapping around.
+    /// The next source, wrapping around (key F).
     pub fn next(self) -> Self {
-        let i = Self::ALL.iter().position(|&s| s == self).unwrap_or(0);
-        Self::ALL[(i + 1) % Self::ALL.len()]
+        crate::choices::next(&self)
     }
 
     /// The indexed mesh this source draws: with summed tangents (tutorial), MikkTSpace's
@@ -64,20 +53,7 @@ impl TangentSource {
 
 impl std::fmt::Display for TangentSource {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-impl std::str::FromStr for TangentSource {
-    type Err = String;
-
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        Self::ALL
-            .into_iter()
-            .find(|source| source.name() == s)
-            .ok_or_else(|| {
-                format!("unknown tangent source '{s}': use tutorial, mikktspace or derivative")
-            })
+        f.write_str(&crate::choices::name(self))
     }
 }
 

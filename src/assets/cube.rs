@@ -18,13 +18,15 @@
 //! Same rules as the parent module: deterministic to the byte (integer hash noise, only `+ - * /`,
 //! `floor` and `sqrt` in the maths), and small: 256² 24-bit BMPs of 192 KiB each.
 
-use super::{encode_bmp, hash3, noise_field, smoothstep, to_u8, unit, write_error};
+use super::{encode_bmp, hash3, noise_field, smoothstep, to_u8, unit, write_error, MapFiles};
 use crate::normalmap::{normal_map, HeightMap, NormalMapOptions};
 use crate::Result;
 
 /// The cube's files, under assets/.
-pub const DIFFUSE: &str = "cube/diffuse.bmp";
-pub const NORMAL: &str = "cube/normal.bmp";
+pub const FILES: MapFiles = MapFiles {
+    diffuse: "cube/diffuse.bmp",
+    normal: "cube/normal.bmp",
+};
 
 /// Side of both textures.
 pub const TEXTURE_SIZE: u32 = 256;
@@ -53,11 +55,11 @@ const SEED_MOTTLE: u32 = 13;
 pub fn generate() -> Result<Vec<(&'static str, Vec<u8>)>> {
     let stones = Stones::new(TEXTURE_SIZE);
     let diffuse = encode_bmp(&stones.diffuse_rgb(), TEXTURE_SIZE)
-        .map_err(|reason| write_error(DIFFUSE, reason))?;
+        .map_err(|reason| write_error(FILES.diffuse, reason))?;
     let normals = stone_normal_map(&stones.heights(), TEXTURE_SIZE);
     let normal =
-        encode_bmp(&normals, TEXTURE_SIZE).map_err(|reason| write_error(NORMAL, reason))?;
-    Ok(vec![(DIFFUSE, diffuse), (NORMAL, normal)])
+        encode_bmp(&normals, TEXTURE_SIZE).map_err(|reason| write_error(FILES.normal, reason))?;
+    Ok(vec![(FILES.diffuse, diffuse), (FILES.normal, normal)])
 }
 
 /// Heights 0..1 of the stone tile, `size²` values, row 0 = top of the picture.

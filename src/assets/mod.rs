@@ -67,6 +67,14 @@ pub struct AssetsWritten {
     pub replaced: Vec<PathBuf>,
 }
 
+/// A scene's two generated maps, as paths under the assets folder: defined once, read by the
+/// generator that writes them and by the scene that loads them (`gl::Maps::load`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MapFiles {
+    pub diffuse: &'static str,
+    pub normal: &'static str,
+}
+
 /// Writes the four files into `out_dir` (creating it). Deterministic: same bytes every run, on any
 /// machine.
 ///

@@ -15,13 +15,15 @@
 //!
 //! Reproducible like the rest of [`super`]: integer hashing, and only `+ - * /`, `floor` and `sqrt`.
 
-use super::{encode_bmp, hash3, noise_field, smoothstep, to_u8, unit, write_error};
+use super::{encode_bmp, hash3, noise_field, smoothstep, to_u8, unit, write_error, MapFiles};
 use crate::normalmap::{normal_map, Green, HeightMap, Kernel, NormalMapOptions};
 use crate::Result;
 
 /// The two files, under assets/.
-pub const DIFFUSE_FILE: &str = "sprite/diffuse.bmp";
-pub const NORMAL_FILE: &str = "sprite/normal.bmp";
+pub const FILES: MapFiles = MapFiles {
+    diffuse: "sprite/diffuse.bmp",
+    normal: "sprite/normal.bmp",
+};
 
 /// Side of both textures: drawn one texel per pixel where the window has room (see the scene).
 pub const SPRITE_SIZE: u32 = 512;
@@ -182,7 +184,7 @@ impl Rock {
 pub fn sprite_assets() -> Result<Vec<(&'static str, Vec<u8>)>> {
     let rock = Rock::new(SPRITE_SIZE);
     let diffuse = encode_bmp(&rock.diffuse_rgb(), SPRITE_SIZE)
-        .map_err(|reason| write_error(DIFFUSE_FILE, reason))?;
+        .map_err(|reason| write_error(FILES.diffuse, reason))?;
     let normals = normal_map(
         &HeightMap {
             width: SPRITE_SIZE,
@@ -198,8 +200,8 @@ pub fn sprite_assets() -> Result<Vec<(&'static str, Vec<u8>)>> {
         },
     );
     let normal =
-        encode_bmp(&normals, SPRITE_SIZE).map_err(|reason| write_error(NORMAL_FILE, reason))?;
-    Ok(vec![(DIFFUSE_FILE, diffuse), (NORMAL_FILE, normal)])
+        encode_bmp(&normals, SPRITE_SIZE).map_err(|reason| write_error(FILES.normal, reason))?;
+    Ok(vec![(FILES.diffuse, diffuse), (FILES.normal, normal)])
 }
 
 /// The rock's height field (row 0 = top), for tests that check the normal map against it.

@@ -7,13 +7,15 @@
 //! Reproducible byte for byte like the rest of `assets/`: integer hashing, and only `+ - * /`,
 //! `floor` and `sqrt` on floats.
 
-use super::{encode_bmp, hash3, noise_field, smoothstep, to_u8, unit, write_error};
+use super::{encode_bmp, hash3, noise_field, smoothstep, to_u8, unit, write_error, MapFiles};
 use crate::normalmap::{normal_map, HeightMap, NormalMapOptions};
 use crate::Result;
 
 /// Where the files go under assets/.
-pub const DIFFUSE: &str = "wall/diffuse.bmp";
-pub const NORMAL: &str = "wall/normal.bmp";
+pub const FILES: MapFiles = MapFiles {
+    diffuse: "wall/diffuse.bmp",
+    normal: "wall/normal.bmp",
+};
 
 /// Side of both textures: small, the square covers about 370 pixels of the window.
 const SIZE: u32 = 256;
@@ -69,9 +71,10 @@ pub fn generate() -> Result<Vec<(&'static str, Vec<u8>)>> {
         ..Default::default()
     };
     let normals = normal_map(&height_map, options);
-    let diffuse = encode_bmp(&colours, SIZE).map_err(|reason| write_error(DIFFUSE, reason))?;
-    let normal = encode_bmp(&normals, SIZE).map_err(|reason| write_error(NORMAL, reason))?;
-    Ok(vec![(DIFFUSE, diffuse), (NORMAL, normal)])
+    let diffuse =
+        encode_bmp(&colours, SIZE).map_err(|reason| write_error(FILES.diffuse, reason))?;
+    let normal = encode_bmp(&normals, SIZE).map_err(|reason| write_error(FILES.normal, reason))?;
+    Ok(vec![(FILES.diffuse, diffuse), (FILES.normal, normal)])
 }
 
 /// One jittered point per cell of a `STONES`² grid over the tile.

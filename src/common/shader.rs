@@ -12,34 +12,9 @@ use glow::HasContext;
 use crate::common::Gl;
 use crate::{Error, Result};
 
-/// `(name, text)` of a file in the crate's shaders/ folder, embedded at build time.
-macro_rules! embedded {
-    ($name:literal) => {
-        ($name, include_str!(concat!("../../shaders/", $name)))
-    };
-}
-
-/// The shader files this crate ships, embedded as a fallback.
-const EMBEDDED: &[(&str, &str)] = &[
-    embedded!("NormalMapping.vertexshader"),
-    embedded!("NormalMapping.fragmentshader"),
-    embedded!("NormalMappingDebug.vertexshader"),
-    embedded!("NormalMappingDebug.fragmentshader"),
-    embedded!("NormalMappingDerivative.vertexshader"),
-    embedded!("NormalMappingDerivative.fragmentshader"),
-    embedded!("DebugLines.vertexshader"),
-    embedded!("DebugLines.fragmentshader"),
-    embedded!("WallViewSpace.vertexshader"),
-    embedded!("WallViewSpace.fragmentshader"),
-    embedded!("WallTangentSpace.vertexshader"),
-    embedded!("WallTangentSpace.fragmentshader"),
-    embedded!("WallNoNormalMap.vertexshader"),
-    embedded!("WallNoNormalMap.fragmentshader"),
-    embedded!("Sprite.vertexshader"),
-    embedded!("Sprite.fragmentshader"),
-    embedded!("CubeBlinnPhong.vertexshader"),
-    embedded!("CubeBlinnPhong.fragmentshader"),
-];
+/// `(name, text)` of every file in the crate's shaders/ folder, embedded as a fallback (the table is
+/// written by build.rs).
+const EMBEDDED: &[(&str, &str)] = include!(concat!(env!("OUT_DIR"), "/shaders.rs"));
 
 /// A shader's text and where it came from (named in every error).
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -42,44 +42,20 @@ impl MeshBuffers {
     /// its vertices: drawing it would read outside the buffers.
     pub fn new(gl: &Gl, mesh: &IndexedMesh) -> Result<Self> {
         let n = mesh.vertices.len();
-        let arrays: [(u32, i32, &str, &[u8], usize); 5] = [
-            (
-                POSITION,
-                3,
-                "positions",
-                bytemuck::cast_slice(&mesh.vertices),
-                n,
-            ),
-            (
-                UV,
-                2,
-                "UVs",
-                bytemuck::cast_slice(&mesh.uvs),
-                mesh.uvs.len(),
-            ),
-            (
-                NORMAL,
-                3,
-                "normals",
-                bytemuck::cast_slice(&mesh.normals),
-                mesh.normals.len(),
-            ),
-            (
-                TANGENT,
-                3,
-                "tangents",
-                bytemuck::cast_slice(&mesh.tangents),
-                mesh.tangents.len(),
-            ),
-            (
-                BITANGENT,
-                3,
-                "bitangents",
-                bytemuck::cast_slice(&mesh.bitangents),
-                mesh.bitangents.len(),
-            ),
+        // Each array as bytes, with its length in vertices.
+        fn bytes<T: bytemuck::Pod>(array: &[T]) -> (&[u8], usize) {
+            (bytemuck::cast_slice(array), array.len())
+        }
+        // (location, floats per vertex, name for errors, (bytes, vertices))
+        type Array<'a> = (u32, i32, &'static str, (&'a [u8], usize));
+        let arrays: [Array; 5] = [
+            (POSITION, 3, "positions", bytes(&mesh.vertices)),
+            (UV, 2, "UVs", bytes(&mesh.uvs)),
+            (NORMAL, 3, "normals", bytes(&mesh.normals)),
+            (TANGENT, 3, "tangents", bytes(&mesh.tangents)),
+            (BITANGENT, 3, "bitangents", bytes(&mesh.bitangents)),
         ];
-        for &(_, _, name, _, len) in &arrays[1..] {
+        for &(_, _, name, (_, len)) in &arrays[1..] {
             if len != 0 && len != n {
                 return Err(Error::Mesh(format!("{n} vertices but {len} {name}")));
             }
@@ -114,7 +90,7 @@ impl MeshBuffers {
         // calls; the objects belong to `buffers`.
         unsafe {
             gl.bind_vertex_array(Some(buffers.vao.name()));
-            for (location, components, _, bytes, len) in arrays {
+            for (location, components, _, (bytes, len)) in arrays {
                 if len == 0 {
                     continue;
                 }

@@ -193,3 +193,24 @@ pub fn bind_textures(
         }
     }
 }
+
+/// A scene's two generated maps, loaded through the tutorial's `loadBMP_custom`.
+pub struct Maps {
+    pub diffuse: crate::common::texture::Texture,
+    pub normal: crate::common::texture::Texture,
+}
+
+impl Maps {
+    /// Both maps of `files` from `dir` (the `--assets` folder), the diffuse map first.
+    pub fn load(gl: &Gl, dir: &std::path::Path, files: &crate::assets::MapFiles) -> Result<Self> {
+        use crate::common::texture::load_bmp_custom;
+        let diffuse = load_bmp_custom(gl, &dir.join(files.diffuse))?;
+        let normal = load_bmp_custom(gl, &dir.join(files.normal))?;
+        Ok(Maps { diffuse, normal })
+    }
+
+    /// The diffuse map in unit 0 and the normal map in unit 1, for the current program's samplers.
+    pub fn bind(&self, gl: &Gl, diffuse: &uniforms::Uniform, normal: &uniforms::Uniform) {
+        bind_textures(gl, &[(&self.diffuse, diffuse), (&self.normal, normal)]);
+    }
+}

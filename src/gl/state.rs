@@ -20,6 +20,10 @@ pub struct GlState {
 }
 
 impl GlState {
+    /// The tutorial's: dark blue background `(0, 0, 0.4, 0)`, depth test with LESS, back faces
+    /// culled. The articles' 3D scenes draw with it too, so that all scenes sit on one background.
+    pub const TUTORIAL: GlState = GlState::opaque_3d([0.0, 0.0, 0.4, 0.0]);
+
     /// A 3D scene drawn the tutorial's way: depth test with LESS, back faces culled.
     pub const fn opaque_3d(clear_color: [f32; 4]) -> Self {
         GlState {

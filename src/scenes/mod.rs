@@ -19,8 +19,8 @@ pub mod wall;
 use clap::parser::ValueSource;
 
 pub use scene::{
-    action_for_key, crate_assets_dir, key_help, read_args, AsAny, Binding, FrameInput, KeyHelp,
-    MouseMode, PerScene, Scene, SceneArgs, SceneContext, SceneDescriptor, SceneOption,
+    action_for_key, crate_assets_dir, handle_key, key_help, read_args, AsAny, Binding, FrameInput,
+    KeyHelp, MouseMode, PerScene, Scene, SceneArgs, SceneContext, SceneDescriptor, SceneOption,
     SceneOptions, SharedArgs,
 };
 

@@ -108,6 +108,17 @@ pub trait SceneArgs: clap::Args + clap::FromArgMatches {
     fn options(&self, shared: &SharedArgs) -> Self::Options;
 }
 
+/// Arguments that are the scene's options as they are (a scene whose every switch is a flag).
+pub trait OwnOptions: clap::Args + clap::FromArgMatches + SceneOption + Clone + Default {}
+
+impl<T: OwnOptions> SceneArgs for T {
+    type Options = T;
+
+    fn options(&self, _shared: &SharedArgs) -> T {
+        self.clone()
+    }
+}
+
 /// [`SceneDescriptor::read_args`] for a scene whose arguments are `A`.
 pub fn read_args<A: SceneArgs>(
     matches: &clap::ArgMatches,
@@ -125,8 +136,7 @@ pub fn read_args<A: SceneArgs>(
 #[derive(clap::Args, Debug, Clone, Default)]
 #[command(next_help_heading = "Several scenes")]
 pub struct SharedArgs {
-    /// Normal map's green channel: up the picture (OpenGL, the tutorial's) or down (DirectX)
-    /// [scenes: cylinder, sprite] (key Y)
+    /// Normal map's green channel: up the picture (OpenGL, the tutorial's) or down (DirectX) (key Y)
     #[arg(long, value_enum, value_name = "DIR", default_value_t = crate::normalmap::Green::Up)]
     pub green: crate::normalmap::Green,
 }
@@ -292,6 +302,15 @@ pub const fn key_help<A: Copy, const N: usize>(bindings: &[Binding<A>; N]) -> [K
         i += 1;
     }
     keys
+}
+
+/// [`Scene::key`] for a scene whose keys are `bindings`: runs `apply` with the key's action.
+pub fn handle_key<A: Copy>(
+    bindings: &[Binding<A>],
+    key: char,
+    apply: impl FnOnce(A) -> Result<()>,
+) -> Result<bool> {
+    action_for_key(bindings, key).map_or(Ok(false), |action| apply(action).map(|()| true))
 }
 
 /// The action bound to `key` (letters either case).

@@ -1,23 +1,24 @@
-//! The cube scene's command-line arguments.
+//! The cube scene's command-line arguments, which are its options as they are.
 
-use crate::scenes::scene::{SceneArgs, SharedArgs};
+use crate::scenes::scene::OwnOptions;
 
-use super::CubeOptions;
-
-#[derive(clap::Args, Debug, Clone)]
+/// The cube's switches, as the command line sets them.
+#[derive(clap::Args, Debug, Clone, Copy, PartialEq, Eq)]
 #[command(next_help_heading = "Scene cube")]
-pub struct CubeArgs {
-    /// Start with normal mapping off (the article's flag; key N)
-    #[arg(long)]
-    pub no_normal_map: bool,
+pub struct CubeOptions {
+    /// The article's `flag`, perturbing the normal with the normal map: `--no-normal-map` starts with
+    /// it off (key N)
+    #[arg(long = "no-normal-map", action = clap::ArgAction::SetFalse)]
+    pub normal_mapping: bool,
 }
 
-impl SceneArgs for CubeArgs {
-    type Options = CubeOptions;
-
-    fn options(&self, _shared: &SharedArgs) -> CubeOptions {
+impl Default for CubeOptions {
+    /// Normal mapping on: the article's first screenshot.
+    fn default() -> Self {
         CubeOptions {
-            normal_mapping: !self.no_normal_map,
+            normal_mapping: true,
         }
     }
 }
+
+impl OwnOptions for CubeOptions {}

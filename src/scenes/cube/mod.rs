@@ -17,13 +17,13 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Vec2, Vec3};
 use glow::HasContext;
 
+use crate::assets::cube::FILES;
 use crate::common::objloader::TriangleSoup;
 use crate::common::shader::{load_program, shader_path};
-use crate::common::texture::{load_bmp_custom, Texture};
 use crate::common::vboindexer::IndexedMesh;
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::state::GlState;
-use crate::gl::{bind_textures, Gl};
+use crate::gl::{Gl, Maps};
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
 
@@ -31,7 +31,7 @@ use super::scene::{
     action_for_key, key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
     SceneOptions, SceneType,
 };
-pub use args::CubeArgs;
+pub use args::CubeOptions;
 
 /// The scene as the rest of the program knows it.
 pub static SCENE: SceneDescriptor = SceneDescriptor::of::<Cube>(
@@ -40,25 +40,8 @@ pub static SCENE: SceneDescriptor = SceneDescriptor::of::<Cube>(
     KEYS,
 );
 
-/// The tutorial's state (dark blue background, depth test with LESS, back faces culled), applied at
-/// the start of every frame: another scene may have drawn on this context since this one was built.
-const GL_STATE: GlState = GlState::opaque_3d([0.0, 0.0, 0.4, 0.0]);
-
-/// The cube's switches, as the command line sets them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct CubeOptions {
-    /// The article's `flag`: perturb the normal with the normal map (`--no-normal-map` clears it).
-    pub normal_mapping: bool,
-}
-
-impl Default for CubeOptions {
-    /// Normal mapping on: the article's first screenshot.
-    fn default() -> Self {
-        CubeOptions {
-            normal_mapping: true,
-        }
-    }
-}
+/// Drawn in the tutorial's state, applied every frame (another scene may have drawn since).
+const GL_STATE: GlState = GlState::TUTORIAL;
 
 /// What a key (or a test) can change while the program runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -76,10 +59,6 @@ const BINDINGS: [Binding<Action>; 1] = [(
 
 /// The key list `--help` and the window print.
 pub const KEYS: &[KeyHelp] = &key_help(&BINDINGS);
-
-/// The cube's files under the asset folder (made by `make-assets`, see `assets/cube.rs`).
-pub const DIFFUSE_FILE: &str = "cube/diffuse.bmp";
-pub const NORMAL_FILE: &str = "cube/normal.bmp";
 
 /// The scene's two shader files.
 pub const SHADERS: [&str; 2] = [
@@ -222,8 +201,8 @@ impl CubeProgram {
 pub struct Cube {
     // All hold GL objects of the same context (kept alive by the shared `Gl`).
     pub program: CubeProgram,
-    diffuse_texture: Texture,
-    normal_texture: Texture,
+    /// The diffuse and normal maps.
+    maps: Maps,
     buffers: MeshBuffers,
     gl: Gl,
     /// The article's `flag`.
@@ -236,7 +215,7 @@ pub struct Cube {
 }
 
 impl SceneType for Cube {
-    type Args = CubeArgs;
+    type Args = CubeOptions;
 
     /// Loads `cube/diffuse.bmp` and `cube/normal.bmp` from `assets` and the shaders from
     /// `shader_dir` (or the crate's), and builds the cube.
@@ -244,13 +223,11 @@ impl SceneType for Cube {
         let (assets, shader_dir) = (&files.assets_dir(), files.shader_dir());
         let gl = context.gl;
         let program = CubeProgram::load(gl, shader_dir)?;
-        let diffuse_texture = load_bmp_custom(gl, &assets.join(DIFFUSE_FILE))?;
-        let normal_texture = load_bmp_custom(gl, &assets.join(NORMAL_FILE))?;
+        let maps = Maps::load(gl, assets, &FILES)?;
         let buffers = MeshBuffers::new(gl, &cube_mesh())?;
         Ok(Cube {
             program,
-            diffuse_texture,
-            normal_texture,
+            maps,
             buffers,
             gl: gl.clone(),
             normal_mapping: options.normal_mapping,
@@ -291,19 +268,15 @@ impl Scene for Cube {
             }
             gl.uniform_3_f32(p.light.as_ref(), light.x, light.y, light.z);
             gl.uniform_1_i32(p.normal_mapping.as_ref(), i32::from(self.normal_mapping));
-            let textures = [
-                (&self.diffuse_texture, &p.diffuse_sampler),
-                (&self.normal_texture, &p.normal_sampler),
-            ];
-            bind_textures(gl, &textures);
+            self.maps.bind(gl, &p.diffuse_sampler, &p.normal_sampler);
         }
         self.buffers.draw();
     }
 
     fn key(&mut self, key: char) -> Result<bool> {
-        Ok(action_for_key(&BINDINGS, key)
-            .map(|action| self.apply(action))
-            .is_some())
+        let action = action_for_key(&BINDINGS, key);
+        action.inspect(|&action| self.apply(action));
+        Ok(action.is_some())
     }
 
     fn status(&self) -> String {

@@ -51,7 +51,7 @@ pub struct CylinderArgs {
 
     /// Where the tangent frame comes from: the tutorial's computeTangentBasis + indexVBO_TBN,
     /// MikkTSpace, or none (a per-pixel frame from screen-space derivatives) (key F)
-    #[arg(long, value_name = "SOURCE", default_value = "tutorial")]
+    #[arg(long, value_enum, value_name = "SOURCE", default_value_t = TangentSource::Tutorial)]
     pub tangents: TangentSource,
 
     /// Compare two tangent sources in one frame: A left of the split line, B right of it
@@ -121,7 +121,8 @@ fn parse_pair(s: &str) -> std::result::Result<[TangentSource; 2], String> {
     let (a, b) = s
         .split_once(',')
         .ok_or_else(|| format!("'{s}' is not A,B, e.g. tutorial,mikktspace"))?;
-    Ok([a.trim().parse()?, b.trim().parse()?])
+    let parse = |name: &str| <TangentSource as clap::ValueEnum>::from_str(name.trim(), false);
+    Ok([parse(a)?, parse(b)?])
 }
 
 fn parse_fraction(s: &str) -> std::result::Result<f32, String> {

@@ -25,7 +25,7 @@ use crate::tangents::TangentSource;
 use crate::Result;
 
 use super::scene::{
-    action_for_key, key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
+    handle_key, key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
     SceneOptions, SceneType,
 };
 pub use args::CylinderArgs;
@@ -506,10 +506,7 @@ impl Scene for Cylinder {
     }
 
     fn key(&mut self, key: char) -> Result<bool> {
-        match action_for_key(&BINDINGS, key) {
-            Some(action) => self.apply(action).map(|()| true),
-            None => Ok(false),
-        }
+        handle_key(&BINDINGS, key, |action| self.apply(action))
     }
 
     /// The tutorial's program, the debugging program and the line shader.

@@ -24,19 +24,21 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use glow::HasContext;
 
-use crate::assets::sprite::SPRITE_SIZE;
 /// The two texture files, under the assets folder, as `make-assets` writes them.
-pub use crate::assets::sprite::{DIFFUSE_FILE, NORMAL_FILE};
+use crate::assets::sprite::FILES;
+use crate::assets::sprite::SPRITE_SIZE;
+/// The sprite's two maps, under the assets folder.
+pub const DIFFUSE_FILE: &str = FILES.diffuse;
+pub const NORMAL_FILE: &str = FILES.normal;
 use crate::common::shader::{load_program, shader_path};
-use crate::common::texture::{load_bmp_custom, Texture};
 use crate::common::vboindexer::{IndexedMesh, Indices};
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::state::GlState;
-use crate::gl::{bind_textures, Gl};
+use crate::gl::{Gl, Maps};
 use crate::Result;
 
 use super::scene::{
-    action_for_key, key_help, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneContext,
+    handle_key, key_help, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneContext,
     SceneDescriptor, SceneOptions, SceneType,
 };
 pub use args::SpriteArgs;
@@ -195,8 +197,8 @@ impl SpriteProgram {
 pub struct Sprite {
     // Field order is drop order; all hold GL objects of the same context.
     program: SpriteProgram,
-    diffuse_texture: Texture,
-    normal_texture: Texture,
+    /// The diffuse and normal maps.
+    maps: Maps,
     /// The unit square, (0, 0) to (1, 1), with matching UVs.
     quad: MeshBuffers,
     gl: Gl,
@@ -224,8 +226,7 @@ impl SceneType for Sprite {
         // REPEAT, where the article's code samples with LINEAR and CLAMP_TO_EDGE. Kept on purpose (a
         // departure listed in the README): it changes pixels only when the window scales the sprite
         // below its 512 px (42 450 pixels at 400×300, by up to 16 levels).
-        let diffuse_texture = load_bmp_custom(gl, &assets.join(DIFFUSE_FILE))?;
-        let normal_texture = load_bmp_custom(gl, &assets.join(NORMAL_FILE))?;
+        let maps = Maps::load(gl, assets, &FILES)?;
         // Texture row 0 (t = 0) is the BMP's bottom row: at the bottom of the square, the picture
         // is upright.
         let square = IndexedMesh {
@@ -249,8 +250,7 @@ impl SceneType for Sprite {
         let quad = MeshBuffers::new(gl, &square)?;
         Ok(Sprite {
             program,
-            diffuse_texture,
-            normal_texture,
+            maps,
             quad,
             gl: gl.clone(),
             shader_dir: shader_dir.map(Path::to_path_buf),
@@ -327,20 +327,16 @@ impl Scene for Sprite {
             gl.uniform_1_i32(p.independent_falloff.as_ref(), independent);
             gl.uniform_1_f32(p.pixels_per_unit.as_ref(), pixels_per_unit);
 
-            // The colour in unit 0, the normals in unit 1.
-            let textures = [
-                (&self.diffuse_texture, &p.diffuse_texture),
-                (&self.normal_texture, &p.normal_texture),
-            ];
-            bind_textures(gl, &textures);
+            self.maps.bind(gl, &p.diffuse_texture, &p.normal_texture);
         }
         self.quad.draw();
     }
 
     fn key(&mut self, key: char) -> Result<bool> {
-        Ok(action_for_key(&BINDINGS, key)
-            .map(|action| self.apply(action))
-            .is_some())
+        handle_key(&BINDINGS, key, |action| {
+            self.apply(action);
+            Ok(())
+        })
     }
 
     /// The light and both switches.

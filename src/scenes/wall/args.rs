@@ -1,22 +1,16 @@
-//! The wall scene's command-line arguments.
+//! The wall scene's command-line arguments, which are its options as they are.
 
-use crate::scenes::scene::{SceneArgs, SharedArgs};
+use crate::scenes::scene::OwnOptions;
 
-use super::{LightingSpace, WallOptions};
+use super::LightingSpace;
 
-#[derive(clap::Args, Debug, Clone)]
+/// The wall's switches, as the command line sets them.
+#[derive(clap::Args, Debug, Clone, Copy, Default, PartialEq, Eq)]
 #[command(next_help_heading = "Scene wall")]
-pub struct WallArgs {
-    /// Light the stone wall in view space, in tangent space, or without its normal map: view,
-    /// tangent, none (key S)
-    #[arg(long, value_name = "SPACE", default_value = "view")]
+pub struct WallOptions {
+    /// Light the stone wall in view space, in tangent space, or without its normal map (key S)
+    #[arg(long, value_enum, value_name = "SPACE", default_value_t = LightingSpace::View)]
     pub space: LightingSpace,
 }
 
-impl SceneArgs for WallArgs {
-    type Options = WallOptions;
-
-    fn options(&self, _shared: &SharedArgs) -> WallOptions {
-        WallOptions { space: self.space }
-    }
-}
+impl OwnOptions for WallOptions {}

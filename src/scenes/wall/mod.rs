@@ -16,13 +16,12 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Vec2, Vec3};
 use glow::HasContext;
 
-use crate::assets::wall::{DIFFUSE, NORMAL};
+use crate::assets::wall::FILES;
 use crate::common::objloader::TriangleSoup;
 use crate::common::shader::{load_program, shader_path};
-use crate::common::texture::{load_bmp_custom, Texture};
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::state::GlState;
-use crate::gl::{bind_textures, Gl};
+use crate::gl::{Gl, Maps};
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
 
@@ -30,7 +29,7 @@ use super::scene::{
     action_for_key, key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
     SceneOptions, SceneType,
 };
-pub use args::WallArgs;
+pub use args::WallOptions;
 
 /// The scene as the rest of the program knows it.
 pub static SCENE: SceneDescriptor = SceneDescriptor::of::<Wall>(
@@ -39,9 +38,8 @@ pub static SCENE: SceneDescriptor = SceneDescriptor::of::<Wall>(
     KEYS,
 );
 
-/// The tutorial's state (dark blue background, depth test with LESS, back faces culled), applied at
-/// the start of every frame: another scene may have drawn on this context since this one was built.
-const GL_STATE: GlState = GlState::opaque_3d([0.0, 0.0, 0.4, 0.0]);
+/// The article's wall in the tutorial's frame: its state, set before each frame.
+const GL_STATE: GlState = GlState::TUTORIAL;
 
 /// The article's light.
 pub const LIGHT_POSITION_WORLDSPACE: Vec3 = Vec3::new(4.0, 0.0, 4.0);
@@ -54,7 +52,7 @@ const SPECULAR_LOBE_FACTOR: f32 = 5.0;
 const HALF_SIDE: f32 = 1.0;
 
 /// Where the lighting is computed.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum LightingSpace {
     /// The TBN matrix brings the map's normal into view space (the article's first program).
     #[default]
@@ -62,20 +60,12 @@ pub enum LightingSpace {
     /// Everything else is brought into tangent space (the article's second program).
     Tangent,
     /// No normal map: the square's own normal, in view space (the article's starting point).
+    #[value(name = "none")]
     NoNormalMap,
 }
 
 impl LightingSpace {
     pub const ALL: [LightingSpace; 3] = [Self::View, Self::Tangent, Self::NoNormalMap];
-
-    /// The `--space` name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::View => "view",
-            Self::Tangent => "tangent",
-            Self::NoNormalMap => "none",
-        }
-    }
 
     fn shaders(self) -> [&'static str; 2] {
         match self {
@@ -92,27 +82,13 @@ impl LightingSpace {
     }
 
     fn next(self) -> Self {
-        let i = Self::ALL.iter().position(|&s| s == self).unwrap_or(0);
-        Self::ALL[(i + 1) % Self::ALL.len()]
+        crate::choices::next(&self)
     }
-}
 
-impl std::str::FromStr for LightingSpace {
-    type Err = String;
-
-    fn from_str(s: &str) -> std::result::Result<Self, String> {
-        Self::ALL
-            .into_iter()
-            .find(|space| space.name() == s)
-            .ok_or_else(|| format!("unknown space '{s}': use view, tangent or none"))
+    /// The `--space` name.
+    pub fn name(self) -> String {
+        crate::choices::name(&self)
     }
-}
-
-/// The wall's switches, as the command line sets them.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct WallOptions {
-    /// `--space`.
-    pub space: LightingSpace,
 }
 
 /// What a key (or a test) can change.
@@ -160,23 +136,22 @@ pub struct Wall {
     /// In [`LightingSpace::ALL`]'s order.
     programs: Vec<WallProgram>,
     pub space: LightingSpace,
-    diffuse_texture: Texture,
-    normal_texture: Texture,
+    /// The diffuse and normal maps.
+    maps: Maps,
     buffers: MeshBuffers,
     model_matrix: Mat4,
     shader_dir: Option<PathBuf>,
 }
 
 impl SceneType for Wall {
-    type Args = WallArgs;
+    type Args = WallOptions;
 
     /// Loads the stone wall's two maps from `assets`/wall/ and the three programs.
     fn new(context: &SceneContext, files: &SceneOptions, options: WallOptions) -> Result<Self> {
         let (assets, shader_dir) = (&files.assets_dir(), files.shader_dir());
         let gl = context.gl;
         let programs = load_programs(gl, shader_dir)?;
-        let diffuse_texture = load_bmp_custom(gl, &assets.join(DIFFUSE))?;
-        let normal_texture = load_bmp_custom(gl, &assets.join(NORMAL))?;
+        let maps = Maps::load(gl, assets, &FILES)?;
         // The tutorial's CPU pipeline gives the square its tangents: T = +x (dP/du), B = +y (dP/dv).
         let mesh = build_mesh(&square(), MeshOptions::default());
         let buffers = MeshBuffers::new(gl, &mesh)?;
@@ -184,8 +159,7 @@ impl SceneType for Wall {
             gl: gl.clone(),
             programs,
             space: options.space,
-            diffuse_texture,
-            normal_texture,
+            maps,
             buffers,
             model_matrix: Mat4::IDENTITY,
             shader_dir: shader_dir.map(Path::to_path_buf),
@@ -248,11 +222,7 @@ impl Scene for Wall {
             let reflectivity = p.specular_reflectivity.as_ref();
             gl.uniform_1_f32(reflectivity, SPECULAR_REFLECTIVITY);
             gl.uniform_1_f32(p.specular_lobe_factor.as_ref(), SPECULAR_LOBE_FACTOR);
-            let textures = [
-                (&self.diffuse_texture, &p.diffuse_sampler),
-                (&self.normal_texture, &p.normal_sampler),
-            ];
-            bind_textures(gl, &textures);
+            self.maps.bind(gl, &p.diffuse_sampler, &p.normal_sampler);
         }
         self.buffers.draw();
     }
