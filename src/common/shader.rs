@@ -153,6 +153,18 @@ unsafe fn compile(gl: &Gl, kind: u32, file: &ShaderFile) -> Result<glow::Shader>
     })
 }
 
+/// The files of `names` that exist on disk (in `dir`, else the crate's shaders/): what a scene's
+/// [`Scene::shader_files`](crate::scenes::Scene::shader_files) watches.
+pub fn shader_paths<'a>(
+    names: impl IntoIterator<Item = &'a str>,
+    dir: Option<&Path>,
+) -> Vec<PathBuf> {
+    names
+        .into_iter()
+        .filter_map(|name| shader_path(name, dir))
+        .collect()
+}
+
 /// Vertex and fragment shader of one program, found by [`find_shader`], then linked.
 pub fn load_program(gl: &Gl, vertex: &str, fragment: &str, dir: Option<&Path>) -> Result<Program> {
     load_shaders(gl, &find_shader(vertex, dir)?, &find_shader(fragment, dir)?)

@@ -19,7 +19,7 @@ use glow::HasContext;
 
 use crate::assets::cube::FILES;
 use crate::common::objloader::TriangleSoup;
-use crate::common::shader::{load_program, shader_path};
+use crate::common::shader::{load_program, shader_paths};
 use crate::common::vboindexer::IndexedMesh;
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::state::GlState;
@@ -285,11 +285,7 @@ impl Scene for Cube {
     }
 
     fn shader_files(&self) -> Vec<PathBuf> {
-        let dir = self.shader_dir.as_deref();
-        SHADERS
-            .iter()
-            .filter_map(|name| shader_path(name, dir))
-            .collect()
+        shader_paths(SHADERS, self.shader_dir.as_deref())
     }
 
     /// The scene's one program: replaced only once the new one has linked.

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use glow::HasContext;
 
 use crate::common::objloader::load_obj;
-use crate::common::shader::shader_path;
+use crate::common::shader::shader_paths;
 use crate::debug::compare::{CompareMode, CompareView};
 use crate::debug::lines::{DebugLines, LegacyGl, LineMode, LINE_SHADERS};
 use crate::debug::views::ShaderSwitches;
@@ -511,12 +511,8 @@ impl Scene for Cylinder {
 
     /// The tutorial's program, the debugging program and the line shader.
     fn shader_files(&self) -> Vec<PathBuf> {
-        let dir = self.shader_dir.as_deref();
-        [SHADERS, DEBUG_SHADERS, DERIVATIVE_SHADERS, LINE_SHADERS]
-            .iter()
-            .flatten()
-            .filter_map(|name| shader_path(name, dir))
-            .collect()
+        let programs = [SHADERS, DEBUG_SHADERS, DERIVATIVE_SHADERS, LINE_SHADERS];
+        shader_paths(programs.into_iter().flatten(), self.shader_dir.as_deref())
     }
 
     /// All or nothing: every program is built before any replaces the one in use.

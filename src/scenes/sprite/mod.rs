@@ -30,7 +30,7 @@ use crate::assets::sprite::SPRITE_SIZE;
 /// The sprite's two maps, under the assets folder.
 pub const DIFFUSE_FILE: &str = FILES.diffuse;
 pub const NORMAL_FILE: &str = FILES.normal;
-use crate::common::shader::{load_program, shader_path};
+use crate::common::shader::{load_program, shader_paths};
 use crate::common::vboindexer::{IndexedMesh, Indices};
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::state::GlState;
@@ -362,11 +362,7 @@ impl Scene for Sprite {
     }
 
     fn shader_files(&self) -> Vec<PathBuf> {
-        let dir = self.shader_dir.as_deref();
-        SHADERS
-            .iter()
-            .filter_map(|name| shader_path(name, dir))
-            .collect()
+        shader_paths(SHADERS, self.shader_dir.as_deref())
     }
 
     /// One program: replaced only once the new one links.

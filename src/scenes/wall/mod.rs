@@ -18,7 +18,7 @@ use glow::HasContext;
 
 use crate::assets::wall::FILES;
 use crate::common::objloader::TriangleSoup;
-use crate::common::shader::{load_program, shader_path};
+use crate::common::shader::{load_program, shader_paths};
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::state::GlState;
 use crate::gl::{Gl, Maps};
@@ -245,12 +245,10 @@ impl Scene for Wall {
     }
 
     fn shader_files(&self) -> Vec<PathBuf> {
-        let dir = self.shader_dir.as_deref();
-        LightingSpace::ALL
-            .iter()
-            .flat_map(|space| space.shaders())
-            .filter_map(|name| shader_path(name, dir))
-            .collect()
+        let names = LightingSpace::ALL
+            .into_iter()
+            .flat_map(LightingSpace::shaders);
+        shader_paths(names, self.shader_dir.as_deref())
     }
 
     /// All three programs or none.
