@@ -62,11 +62,6 @@ pub fn generate() -> Result<Vec<(&'static str, Vec<u8>)>> {
     Ok(vec![(FILES.diffuse, diffuse), (FILES.normal, normal)])
 }
 
-/// Heights 0..1 of the stone tile, `size²` values, row 0 = top of the picture.
-pub fn stone_height_map(size: u32) -> Vec<f32> {
-    Stones::new(size).heights()
-}
-
 /// The normal map of a stone height map (`size²`, row 0 = top), as RGB texels in the same order:
 /// the height-map tool with its defaults (Sobel, green up) at [`NORMAL_STRENGTH`].
 pub fn stone_normal_map(heights: &[f32], size: u32) -> Vec<[u8; 3]> {

@@ -200,8 +200,8 @@ pub struct Cylinder {
     comparison: Option<([TangentSource; 2], [MeshBuffers; 2])>,
     /// The sources the compare key compares (`--compare`, else the current one and the next).
     compare_sources: Option<[TangentSource; 2]>,
-    /// Taken out while it draws (it calls back into the scene).
-    compare_view: Option<CompareView>,
+    /// The compare view's mode, split and last difference (drawn while `comparison` is on).
+    compare_view: CompareView,
     pub tutorial: Tutorial13,
     gl: Gl,
     pub switches: ShaderSwitches,
@@ -241,13 +241,13 @@ impl SceneType for Cylinder {
             tangent_source: TangentSource::Tutorial,
             comparison: None,
             compare_sources: cylinder.compare.map(|c| c.sources),
-            compare_view: Some(CompareView::new(
+            compare_view: CompareView::new(
                 gl,
                 context.info,
                 context.loader,
                 cylinder.compare.map_or(CompareMode::Split, |c| c.mode),
                 cylinder.compare.map_or(0.5, |c| c.split),
-            )),
+            ),
             tutorial,
             gl: gl.clone(),
             switches: cylinder.switches,
@@ -307,12 +307,12 @@ impl Cylinder {
 
     /// The compare view's state, while it is on.
     pub fn compare_view(&self) -> Option<&CompareView> {
-        self.comparison.as_ref().and(self.compare_view.as_ref())
+        self.comparison.as_ref().map(|_| &self.compare_view)
     }
 
     /// " | compare A | B at 50 %" or " | compare A − B: N pixels differ, max M levels", or nothing.
     fn compare_status(&self) -> String {
-        let (Some((sources, _)), Some(view)) = (&self.comparison, &self.compare_view) else {
+        let (Some((sources, _)), view) = (&self.comparison, &self.compare_view) else {
             return String::new();
         };
         let [a, b] = sources;
@@ -325,22 +325,6 @@ impl Cylinder {
                 d.pixels, d.max
             ),
             (CompareMode::Difference, None) => format!(" | compare {a} - {b}"),
-        }
-    }
-
-    /// One frame of `source` from `buffers`, with the program that source and the switches need.
-    fn draw_source(&self, source: TangentSource, buffers: &MeshBuffers, frame: &FrameInput) {
-        let (projection, view) = (frame.projection, frame.view);
-        let tutorial = &self.tutorial;
-        if source == TangentSource::Derivative {
-            let program = &self.derivative_program;
-            tutorial.draw_mesh_with(program, buffers, projection, view, None);
-        } else if self.switches == ShaderSwitches::default() && !self.use_debug_program {
-            tutorial.draw_mesh_with(&tutorial.program, buffers, projection, view, None);
-        } else {
-            self.debug_program.set_switches(self.switches);
-            let program = &self.debug_program.program;
-            tutorial.draw_mesh_with(program, buffers, projection, view, None);
         }
     }
 
@@ -421,7 +405,7 @@ impl Cylinder {
                 return self.set_tangent_source(self.tangent_source.next());
             }
             Action::NextCompareMode => {
-                let view = self.compare_view.as_mut().expect("not drawing");
+                let view = &mut self.compare_view;
                 match (self.comparison.is_some(), view.mode) {
                     (false, _) => {
                         view.mode = CompareMode::Split;
@@ -434,7 +418,7 @@ impl Cylinder {
                 }
             }
             Action::MoveSplitLeft | Action::MoveSplitRight => {
-                let view = self.compare_view.as_mut().expect("not drawing");
+                let view = &mut self.compare_view;
                 let step = if action == Action::MoveSplitLeft {
                     -0.05
                 } else {
@@ -460,17 +444,51 @@ impl Cylinder {
     }
 }
 
+/// What draws one tangent source's frame: the tutorial with the program that the source and the
+/// switches need. Borrowed from the scene's fields, apart from its compare view (which calls it).
+struct SourceDrawer<'a> {
+    tutorial: &'a Tutorial13,
+    debug_program: &'a DebugProgram,
+    derivative_program: &'a NormalMappingProgram,
+    switches: ShaderSwitches,
+    use_debug_program: bool,
+}
+
+impl SourceDrawer<'_> {
+    /// One frame of `source` from `buffers`.
+    fn draw(&self, source: TangentSource, buffers: &MeshBuffers, frame: &FrameInput) {
+        let (projection, view) = (frame.projection, frame.view);
+        let tutorial = self.tutorial;
+        if source == TangentSource::Derivative {
+            let program = self.derivative_program;
+            tutorial.draw_mesh_with(program, buffers, projection, view, None);
+        } else if self.switches == ShaderSwitches::default() && !self.use_debug_program {
+            tutorial.draw_mesh_with(&tutorial.program, buffers, projection, view, None);
+        } else {
+            self.debug_program.set_switches(self.switches);
+            let program = &self.debug_program.program;
+            tutorial.draw_mesh_with(program, buffers, projection, view, None);
+        }
+    }
+}
+
 impl Scene for Cylinder {
     fn draw(&mut self, frame: &FrameInput) {
         GL_STATE.apply(&self.gl);
-        if self.comparison.is_some() && self.compare_view.is_some() {
-            let (sources, buffers) = self.comparison.take().expect("checked");
-            let mut view = self.compare_view.take().expect("checked");
+        if let Some((sources, buffers)) = &self.comparison {
+            let drawer = SourceDrawer {
+                tutorial: &self.tutorial,
+                debug_program: &self.debug_program,
+                derivative_program: &self.derivative_program,
+                switches: self.switches,
+                use_debug_program: self.use_debug_program,
+            };
+            let view = &mut self.compare_view;
             let before = view.difference;
             let drawn = view.draw(
                 frame.size,
-                || self.draw_source(sources[0], &buffers[0], frame),
-                || self.draw_source(sources[1], &buffers[1], frame),
+                || drawer.draw(sources[0], &buffers[0], frame),
+                || drawer.draw(sources[1], &buffers[1], frame),
             );
             if let Err(e) = drawn {
                 log::error!("compare view: {e}");
@@ -484,8 +502,6 @@ impl Scene for Cylinder {
                     d.max
                 );
             }
-            self.comparison = Some((sources, buffers));
-            self.compare_view = Some(view);
             return;
         }
         let lines = self.lines.as_ref().filter(|_| self.show_lines);
