@@ -5,7 +5,8 @@
 use std::path::PathBuf;
 
 use crate::common::{
-    flat_white_assets, frame, is_background, options, own_assets, pixel_diff, renderer, scratch,
+    cylinder_frame, flat_white_assets, is_background, options, own_assets, pixel_diff, renderer,
+    scratch,
 };
 use image::RgbImage;
 use tutorial13::assets::encode_bmp;
@@ -15,18 +16,10 @@ use tutorial13::scenes::cylinder::Cylinder;
 use tutorial13::scenes::Scene;
 
 fn render(assets: PathBuf, convention: NormalMapConvention, view: &str) -> RgbImage {
-    let mut options = options(assets, Profile::Core);
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .switches
-        .convention = convention;
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .switches
-        .view = view.parse().unwrap();
-    frame(&mut renderer(&options))
+    cylinder_frame(assets, |cylinder| {
+        cylinder.switches.convention = convention;
+        cylinder.switches.view = view.parse().unwrap();
+    })
 }
 
 /// The project's assets with its normal map's texels changed by `change`.

@@ -6,13 +6,13 @@ use crate::common;
 use std::path::PathBuf;
 
 use crate::common::{
-    frame, is_background, options, own_assets, pixel_diff, project, renderer, scratch,
+    cylinder_frame, cylinder_renderer, frame, is_background, own_assets, pixel_diff, project,
+    scratch,
 };
 use glam::Vec3;
 use image::RgbImage;
 use tutorial13::common::objloader::{load_obj, TriangleSoup};
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
-use tutorial13::gl::Profile;
 use tutorial13::mesh::MeshOptions;
 use tutorial13::tangents::{mikktspace_tangents, TangentSource};
 
@@ -27,16 +27,10 @@ fn assets_with_mesh(name: &str, obj: &str) -> PathBuf {
 }
 
 fn render(assets: PathBuf, source: TangentSource, mesh: MeshOptions) -> RgbImage {
-    let mut options = options(assets, Profile::Core);
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .tangents = source;
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .mesh = mesh;
-    frame(&mut renderer(&options))
+    cylinder_frame(assets, |cylinder| {
+        cylinder.tangents = source;
+        cylinder.mesh = mesh;
+    })
 }
 
 /// (pixels differing, max, mean over the non-background channels).
@@ -59,13 +53,7 @@ vt 0 1\nvt 1 1\nvt 1 0\nvt 0 0\nvn 0 0 1\n\
 f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n";
 
 fn render_normalized_tbn(assets: PathBuf) -> RgbImage {
-    let mut options = options(assets, Profile::Core);
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .switches
-        .normalize_tbn = true;
-    frame(&mut renderer(&options))
+    cylinder_frame(assets, |cylinder| cylinder.switches.normalize_tbn = true)
 }
 
 // Fails if the three sources do not light a flat, unmirrored quad alike, with the tutorial's frame
@@ -262,12 +250,7 @@ fn mikktspace_and_the_tutorial_agree_on_the_cylinder_up_to_the_flip() {
 // to the tutorial's source does not give the tutorial's frame bit for bit (mesh and lines rebuilt).
 #[test]
 fn the_source_key_cycles_and_comes_back_to_the_tutorials_frame() {
-    let mut options = options(own_assets(), Profile::Core);
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .debug_lines = true;
-    let mut r = renderer(&options);
+    let mut r = cylinder_renderer(own_assets(), |cylinder| cylinder.debug_lines = true);
     let start = frame(&mut r);
     let mut seen = Vec::new();
     for _ in 0..3 {

@@ -374,14 +374,9 @@ fn every_switch_renders_without_gl_errors_in_both_profiles() {
 #[test]
 fn legacy_lines_in_a_core_context_fall_back_with_a_notice() {
     let mut options = options(own_assets(), Profile::Core);
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .debug_lines = true;
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .line_mode = Some(LineMode::Legacy);
+    let cylinder = cylinder_options(&mut options);
+    cylinder.debug_lines = true;
+    cylinder.line_mode = Some(LineMode::Legacy);
     let mut core = renderer(&options);
     assert_eq!(
         core.scene_mut::<Cylinder>().line_mode(),
@@ -394,17 +389,11 @@ fn legacy_lines_in_a_core_context_fall_back_with_a_notice() {
         .to_string();
     assert!(notice.contains("compatibility"), "{notice}");
     let with_lines = frame(&mut core);
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .debug_lines = false;
+    cylinder_options(&mut options).debug_lines = false;
     let without = frame(&mut renderer(&options));
     assert!(count_differing(&with_lines, &without) > 500);
     // In a compatibility context the same request draws in immediate mode, with the same pixels.
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .debug_lines = true;
+    cylinder_options(&mut options).debug_lines = true;
     options.profile = Profile::Compat;
     let mut compat = renderer(&options);
     assert_eq!(

@@ -12,6 +12,7 @@ use tutorial13::assets::{encode_bmp, encode_dds_dxt3};
 use tutorial13::common::controls::Controls;
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::gl::{ContextInfo, Profile};
+use tutorial13::scenes::cylinder::CylinderOptions;
 use tutorial13::scenes::SceneOptions;
 
 pub const W: u32 = 1024;
@@ -139,6 +140,26 @@ pub fn options(assets: PathBuf, profile: Profile) -> HeadlessOptions {
 
 pub fn renderer(options: &HeadlessOptions) -> HeadlessRenderer {
     HeadlessRenderer::new(options).expect("headless renderer")
+}
+
+/// The cylinder scene's own options in `options` (the scene [`options`] draws).
+pub fn cylinder_options(options: &mut HeadlessOptions) -> &mut CylinderOptions {
+    options.scene.get_mut::<CylinderOptions>()
+}
+
+/// A core-profile renderer of the cylinder scene on `assets`, its options changed by `set` first.
+pub fn cylinder_renderer(
+    assets: PathBuf,
+    set: impl FnOnce(&mut CylinderOptions),
+) -> HeadlessRenderer {
+    let mut options = options(assets, Profile::Core);
+    set(cylinder_options(&mut options));
+    renderer(&options)
+}
+
+/// The first frame of [`cylinder_renderer`].
+pub fn cylinder_frame(assets: PathBuf, set: impl FnOnce(&mut CylinderOptions)) -> RgbImage {
+    frame(&mut cylinder_renderer(assets, set))
 }
 
 /// One frame (time frozen at 0), alpha dropped as in a screenshot. `render_frames` fails on any GL
