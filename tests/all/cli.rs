@@ -15,6 +15,7 @@ use tutorial13::gl::context::HeadlessContext;
 use tutorial13::gl::Profile;
 
 use crate::common;
+use crate::common::frame_diff;
 
 use crate::common::xvfb::Xvfb;
 
@@ -153,41 +154,6 @@ fn headless_frame(scratch: &Path, name: &str, extra: &[&str]) -> RgbImage {
         .args(extra));
     assert_success(&out, &format!("headless {extra:?}"));
     read_png(&shot)
-}
-
-/// How two same-sized frames differ: the largest per-channel difference and how many pixels differ by
-/// more than `tolerance` in some channel.
-struct Diff {
-    max: u8,
-    differing: usize,
-    over_tolerance: usize,
-    pixels: usize,
-    /// Smallest rectangle (x0, y0, x1, y1), inclusive, holding every differing pixel.
-    bbox: Option<(u32, u32, u32, u32)>,
-}
-
-fn diff(a: &RgbImage, b: &RgbImage, tolerance: u8) -> Diff {
-    assert_eq!(a.dimensions(), b.dimensions(), "frames of different sizes");
-    let mut d = Diff {
-        max: 0,
-        differing: 0,
-        over_tolerance: 0,
-        pixels: a.pixels().len(),
-        bbox: None,
-    };
-    for ((x, y, pa), pb) in a.enumerate_pixels().zip(b.pixels()) {
-        let m = (0..3).map(|c| pa[c].abs_diff(pb[c])).max().unwrap();
-        if m > 0 {
-            d.bbox = Some(match d.bbox {
-                None => (x, y, x, y),
-                Some((x0, y0, x1, y1)) => (x0.min(x), y0.min(y), x1.max(x), y1.max(y)),
-            });
-        }
-        d.max = d.max.max(m);
-        d.differing += usize::from(m > 0);
-        d.over_tolerance += usize::from(m > tolerance);
-    }
-    d
 }
 
 /// Fraction of pixels that are not the clear colour: the cylinder is on screen.
@@ -492,12 +458,12 @@ fn msaa_window_matches_headless_and_blends_the_lines() {
     let plain = headless_frame(&common::scratch("msaa"), "plain.png", &lines);
     let green = |img: &RgbImage| img.pixels().filter(|p| p.0 == [0, 255, 0]).count();
     let (g_plain, g_msaa) = (green(&plain), green(&window));
-    let d = diff(&window, &plain, 0);
+    let d = frame_diff(&window, &plain);
     println!(
         "--msaa 4 against none: {} pixels differ; pure-green line pixels {g_plain} -> {g_msaa}",
-        d.differing
+        d.differing()
     );
-    assert!(d.differing > 1000, "{} pixels differ", d.differing);
+    assert!(d.differing() > 1000, "{} pixels differ", d.differing());
     assert!(
         g_msaa * 2 < g_plain,
         "{g_msaa} of {g_plain}: the lines are not blended"
@@ -558,11 +524,11 @@ fn window_matches_headless(extra: &[&str], name: &str) -> RgbImage {
     // Mesa keeps window buffers top row first and llvmpipe rasterizes them y-flipped; the headless
     // target is stored the same way (GL_MESA_framebuffer_flip_y), so on the renderer this was measured
     // on the two frames are the same frame, pixel for pixel, debug lines included.
-    let d = diff(&window, &headless, 2);
+    let d = frame_diff(&window, &headless);
     eprintln!(
         "window vs headless: max channel difference {}, {} of {} pixels differ, {} by more than 2, \
          all within {:?} (window run {window_time:?})",
-        d.max, d.differing, d.pixels, d.over_tolerance, d.bbox
+        d.max(), d.differing(), d.pixels(), d.over(2), d.bbox
     );
     let window_log = text(&out_window_stderr);
     let not_reference = reference_renderer_skip_reason(extra).or_else(|| {
@@ -575,9 +541,13 @@ fn window_matches_headless(extra: &[&str], name: &str) -> RgbImage {
     });
     match not_reference {
         None => assert_eq!(
-            d.differing, 0,
+            d.differing(),
+            0,
             "window and headless frames differ in {} of {} pixels (max {}, all within {:?})",
-            d.differing, d.pixels, d.max, d.bbox
+            d.differing(),
+            d.pixels(),
+            d.max(),
+            d.bbox
         ),
         Some(reason) => {
             // Elsewhere only a coarse check: a wrong texture, camera or size fails by far.
@@ -586,11 +556,11 @@ fn window_matches_headless(extra: &[&str], name: &str) -> RgbImage {
                 &reason,
             );
             assert!(
-                d.over_tolerance as f64 <= d.pixels as f64 * 0.001,
+                d.over(2) as f64 <= d.pixels() as f64 * 0.001,
                 "window and headless frames differ: {} of {} pixels by more than 2 (max {})",
-                d.over_tolerance,
-                d.pixels,
-                d.max
+                d.over(2),
+                d.pixels(),
+                d.max()
             );
         }
     }
@@ -662,16 +632,19 @@ fn compat_profile_draws_the_same_frame_as_core() {
     let core = headless_frame(&scratch, "core.png", &["--profile", "core"]);
     let compat = headless_frame(&scratch, "c.png", &["--profile", "compat"]);
     assert_eq!(compat.dimensions(), (1024, 768));
-    let d = diff(&core, &compat, 0);
+    let d = frame_diff(&core, &compat);
     eprintln!(
         "core vs compat: max difference {}, {} pixels differ",
-        d.max, d.differing
+        d.max(),
+        d.differing()
     );
     // Same driver, same shaders, same state: the frames must be identical.
     assert_eq!(
-        d.differing, 0,
+        d.differing(),
+        0,
         "compat differs from core in {} pixels (max {})",
-        d.differing, d.max
+        d.differing(),
+        d.max()
     );
 }
 

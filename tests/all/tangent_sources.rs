@@ -6,8 +6,8 @@ use crate::common;
 use std::path::PathBuf;
 
 use crate::common::{
-    cylinder_frame, cylinder_renderer, frame, is_background, own_assets, pixel_diff, project,
-    scratch,
+    compare_drawn, cylinder_frame, cylinder_renderer, drawn_pixels, frame, is_background,
+    own_assets, project, scratch,
 };
 use glam::Vec3;
 use image::RgbImage;
@@ -31,18 +31,6 @@ fn render(assets: PathBuf, source: TangentSource, mesh: MeshOptions) -> RgbImage
         cylinder.tangents = source;
         cylinder.mesh = mesh;
     })
-}
-
-/// (pixels differing, max, mean over the non-background channels).
-fn compare(a: &RgbImage, b: &RgbImage) -> (usize, u8, f64) {
-    let (differing, max, _) = pixel_diff(a, b);
-    let drawn = a.pixels().filter(|p| !is_background(p)).count().max(1);
-    let total: u64 = a
-        .pixels()
-        .zip(b.pixels())
-        .flat_map(|(p, q)| (0..3).map(move |c| u64::from(p[c].abs_diff(q[c]))))
-        .sum();
-    (differing, max, total as f64 / (drawn * 3) as f64)
 }
 
 /// A 2 × 2 quad at z = 0 facing the camera, UVs 0..1 with the file's V running down the quad, so
@@ -89,17 +77,17 @@ fn all_three_sources_agree_on_a_flat_quad() {
             ),
         ),
     ];
-    let drawn = frames[0].1.pixels().filter(|p| !is_background(p)).count();
+    let drawn = drawn_pixels(&frames[0].1);
     assert!(drawn > 100_000, "only {drawn} pixels of quad");
     for (i, (a, fa)) in frames.iter().enumerate() {
         for (b, fb) in &frames[i + 1..] {
-            let (differing, max, mean) = compare(fa, fb);
+            let (differing, max, mean) = compare_drawn(fa, fb);
             println!("quad, {a} vs {b}: {differing} pixels differ, max {max}, mean {mean:.3}");
             assert!(max <= 1, "{a} vs {b}: {differing} pixels, max {max}");
         }
     }
     let summed = render(assets, TangentSource::Tutorial, MeshOptions::default());
-    let (differing, max, mean) = compare(&summed, &frames[1].1);
+    let (differing, max, mean) = compare_drawn(&summed, &frames[1].1);
     println!("quad, tutorial as summed (repository shader) vs mikktspace: {differing} pixels, max {max}, mean {mean:.3}");
     assert!(
         mean > 5.0,

@@ -105,24 +105,86 @@ pub fn skip_off_reference(test: &str, reason: &str) {
 /// An inclusive rectangle of pixels: (x0, y0, x1, y1).
 pub type PixelRect = (u32, u32, u32, u32);
 
-/// How many pixels differ, the largest channel difference, and the rectangle that holds every
-/// differing pixel.
-pub fn pixel_diff(a: &RgbImage, b: &RgbImage) -> (usize, u8, Option<PixelRect>) {
+/// How two frames of one size differ, pixel by pixel; a pixel differs by its largest channel
+/// difference.
+pub struct FrameDiff {
+    /// How many pixels differ by each amount: `by_amount[0]` is the number of equal pixels.
+    by_amount: [usize; 256],
+    /// The rectangle that holds every differing pixel.
+    pub bbox: Option<PixelRect>,
+    /// Every channel's difference, summed over the frame.
+    pub total: u64,
+}
+
+impl FrameDiff {
+    /// How many pixels were compared.
+    pub fn pixels(&self) -> usize {
+        self.by_amount.iter().sum()
+    }
+
+    /// How many pixels differ at all.
+    pub fn differing(&self) -> usize {
+        self.over(0)
+    }
+
+    /// How many pixels differ by more than `tolerance`.
+    pub fn over(&self, tolerance: u8) -> usize {
+        self.by_amount[usize::from(tolerance) + 1..].iter().sum()
+    }
+
+    /// The largest channel difference (0 for equal frames).
+    pub fn max(&self) -> u8 {
+        self.by_amount.iter().rposition(|&n| n > 0).unwrap_or(0) as u8
+    }
+}
+
+/// How `a` and `b`, frames of the same size, differ.
+pub fn frame_diff(a: &RgbImage, b: &RgbImage) -> FrameDiff {
     assert_eq!(a.dimensions(), b.dimensions(), "frames of different sizes");
-    let (mut differing, mut max) = (0, 0u8);
-    let mut bbox: Option<PixelRect> = None;
+    let mut d = FrameDiff {
+        by_amount: [0; 256],
+        bbox: None,
+        total: 0,
+    };
     for ((x, y, p), q) in a.enumerate_pixels().zip(b.pixels()) {
-        let m = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap();
+        let channels = [0, 1, 2].map(|c| p[c].abs_diff(q[c]));
+        let m = channels.into_iter().max().unwrap();
+        d.by_amount[usize::from(m)] += 1;
+        d.total += channels.into_iter().map(u64::from).sum::<u64>();
         if m > 0 {
-            differing += 1;
-            max = max.max(m);
-            bbox = Some(match bbox {
+            d.bbox = Some(match d.bbox {
                 None => (x, y, x, y),
                 Some((x0, y0, x1, y1)) => (x0.min(x), y0.min(y), x1.max(x), y1.max(y)),
             });
         }
     }
-    (differing, max, bbox)
+    d
+}
+
+/// How many pixels differ, the largest channel difference, and the rectangle that holds every
+/// differing pixel.
+pub fn pixel_diff(a: &RgbImage, b: &RgbImage) -> (usize, u8, Option<PixelRect>) {
+    let d = frame_diff(a, b);
+    (d.differing(), d.max(), d.bbox)
+}
+
+/// How many pixels differ between `a` and `b`.
+pub fn differing_pixels(a: &RgbImage, b: &RgbImage) -> usize {
+    frame_diff(a, b).differing()
+}
+
+/// How many pixels of `image` are not the background.
+pub fn drawn_pixels(image: &RgbImage) -> usize {
+    image.pixels().filter(|p| !is_background(p)).count()
+}
+
+/// Pixels differing, the largest channel difference, and the mean channel difference over the
+/// pixels `a` draws (not over the whole frame, so that the background does not dilute it).
+pub fn compare_drawn(a: &RgbImage, b: &RgbImage) -> (usize, u8, f64) {
+    let d = frame_diff(a, b);
+    let drawn = drawn_pixels(a);
+    assert!(drawn > 0, "nothing drawn to take a mean difference over");
+    (d.differing(), d.max(), d.total as f64 / (drawn * 3) as f64)
 }
 
 pub fn options(assets: PathBuf, profile: Profile) -> HeadlessOptions {
