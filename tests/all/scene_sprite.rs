@@ -3,7 +3,6 @@
 //! each test prints the numbers it measured (`cargo test --test scene_sprite -- --nocapture`).
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Duration;
 
 use glam::{DVec3, Vec2, Vec3};
@@ -574,10 +573,13 @@ fn a_bad_light_flag_is_refused() {
         "0.5,nan,0.1",
         "0.5,0.5,0.1,1",
     ] {
-        let out = Command::new(env!("CARGO_BIN_EXE_tutorial13"))
-            .args(["--headless", "--scene", "sprite", "--light", bad])
-            .output()
-            .unwrap();
+        let out = common::run(common::tutorial13().args([
+            "--headless",
+            "--scene",
+            "sprite",
+            "--light",
+            bad,
+        ]));
         let stderr = String::from_utf8_lossy(&out.stderr);
         println!("--light {bad}: {}", stderr.lines().next().unwrap_or(""));
         assert_eq!(out.status.code(), Some(2), "--light {bad}: {stderr}");

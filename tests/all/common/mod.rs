@@ -4,7 +4,10 @@
 
 pub mod xvfb;
 
+use std::io::Read;
 use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
 
 use glam::Vec3;
 use image::{Rgb, RgbImage, RgbaImage};
@@ -278,19 +281,69 @@ pub fn files_under(dir: &Path) -> Vec<PathBuf> {
     files
 }
 
+/// A debug build on two busy cores renders in well under a second; this only catches hangs.
+const RUN_TIMEOUT: Duration = Duration::from_secs(300);
+
+/// The binary with a predictable environment: no RUST_LOG, so stderr holds only what it always
+/// prints, and no stdin.
+pub fn tutorial13() -> Command {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_tutorial13"));
+    cmd.env_remove("RUST_LOG").stdin(Stdio::null());
+    cmd
+}
+
+/// Runs to completion (killed and failed after [`RUN_TIMEOUT`]), capturing stdout and stderr.
+pub fn run(cmd: &mut Command) -> Output {
+    let mut child = cmd
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot start {cmd:?}: {e}"));
+    let stdout = drain(child.stdout.take());
+    let stderr = drain(child.stderr.take());
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait for the child") {
+            break status;
+        }
+        if start.elapsed() > RUN_TIMEOUT {
+            let _ = child.kill();
+            let _ = child.wait();
+            let err = text(&stderr.join().unwrap());
+            panic!("{cmd:?} still running after {RUN_TIMEOUT:?}; killed. stderr:\n{err}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    Output {
+        status,
+        stdout: stdout.join().unwrap(),
+        stderr: stderr.join().unwrap(),
+    }
+}
+
+/// Reads a child's pipe to its end on a thread, so that a chatty child never blocks on a full pipe.
+fn drain<R: Read + Send + 'static>(pipe: Option<R>) -> std::thread::JoinHandle<Vec<u8>> {
+    std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        if let Some(mut pipe) = pipe {
+            let _ = pipe.read_to_end(&mut bytes);
+        }
+        bytes
+    })
+}
+
+/// A run's output as text (invalid UTF-8 replaced).
+pub fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
 /// The binary's headless frame (`--headless --screenshot NAME` plus `args`), run in `dir`.
 pub fn headless_screenshot(dir: &Path, name: &str, args: &[&str]) -> RgbImage {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_tutorial13"))
+    let out = run(tutorial13()
         .args(["--headless", "--screenshot", name])
         .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+        .current_dir(dir));
+    assert!(out.status.success(), "{}", text(&out.stderr));
     image::open(dir.join(name)).unwrap().into_rgb8()
 }
 
