@@ -7,12 +7,11 @@ use crate::common;
 use std::path::{Path, PathBuf};
 
 use crate::common::{
-    assert_matches_golden, drawn_pixels, frame, frame_diff, own_assets, pixel_diff, renderer,
-    scratch, H, W,
+    assert_matches_golden, drawn_pixels, flat_scene_assets, frame, frame_diff, own_assets,
+    pixel_diff, renderer, scratch, H, W,
 };
 use glam::{Vec3, Vec4};
 use image::RgbImage;
-use tutorial13::assets::encode_bmp;
 use tutorial13::common::controls::Controls;
 use tutorial13::gl::Profile;
 use tutorial13::scenes::wall::{LightingSpace, Wall, LIGHT_POSITION_WORLDSPACE};
@@ -37,14 +36,7 @@ fn render(assets: &Path, space: LightingSpace) -> RgbImage {
 
 /// A wall/ folder with a diffuse map of one colour and a flat normal map (128, 128, 255).
 fn flat_assets(name: &str, diffuse: [u8; 3]) -> PathBuf {
-    let dir = scratch(name);
-    std::fs::create_dir_all(dir.join("wall")).unwrap();
-    let size = 64;
-    let texels = (size * size) as usize;
-    let bmp = |rgb: [u8; 3]| encode_bmp(&vec![rgb; texels], size).unwrap();
-    std::fs::write(dir.join("wall/diffuse.bmp"), bmp(diffuse)).unwrap();
-    std::fs::write(dir.join("wall/normal.bmp"), bmp([128, 128, 255])).unwrap();
-    dir
+    flat_scene_assets(name, "wall", 64, diffuse)
 }
 
 /// Renders the wall with `space`, from the tutorial's start camera or (`oblique`) from (3, 1.5, 3)

@@ -414,6 +414,21 @@ pub fn flat_assets(name: &str, obj_text: &str, diffuse: [u8; 4], specular: [u8; 
     dir
 }
 
+/// A scratch asset folder (see [`scratch`]) for a scene that reads `scene`/diffuse.bmp and
+/// `scene`/normal.bmp: a diffuse map of one colour and a flat normal map (128, 128, 255), `size`²
+/// texels each.
+#[track_caller]
+pub fn flat_scene_assets(name: &str, scene: &str, size: u32, diffuse: [u8; 3]) -> PathBuf {
+    let dir = scratch(name);
+    std::fs::create_dir_all(dir.join(scene)).unwrap();
+    let texels = (size * size) as usize;
+    for (file, rgb) in [("diffuse.bmp", diffuse), ("normal.bmp", [128, 128, 255])] {
+        let bmp = encode_bmp(&vec![rgb; texels], size).unwrap();
+        std::fs::write(dir.join(scene).join(file), bmp).unwrap();
+    }
+    dir
+}
+
 /// The project's cylinder with a flat normal map and white diffuse and specular maps.
 #[track_caller]
 pub fn flat_white_assets(name: &str) -> PathBuf {
