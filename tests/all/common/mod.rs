@@ -11,8 +11,12 @@ use std::time::{Duration, Instant};
 
 use glam::Vec3;
 use image::{Rgb, RgbImage, RgbaImage};
+use proptest::test_runner::TestCaseError;
 use tutorial13::assets::{encode_bmp, encode_dds_dxt3};
 use tutorial13::common::controls::Controls;
+use tutorial13::common::objloader::TriangleSoup;
+use tutorial13::common::tangentspace::TangentBasis;
+use tutorial13::common::vboindexer::{index_vbo_tbn, index_vbo_tbn_linear, IndexOptions};
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::gl::{ContextInfo, Profile};
 use tutorial13::scenes::cylinder::CylinderOptions;
@@ -446,4 +450,22 @@ pub fn project(world: Vec3) -> (f32, f32) {
         (ndc.x + 1.0) * 0.5 * W as f32,
         (1.0 - ndc.y) * 0.5 * H as f32,
     )
+}
+
+/// The grid indexer's property, for proptest: on `soup` and `basis`, normalizing the tangents before
+/// summing them or not, it picks the vertex the linear search picks (ties included) and sums in the
+/// same order, so indices, vertices and sums are identical to the bit.
+pub fn grid_indexer_matches_linear(
+    soup: &TriangleSoup,
+    basis: &TangentBasis,
+    normalize: bool,
+) -> Result<(), TestCaseError> {
+    let options = IndexOptions {
+        normalize_before_sum: normalize,
+    };
+    proptest::prop_assert_eq!(
+        index_vbo_tbn(soup, basis, options),
+        index_vbo_tbn_linear(soup, basis, options)
+    );
+    Ok(())
 }
