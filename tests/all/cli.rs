@@ -4,78 +4,24 @@
 //! needs Xvfb and xdotool (Debian packages xvfb, xdotool), which CI installs. Every test works in its
 //! own folder (`common::scratch`).
 
-use std::io::Read;
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
-use std::thread;
-use std::time::{Duration, Instant};
+use std::process::Output;
+use std::time::Instant;
 
 use image::RgbImage;
 use tutorial13::gl::context::HeadlessContext;
 use tutorial13::gl::Profile;
 
 use crate::common;
+use crate::common::{frame_diff, run, text, tutorial13};
 
 use crate::common::xvfb::Xvfb;
 
 /// The background the tutorial clears to: glClearColor(0.0, 0.0, 0.4, 0.0).
 const CLEAR_RGB: [u8; 3] = [0, 0, 102];
-/// A debug build on two busy cores renders in well under a second; this only catches hangs.
-const RUN_TIMEOUT: Duration = Duration::from_secs(300);
 
 // ---------------------------------------------------------------------------------------------------
 // Helpers
-
-/// The binary with a predictable environment: no RUST_LOG, so stderr holds only what it always prints.
-fn tutorial13() -> Command {
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_tutorial13"));
-    cmd.env_remove("RUST_LOG").stdin(Stdio::null());
-    cmd
-}
-
-/// Runs to completion (killed and failed after [`RUN_TIMEOUT`]), capturing stdout and stderr.
-fn run(cmd: &mut Command) -> Output {
-    let mut child = cmd
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap_or_else(|e| panic!("cannot start {cmd:?}: {e}"));
-    let stdout = drain(child.stdout.take());
-    let stderr = drain(child.stderr.take());
-    let start = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().expect("wait for the child") {
-            break status;
-        }
-        if start.elapsed() > RUN_TIMEOUT {
-            let _ = child.kill();
-            let _ = child.wait();
-            let err = String::from_utf8_lossy(&stderr.join().unwrap()).into_owned();
-            panic!("{cmd:?} still running after {RUN_TIMEOUT:?}; killed. stderr:\n{err}");
-        }
-        thread::sleep(Duration::from_millis(20));
-    };
-    Output {
-        status,
-        stdout: stdout.join().unwrap(),
-        stderr: stderr.join().unwrap(),
-    }
-}
-
-/// Reads a child's pipe to its end on a thread, so that a chatty child never blocks on a full pipe.
-fn drain<R: Read + Send + 'static>(pipe: Option<R>) -> thread::JoinHandle<Vec<u8>> {
-    thread::spawn(move || {
-        let mut bytes = Vec::new();
-        if let Some(mut pipe) = pipe {
-            let _ = pipe.read_to_end(&mut bytes);
-        }
-        bytes
-    })
-}
-
-fn text(bytes: &[u8]) -> String {
-    String::from_utf8_lossy(bytes).into_owned()
-}
 
 /// Fails with the exit status and both streams unless the run exited 0.
 fn assert_success(out: &Output, what: &str) {
@@ -93,9 +39,8 @@ fn assert_success(out: &Output, what: &str) {
     );
 }
 
-/// The failure contract: non-zero exit, stderr exactly one line "tutorial13: <reason>", no panic.
-/// Returns that line.
-fn assert_one_line_failure(out: &Output, what: &str) -> String {
+/// Fails unless the run exited non-zero without a panic. Returns its stderr.
+fn assert_failure_without_panic(out: &Output, what: &str) -> String {
     let stderr = text(&out.stderr);
     assert!(
         !out.status.success(),
@@ -105,6 +50,13 @@ fn assert_one_line_failure(out: &Output, what: &str) -> String {
         !stderr.contains("panicked"),
         "{what}: a panic instead of an error line:\n{stderr}"
     );
+    stderr
+}
+
+/// The failure contract: non-zero exit, stderr exactly one line "tutorial13: <reason>", no panic.
+/// Returns that line.
+fn assert_one_line_failure(out: &Output, what: &str) -> String {
+    let stderr = assert_failure_without_panic(out, what);
     let lines: Vec<&str> = stderr.lines().collect();
     assert_eq!(
         lines.len(),
@@ -153,41 +105,6 @@ fn headless_frame(scratch: &Path, name: &str, extra: &[&str]) -> RgbImage {
         .args(extra));
     assert_success(&out, &format!("headless {extra:?}"));
     read_png(&shot)
-}
-
-/// How two same-sized frames differ: the largest per-channel difference and how many pixels differ by
-/// more than `tolerance` in some channel.
-struct Diff {
-    max: u8,
-    differing: usize,
-    over_tolerance: usize,
-    pixels: usize,
-    /// Smallest rectangle (x0, y0, x1, y1), inclusive, holding every differing pixel.
-    bbox: Option<(u32, u32, u32, u32)>,
-}
-
-fn diff(a: &RgbImage, b: &RgbImage, tolerance: u8) -> Diff {
-    assert_eq!(a.dimensions(), b.dimensions(), "frames of different sizes");
-    let mut d = Diff {
-        max: 0,
-        differing: 0,
-        over_tolerance: 0,
-        pixels: a.pixels().len(),
-        bbox: None,
-    };
-    for ((x, y, pa), pb) in a.enumerate_pixels().zip(b.pixels()) {
-        let m = (0..3).map(|c| pa[c].abs_diff(pb[c])).max().unwrap();
-        if m > 0 {
-            d.bbox = Some(match d.bbox {
-                None => (x, y, x, y),
-                Some((x0, y0, x1, y1)) => (x0.min(x), y0.min(y), x1.max(x), y1.max(y)),
-            });
-        }
-        d.max = d.max.max(m);
-        d.differing += usize::from(m > 0);
-        d.over_tolerance += usize::from(m > tolerance);
-    }
-    d
 }
 
 /// Fraction of pixels that are not the clear colour: the cylinder is on screen.
@@ -247,15 +164,7 @@ fn bad_size_is_a_usage_error_not_a_panic() {
         let out = run(tutorial13()
             .args(["--headless", "--frames", "1", "--size", bad, "--screenshot"])
             .arg(&shot));
-        let stderr = text(&out.stderr);
-        assert!(
-            !out.status.success(),
-            "--size {bad}: accepted; stderr:\n{stderr}"
-        );
-        assert!(
-            !stderr.contains("panicked"),
-            "--size {bad}: panicked:\n{stderr}"
-        );
+        let stderr = assert_failure_without_panic(&out, &format!("--size {bad}"));
         assert!(
             stderr.contains("--size"),
             "--size {bad}: the error does not name the option:\n{stderr}"
@@ -270,6 +179,24 @@ fn bad_size_is_a_usage_error_not_a_panic() {
 // ---------------------------------------------------------------------------------------------------
 // 3. Bad assets and shaders: one line naming the file, no screenshot
 
+/// Runs one headless frame with `flag` (--assets or --shaders) naming the broken `folder`, with a
+/// screenshot asked for in `scratch`, and checks the failure contract and that no screenshot was
+/// written. Returns the error line.
+fn assert_refuses_folder(scratch: &Path, flag: &str, folder: &Path, what: &str) -> String {
+    let shot = scratch.join("never.png");
+    let out = run(tutorial13()
+        .args(["--headless", "--frames", "1", flag])
+        .arg(folder)
+        .arg("--screenshot")
+        .arg(&shot));
+    let line = assert_one_line_failure(&out, what);
+    assert!(
+        !shot.exists(),
+        "{what}: a screenshot was written despite the failure"
+    );
+    line
+}
+
 /// Copies the project's assets, lets `spoil` break the copy, runs headless on it and checks the
 /// failure contract. Returns the error line.
 fn run_on_spoiled_assets(test: &str, file: &str, spoil: impl FnOnce(&Path)) -> String {
@@ -277,20 +204,10 @@ fn run_on_spoiled_assets(test: &str, file: &str, spoil: impl FnOnce(&Path)) -> S
     let assets = scratch.join("assets");
     copy_dir(&common::manifest().join("assets"), &assets);
     spoil(&assets.join(file));
-    let shot = scratch.join("never.png");
-    let out = run(tutorial13()
-        .args(["--headless", "--frames", "1", "--assets"])
-        .arg(&assets)
-        .arg("--screenshot")
-        .arg(&shot));
-    let line = assert_one_line_failure(&out, test);
+    let line = assert_refuses_folder(&scratch, "--assets", &assets, test);
     assert!(
         line.contains(file),
         "{test}: the error does not name {file}: {line:?}"
-    );
-    assert!(
-        !shot.exists(),
-        "{test}: a screenshot was written despite the failure"
     );
     eprintln!("{test}: {line}");
     line
@@ -340,13 +257,7 @@ fn vertex_shader_syntax_error_is_one_line_with_the_driver_log() {
     );
     std::fs::write(&path, format!("{version}\nthis is not GLSL (;\n{rest}")).unwrap();
 
-    let shot = scratch.join("never.png");
-    let out = run(tutorial13()
-        .args(["--headless", "--frames", "1", "--shaders"])
-        .arg(&shaders)
-        .arg("--screenshot")
-        .arg(&shot));
-    let line = assert_one_line_failure(&out, "broken vertex shader");
+    let line = assert_refuses_folder(&scratch, "--shaders", &shaders, "broken vertex shader");
     eprintln!("bad_shader: {line}");
     let (_, after_name) = line
         .split_once(file)
@@ -354,10 +265,6 @@ fn vertex_shader_syntax_error_is_one_line_with_the_driver_log() {
     assert!(
         after_name.to_lowercase().contains("error"),
         "the driver's compile log is missing after the file name: {line:?}"
-    );
-    assert!(
-        !shot.exists(),
-        "a screenshot was written despite the failure"
     );
 }
 
@@ -492,12 +399,12 @@ fn msaa_window_matches_headless_and_blends_the_lines() {
     let plain = headless_frame(&common::scratch("msaa"), "plain.png", &lines);
     let green = |img: &RgbImage| img.pixels().filter(|p| p.0 == [0, 255, 0]).count();
     let (g_plain, g_msaa) = (green(&plain), green(&window));
-    let d = diff(&window, &plain, 0);
+    let d = frame_diff(&window, &plain);
     println!(
         "--msaa 4 against none: {} pixels differ; pure-green line pixels {g_plain} -> {g_msaa}",
-        d.differing
+        d.differing()
     );
-    assert!(d.differing > 1000, "{} pixels differ", d.differing);
+    assert!(d.differing() > 1000, "{} pixels differ", d.differing());
     assert!(
         g_msaa * 2 < g_plain,
         "{g_msaa} of {g_plain}: the lines are not blended"
@@ -558,11 +465,11 @@ fn window_matches_headless(extra: &[&str], name: &str) -> RgbImage {
     // Mesa keeps window buffers top row first and llvmpipe rasterizes them y-flipped; the headless
     // target is stored the same way (GL_MESA_framebuffer_flip_y), so on the renderer this was measured
     // on the two frames are the same frame, pixel for pixel, debug lines included.
-    let d = diff(&window, &headless, 2);
+    let d = frame_diff(&window, &headless);
     eprintln!(
         "window vs headless: max channel difference {}, {} of {} pixels differ, {} by more than 2, \
          all within {:?} (window run {window_time:?})",
-        d.max, d.differing, d.pixels, d.over_tolerance, d.bbox
+        d.max(), d.differing(), d.pixels(), d.over(2), d.bbox
     );
     let window_log = text(&out_window_stderr);
     let not_reference = reference_renderer_skip_reason(extra).or_else(|| {
@@ -575,9 +482,13 @@ fn window_matches_headless(extra: &[&str], name: &str) -> RgbImage {
     });
     match not_reference {
         None => assert_eq!(
-            d.differing, 0,
+            d.differing(),
+            0,
             "window and headless frames differ in {} of {} pixels (max {}, all within {:?})",
-            d.differing, d.pixels, d.max, d.bbox
+            d.differing(),
+            d.pixels(),
+            d.max(),
+            d.bbox
         ),
         Some(reason) => {
             // Elsewhere only a coarse check: a wrong texture, camera or size fails by far.
@@ -586,11 +497,11 @@ fn window_matches_headless(extra: &[&str], name: &str) -> RgbImage {
                 &reason,
             );
             assert!(
-                d.over_tolerance as f64 <= d.pixels as f64 * 0.001,
+                d.over(2) as f64 <= d.pixels() as f64 * 0.001,
                 "window and headless frames differ: {} of {} pixels by more than 2 (max {})",
-                d.over_tolerance,
-                d.pixels,
-                d.max
+                d.over(2),
+                d.pixels(),
+                d.max()
             );
         }
     }
@@ -662,16 +573,19 @@ fn compat_profile_draws_the_same_frame_as_core() {
     let core = headless_frame(&scratch, "core.png", &["--profile", "core"]);
     let compat = headless_frame(&scratch, "c.png", &["--profile", "compat"]);
     assert_eq!(compat.dimensions(), (1024, 768));
-    let d = diff(&core, &compat, 0);
+    let d = frame_diff(&core, &compat);
     eprintln!(
         "core vs compat: max difference {}, {} pixels differ",
-        d.max, d.differing
+        d.max(),
+        d.differing()
     );
     // Same driver, same shaders, same state: the frames must be identical.
     assert_eq!(
-        d.differing, 0,
+        d.differing(),
+        0,
         "compat differs from core in {} pixels (max {})",
-        d.differing, d.max
+        d.differing(),
+        d.max()
     );
 }
 

@@ -1,34 +1,38 @@
 //! The compare view (`--compare A,B`, key K): two tangent sources in one frame, side by side or as a
 //! heat map of their difference.
 
-use crate::common::{frame, options, own_assets, pixel_diff, renderer, rgb, W};
+use crate::common::{
+    cylinder_frame, cylinder_renderer, frame, options, own_assets, pixel_diff, renderer, rgb, W,
+};
 use image::RgbImage;
 use tutorial13::debug::compare::{heat_map, CompareMode};
+use tutorial13::frontends::headless::HeadlessRenderer;
 use tutorial13::gl::Profile;
 use tutorial13::scenes::cylinder::{CompareOptions, Cylinder};
 use tutorial13::scenes::Scene;
 use tutorial13::tangents::TangentSource;
 
 fn alone(source: TangentSource) -> RgbImage {
-    let mut options = options(own_assets(), Profile::Core);
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .tangents = source;
-    frame(&mut renderer(&options))
+    cylinder_frame(own_assets(), |cylinder| cylinder.tangents = source)
+}
+
+/// The cylinder started in the compare view of `sources`.
+fn compare_renderer(
+    sources: [TangentSource; 2],
+    mode: CompareMode,
+    split: f32,
+) -> HeadlessRenderer {
+    cylinder_renderer(own_assets(), |cylinder| {
+        cylinder.compare = Some(CompareOptions {
+            sources,
+            mode,
+            split,
+        })
+    })
 }
 
 fn compared(sources: [TangentSource; 2], mode: CompareMode, split: f32) -> RgbImage {
-    let mut options = options(own_assets(), Profile::Core);
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .compare = Some(CompareOptions {
-        sources,
-        mode,
-        split,
-    });
-    frame(&mut renderer(&options))
+    frame(&mut compare_renderer(sources, mode, split))
 }
 
 // Fails if either half of the split view is not, pixel for pixel, the frame its source draws alone
@@ -73,16 +77,7 @@ fn each_half_is_its_source_drawn_alone() {
 #[test]
 fn the_heat_map_is_the_difference_of_the_sources_alone() {
     let sources = [TangentSource::Tutorial, TangentSource::MikkTSpace];
-    let mut options = options(own_assets(), Profile::Core);
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .compare = Some(CompareOptions {
-        sources,
-        mode: CompareMode::Difference,
-        split: 0.5,
-    });
-    let mut r = renderer(&options);
+    let mut r = compare_renderer(sources, CompareMode::Difference, 0.5);
     let view = frame(&mut r);
     let to_rgba = |img: RgbImage| image::DynamicImage::ImageRgb8(img).into_rgba8();
     let (heat, difference) = heat_map(&to_rgba(alone(sources[0])), &to_rgba(alone(sources[1])));

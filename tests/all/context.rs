@@ -22,10 +22,10 @@ fn clear(ctx: &HeadlessContext, target: &OffscreenTarget, rgba: [f32; 4]) {
     }
 }
 
-// Fails if EGL device selection, the surfaceless 3.3 core context or the read-back of version/profile breaks.
-#[test]
-fn core_context_on_llvmpipe() {
-    let ctx = software(Profile::Core);
+/// A software context of `profile`, described on stderr, and checked to be of that profile and of
+/// GL 3.3 or later.
+fn checked(profile: Profile) -> HeadlessContext {
+    let ctx = software(profile);
     let info = ctx.info();
     eprintln!(
         "device: {}\ninfo: {info}\nGL_VERSION: {}",
@@ -33,7 +33,15 @@ fn core_context_on_llvmpipe() {
         info.version_string
     );
     assert!(info.version >= (3, 3), "{info}");
-    assert_eq!(info.profile, Profile::Core);
+    assert_eq!(info.profile, profile);
+    ctx
+}
+
+// Fails if EGL device selection, the surfaceless 3.3 core context or the read-back of version/profile breaks.
+#[test]
+fn core_context_on_llvmpipe() {
+    let ctx = checked(Profile::Core);
+    let info = ctx.info();
     assert!(info.renderer.contains("llvmpipe"), "{info}");
     // The reusable reader sees the same context.
     assert_eq!(context_info(ctx.gl()).version, info.version);
@@ -45,15 +53,7 @@ fn core_context_on_llvmpipe() {
 // Fails if the compatibility profile cannot be had, or the profile mask is read wrong.
 #[test]
 fn compat_context_is_compat() {
-    let ctx = software(Profile::Compat);
-    let info = ctx.info();
-    eprintln!(
-        "device: {}\ninfo: {info}\nGL_VERSION: {}",
-        ctx.device(),
-        info.version_string
-    );
-    assert_eq!(info.profile, Profile::Compat);
-    assert!(info.version >= (3, 3), "{info}");
+    let ctx = checked(Profile::Compat);
     // Legacy entry points the debug lines need are there.
     assert!(!ctx.get_proc_address(c"glBegin").is_null());
 }

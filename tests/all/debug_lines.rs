@@ -304,6 +304,23 @@ fn check_lines(r: &HeadlessRenderer, with: &RgbImage, without: &RgbImage) -> Lin
     check
 }
 
+/// Draws the frame with and without `lines` from the renderer's camera (`camera` in the report,
+/// the frame dumped as `dump_name`) and asserts [`check_lines`] found no failure; returns its check.
+fn assert_lines_land(
+    r: &mut HeadlessRenderer,
+    lines: &DebugLines,
+    camera: &str,
+    dump_name: &str,
+) -> LineCheck {
+    let with = frame(r, Some(lines));
+    let without = frame(r, None);
+    dump(dump_name, &with);
+    let check = check_lines(r, &rgb(&with), &rgb(&without));
+    check.report(camera);
+    assert!(check.failures.is_empty(), "{:#?}", check.failures);
+    check
+}
+
 // Fails if a line is missing, has the wrong colour, length or direction, or is transformed with other
 // matrices than the cylinder (from the tutorial's camera and from one above the cylinder), or if the
 // light's cross is not at the projected light position, or if the pixels were those colours anyway.
@@ -314,12 +331,12 @@ fn legacy_lines_land_on_the_projected_pixels() {
     assert_eq!(legacy.mode(), LineMode::Legacy);
     assert!(legacy.notice().is_none());
 
-    let with = frame(&mut r, Some(&legacy));
-    let without = frame(&mut r, None);
-    dump("lines-tutorial-camera.png", &with);
-    let check = check_lines(&r, &rgb(&with), &rgb(&without));
-    check.report("tutorial camera");
-    assert!(check.failures.is_empty(), "{:#?}", check.failures);
+    let check = assert_lines_land(
+        &mut r,
+        &legacy,
+        "tutorial camera",
+        "lines-tutorial-camera.png",
+    );
     // The light's cross is 1 unit in front of the camera: two lines of about 90 px, the horizontal
     // one on the row of the edge-on bottom rim, so only the vertical one is checked.
     assert!(check.count(WHITE) >= 60, "{}", check.count(WHITE));
@@ -334,12 +351,7 @@ fn legacy_lines_land_on_the_projected_pixels() {
     assert!(check.count(GREEN) >= 20, "{}", check.count(GREEN));
 
     look_from_above(&mut r);
-    let with = frame(&mut r, Some(&legacy));
-    let without = frame(&mut r, None);
-    dump("lines-above.png", &with);
-    let check = check_lines(&r, &rgb(&with), &rgb(&without));
-    check.report("camera above");
-    assert!(check.failures.is_empty(), "{:#?}", check.failures);
+    let check = assert_lines_land(&mut r, &legacy, "camera above", "lines-above.png");
     for color in [BLUE, RED, GREEN] {
         assert!(
             check.count(color) >= 30,
@@ -359,6 +371,24 @@ fn differing_pixels(a: &RgbaImage, b: &RgbaImage) -> usize {
 /// margin, relative to the pixels the lines cover (so that a path drawing no lines cannot pass),
 /// allows a different Mesa a few pixels of rounding in the transform.
 const MAX_DIFFERING_FRACTION_OF_LINE_PIXELS: f64 = 0.01;
+
+/// Frames `a` and `b` of the same lines drawn by the two paths, and `without` the frame without
+/// them: the lines must cover more than 500 pixels (where `a` differs from `without`), and `a` and
+/// `b` may differ in at most [`MAX_DIFFERING_FRACTION_OF_LINE_PIXELS`] of them.
+fn assert_paths_agree(a: &RgbaImage, b: &RgbaImage, without: &RgbaImage, what: &str) {
+    let differ = differing_pixels(a, b);
+    let lines = differing_pixels(a, without);
+    println!("{what}: {differ} pixels differ between the two paths, of {lines} line pixels");
+    assert!(
+        lines > 500,
+        "{what}: only {lines} line pixels: the lines are missing"
+    );
+    assert!(
+        differ as f64 <= lines as f64 * MAX_DIFFERING_FRACTION_OF_LINE_PIXELS,
+        "{what}: {differ} pixels differ, more than {} % of the {lines} line pixels",
+        MAX_DIFFERING_FRACTION_OF_LINE_PIXELS * 100.0
+    );
+}
 
 // Fails if the core-profile path draws other segments, colours, lengths or depths than the tutorial's
 // immediate mode, from either camera.
@@ -380,21 +410,7 @@ fn shader_path_draws_the_same_image_as_immediate_mode() {
         let without = frame(&mut r, None);
         dump(&format!("lines-{camera}-legacy.png"), &a);
         dump(&format!("lines-{camera}-shader.png"), &b);
-        let differ = differing_pixels(&a, &b);
-        let lines = differing_pixels(&a, &without);
-        println!(
-            "{camera} camera: {differ} pixels differ between immediate mode and the line shader, \
-             of {lines} pixels the lines cover"
-        );
-        assert!(
-            lines > 500,
-            "only {lines} line pixels: the lines are missing"
-        );
-        assert!(
-            differ as f64 <= lines as f64 * MAX_DIFFERING_FRACTION_OF_LINE_PIXELS,
-            "{differ} pixels differ, more than {} % of the {lines} line pixels",
-            MAX_DIFFERING_FRACTION_OF_LINE_PIXELS * 100.0
-        );
+        assert_paths_agree(&a, &b, &without, &format!("{camera} camera"));
     }
 }
 
@@ -474,16 +490,18 @@ fn line_pixel_agreement(reference: &RgbImage, frame: &RgbaImage) -> (usize, usiz
     (in_ref, in_both, in_ours)
 }
 
-// Fixed-function state the legacy path touches (not in glow).
-const GL_CURRENT_COLOR: u32 = 0x0B00;
-const GL_MATRIX_MODE: u32 = 0x0BA0;
-const GL_MODELVIEW_STACK_DEPTH: u32 = 0x0BA3;
-const GL_PROJECTION_STACK_DEPTH: u32 = 0x0BA4;
-const GL_MODELVIEW_MATRIX: u32 = 0x0BA6;
-const GL_PROJECTION_MATRIX: u32 = 0x0BA7;
-const GL_MODELVIEW: u32 = 0x1700;
-const GL_PROJECTION: u32 = 0x1701;
-const GL_TEXTURE: u32 = 0x1702;
+/// The GL 1.x enums of the fixed-function state the legacy path touches (glow has none of them).
+mod gl1 {
+    pub const CURRENT_COLOR: u32 = 0x0B00;
+    pub const MATRIX_MODE: u32 = 0x0BA0;
+    pub const MODELVIEW_STACK_DEPTH: u32 = 0x0BA3;
+    pub const PROJECTION_STACK_DEPTH: u32 = 0x0BA4;
+    pub const MODELVIEW_MATRIX: u32 = 0x0BA6;
+    pub const PROJECTION_MATRIX: u32 = 0x0BA7;
+    pub const MODELVIEW: u32 = 0x1700;
+    pub const PROJECTION: u32 = 0x1701;
+    pub const TEXTURE: u32 = 0x1702;
+}
 
 /// The GL state either path could leave changed.
 #[derive(Debug, PartialEq)]
@@ -508,14 +526,14 @@ fn state(r: &HeadlessRenderer) -> State {
             let mut color = [0.0; 4];
             let mut projection = [0.0; 16];
             let mut model_view = [0.0; 16];
-            gl.get_parameter_f32_slice(GL_CURRENT_COLOR, &mut color);
-            gl.get_parameter_f32_slice(GL_PROJECTION_MATRIX, &mut projection);
-            gl.get_parameter_f32_slice(GL_MODELVIEW_MATRIX, &mut model_view);
+            gl.get_parameter_f32_slice(gl1::CURRENT_COLOR, &mut color);
+            gl.get_parameter_f32_slice(gl1::PROJECTION_MATRIX, &mut projection);
+            gl.get_parameter_f32_slice(gl1::MODELVIEW_MATRIX, &mut model_view);
             let depths = [
-                gl.get_parameter_i32(GL_PROJECTION_STACK_DEPTH),
-                gl.get_parameter_i32(GL_MODELVIEW_STACK_DEPTH),
+                gl.get_parameter_i32(gl1::PROJECTION_STACK_DEPTH),
+                gl.get_parameter_i32(gl1::MODELVIEW_STACK_DEPTH),
             ];
-            let mode = gl.get_parameter_i32(GL_MATRIX_MODE);
+            let mode = gl.get_parameter_i32(gl1::MATRIX_MODE);
             FixedFunction(mode, depths, color, projection, model_view)
         });
         State {
@@ -545,11 +563,11 @@ fn set_odd_fixed_function_state(r: &HeadlessRenderer) {
             std::mem::transmute(load(c"glLoadMatrixf"));
         let color: unsafe extern "system" fn(f32, f32, f32, f32) =
             std::mem::transmute(load(c"glColor4f"));
-        matrix_mode(GL_PROJECTION);
+        matrix_mode(gl1::PROJECTION);
         load_matrix(Mat4::from_scale(Vec3::splat(2.0)).to_cols_array().as_ptr());
-        matrix_mode(GL_MODELVIEW);
+        matrix_mode(gl1::MODELVIEW);
         load_matrix(Mat4::from_translation(Vec3::ONE).to_cols_array().as_ptr());
-        matrix_mode(GL_TEXTURE);
+        matrix_mode(gl1::TEXTURE);
         color(0.25, 0.5, 0.75, 0.5);
     }
 }
@@ -565,7 +583,10 @@ fn lines_leave_the_state_and_the_next_frame_as_they_found_them() {
         assert_eq!(lines.mode(), mode);
         set_odd_fixed_function_state(&r);
         let before = state(&r);
-        assert_eq!(before.fixed_function.as_ref().unwrap().0, GL_TEXTURE as i32);
+        assert_eq!(
+            before.fixed_function.as_ref().unwrap().0,
+            gl1::TEXTURE as i32
+        );
         assert!(before.program.is_some() && before.vertex_array.is_some());
         lines.draw(
             r.controls.projection_matrix(),
@@ -619,16 +640,11 @@ fn core_context_falls_back_to_the_line_shader_with_a_notice() {
     let mut compat = renderer(own_assets(), Profile::Compat);
     let legacy = lines(&compat, None);
     let with_legacy = frame(&mut compat, Some(&legacy));
-    let differ = differing_pixels(&with_core, &with_legacy);
-    let lines = differing_pixels(&with_core, &never);
-    println!(
-        "core-profile shader lines vs compatibility immediate mode: {differ} pixels differ, of \
-         {lines} line pixels"
-    );
-    assert!(lines > 500, "only {lines} line pixels in the core profile");
-    assert!(
-        differ as f64 <= lines as f64 * MAX_DIFFERING_FRACTION_OF_LINE_PIXELS,
-        "{differ} pixels differ"
+    assert_paths_agree(
+        &with_core,
+        &with_legacy,
+        &never,
+        "core-profile shader lines vs compatibility immediate mode",
     );
 }
 
@@ -692,13 +708,9 @@ fn rebuild_takes_the_new_mesh() {
         };
         assert_eq!(rebuilt.set_mode(other_mode).unwrap(), other_mode);
         let switched = frame(&mut r, Some(&rebuilt));
-        let lines = differing_pixels(&expected, &frame(&mut r, None));
-        let differ = differing_pixels(&switched, &expected);
-        assert!(lines > 500, "{mode:?}: only {lines} line pixels");
-        assert!(
-            differ as f64 <= lines as f64 * MAX_DIFFERING_FRACTION_OF_LINE_PIXELS,
-            "{mode:?}: {differ} pixels differ after switching path, of {lines} line pixels"
-        );
+        let without = frame(&mut r, None);
+        let what = format!("{mode:?}, then switched to {other_mode:?} after the rebuild");
+        assert_paths_agree(&expected, &switched, &without, &what);
     }
 }
 

@@ -3,25 +3,20 @@
 //! user does; the headless runs need Mesa's EGL + llvmpipe.
 
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
+use std::process::Output;
 
 use tutorial13::assets::{generate_assets, make_assets};
 use tutorial13::Error;
 
 use crate::common;
 
+/// The binary run with `args` in `dir`.
 fn tutorial13(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tutorial13"))
-        .args(args)
-        .current_dir(dir)
-        .env_remove("RUST_LOG")
-        .stdin(Stdio::null())
-        .output()
-        .expect("the binary runs")
+    common::run(common::tutorial13().args(args).current_dir(dir))
 }
 
 fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
+    common::text(&out.stderr)
 }
 
 /// The error line the binary prints on failure (clap's or ours), with any log lines left out.
@@ -33,6 +28,16 @@ fn error_line(out: &Output) -> String {
         .collect();
     assert_eq!(errors.len(), 1, "one error line expected:\n{text}");
     errors[0].to_string()
+}
+
+/// The refusal contract: exit 1 and one error line holding each of `needles`. Returns that line.
+fn assert_refused(out: &Output, needles: &[&str]) -> String {
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(out));
+    let line = error_line(out);
+    for needle in needles {
+        assert!(line.contains(needle), "{line}");
+    }
+    line
 }
 
 // Fails if --frames 0 or --bench 0 is accepted (they used to run and print nonsense figures), or if
@@ -65,9 +70,7 @@ fn missing_folders_are_refused_by_name() {
             "--assets a-file: not a folder",
         ),
     ] {
-        let out = tutorial13(args, &dir);
-        assert_eq!(out.status.code(), Some(1), "{args:?}: {}", stderr(&out));
-        assert!(error_line(&out).contains(expected), "{}", stderr(&out));
+        assert_refused(&tutorial13(args, &dir), &[expected]);
     }
 }
 
@@ -98,12 +101,7 @@ fn screenshots_are_written_in_the_format_their_extension_names() {
         "formats differ in pixels"
     );
     let out = tutorial13(&["--headless", "--screenshot", "frame.jpg"], &dir);
-    assert_eq!(out.status.code(), Some(1));
-    let line = error_line(&out);
-    assert!(
-        line.contains("frame.jpg") && line.contains(".png"),
-        "{line}"
-    );
+    assert_refused(&out, &["frame.jpg", ".png"]);
     assert!(
         !stderr(&out).contains("OpenGL"),
         "refused only after a context was made"
@@ -139,12 +137,9 @@ fn make_assets_keeps_files_that_differ_unless_forced() {
     );
 
     // The binary: one line naming the file, exit 1.
-    let out = tutorial13(&["make-assets", "--out", "."], &dir);
-    assert_eq!(out.status.code(), Some(1));
-    let line = error_line(&out);
-    assert!(
-        line.contains("normal.bmp") && line.contains("--force"),
-        "{line}"
+    assert_refused(
+        &tutorial13(&["make-assets", "--out", "."], &dir),
+        &["normal.bmp", "--force"],
     );
 
     let all: Vec<&str> = generate_assets()
@@ -174,25 +169,15 @@ fn make_assets_keeps_files_that_differ_unless_forced() {
 #[test]
 fn a_window_failure_prints_its_error_alone() {
     let dir = common::scratch("no-display");
-    let out = Command::new(env!("CARGO_BIN_EXE_tutorial13"))
-        .args(["--frames", "1"])
-        .current_dir(&dir)
-        .env("DISPLAY", ":97")
-        .env_remove("WAYLAND_DISPLAY")
-        .env_remove("RUST_LOG")
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(1));
-    assert!(
-        out.stdout.is_empty(),
-        "{}",
-        String::from_utf8_lossy(&out.stdout)
+    let out = common::run(
+        common::tutorial13()
+            .args(["--frames", "1"])
+            .current_dir(&dir)
+            .env("DISPLAY", ":97")
+            .env_remove("WAYLAND_DISPLAY"),
     );
-    let line = error_line(&out);
-    assert!(
-        line.contains("no display") && line.contains("--headless"),
-        "{line}"
-    );
+    assert!(out.stdout.is_empty(), "{}", common::text(&out.stdout));
+    let line = assert_refused(&out, &["no display", "--headless"]);
     assert!(!line.contains(".rs:"), "{line}");
 }
 

@@ -5,7 +5,8 @@
 use std::path::PathBuf;
 
 use crate::common::{
-    flat_white_assets, frame, is_background, options, own_assets, pixel_diff, renderer, scratch,
+    compare_drawn, cylinder_frame, flat_white_assets, is_background, options, own_assets,
+    pixel_diff, renderer, scratch,
 };
 use image::RgbImage;
 use tutorial13::assets::encode_bmp;
@@ -15,18 +16,10 @@ use tutorial13::scenes::cylinder::Cylinder;
 use tutorial13::scenes::Scene;
 
 fn render(assets: PathBuf, convention: NormalMapConvention, view: &str) -> RgbImage {
-    let mut options = options(assets, Profile::Core);
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .switches
-        .convention = convention;
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .switches
-        .view = view.parse().unwrap();
-    frame(&mut renderer(&options))
+    cylinder_frame(assets, |cylinder| {
+        cylinder.switches.convention = convention;
+        cylinder.switches.view = view.parse().unwrap();
+    })
 }
 
 /// The project's assets with its normal map's texels changed by `change`.
@@ -45,18 +38,6 @@ fn assets_with_normal_map(name: &str, change: impl Fn([u8; 3]) -> [u8; 3]) -> Pa
     )
     .unwrap();
     dir
-}
-
-/// (pixels differing, largest difference, mean difference over the cylinder's channels).
-fn compare(a: &RgbImage, b: &RgbImage) -> (usize, u8, f64) {
-    let (differing, max, _) = pixel_diff(a, b);
-    let cylinder = a.pixels().filter(|p| !is_background(p)).count();
-    let total: u64 = a
-        .pixels()
-        .zip(b.pixels())
-        .flat_map(|(p, q)| (0..3).map(move |c| u64::from(p[c].abs_diff(q[c]))))
-        .sum();
-    (differing, max, total as f64 / (cylinder * 3) as f64)
 }
 
 /// The project's cylinder and textures with a normal map of one texel value everywhere.
@@ -80,12 +61,12 @@ fn green_down_reads_an_inverted_green_as_green_up_reads_the_original() {
     let inverted = assets_with_constant_normal_map("tilted-inverted", [150, 165, 230]);
     let up = render(tilted, NormalMapConvention::default(), "lit");
     let flipped = render(inverted.clone(), down, "lit");
-    let (differing, max, _) = compare(&up, &flipped);
+    let (differing, max, _) = pixel_diff(&up, &flipped);
     println!(
         "one tilted texel, green down on the inverted byte vs up: {differing} pixels, max {max}"
     );
     assert!(max <= 1, "{differing} pixels, max {max}");
-    let (_, _, mean) = compare(
+    let (_, _, mean) = compare_drawn(
         &up,
         &render(inverted, NormalMapConvention::default(), "lit"),
     );
@@ -94,9 +75,9 @@ fn green_down_reads_an_inverted_green_as_green_up_reads_the_original() {
     let up = render(own_assets(), NormalMapConvention::default(), "lit");
     let inverted = assets_with_normal_map("green-inverted", |[r, g, b]| [r, 255 - g, b]);
     let flipped = render(inverted.clone(), down, "lit");
-    let (differing, max, mean) = compare(&up, &flipped);
+    let (differing, max, mean) = compare_drawn(&up, &flipped);
     let wrong = render(inverted, NormalMapConvention::default(), "lit");
-    let (_, _, wrong_mean) = compare(&up, &wrong);
+    let (_, _, wrong_mean) = compare_drawn(&up, &wrong);
     println!(
         "brick map, green down on the inverted map vs up: {differing} pixels, max {max}, mean \
          {mean:.4}; read green up instead: mean {wrong_mean:.2}"
@@ -134,18 +115,18 @@ fn a_two_channel_map_draws_the_three_channel_frame() {
         rebuilt,
         "lit",
     );
-    let (differing, max, _) = compare(&three, &two);
+    let (differing, max, _) = pixel_diff(&three, &two);
     println!("one texel ({r}, {g}, {b}), two channels vs three: {differing} pixels, max {max}");
     assert!(max <= 1, "{differing} pixels, max {max}");
 
     let three = render(own_assets(), NormalMapConvention::default(), "lit");
     let two_channel = assets_with_normal_map("two-channel", |[r, g, _]| [r, g, 0]);
     let two = render(two_channel.clone(), rebuilt, "lit");
-    let (differing, max, mean) = compare(&three, &two);
+    let (differing, max, mean) = compare_drawn(&three, &two);
     println!("brick map, two channels, z rebuilt, vs three: {differing} pixels, max {max}, mean {mean:.4}");
     assert!(mean < 0.2, "{differing} pixels, max {max}, mean {mean}");
     // Read as three channels, blue 0 is z = -1: nothing like it.
-    let (_, _, mean) = compare(
+    let (_, _, mean) = compare_drawn(
         &three,
         &render(two_channel, NormalMapConvention::default(), "lit"),
     );

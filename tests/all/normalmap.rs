@@ -2,7 +2,6 @@
 //! computes, edges wrap, the green convention flips, two-channel maps rebuild z, any size is kept.
 
 use std::path::Path;
-use std::process::Command;
 
 use tutorial13::normalmap::{normal_map, Green, HeightMap, Kernel, NormalMapOptions};
 
@@ -160,11 +159,7 @@ fn the_command_keeps_the_size_and_writes_a_loadable_bmp() {
     let grey = image::GrayImage::from_fn(37, 20, |c, r| image::Luma([((c * 3 + r) % 256) as u8]));
     grey.save(dir.join("height.png")).unwrap();
     let run = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_tutorial13"))
-            .args(args)
-            .current_dir(&dir)
-            .output()
-            .unwrap()
+        crate::common::run(crate::common::tutorial13().args(args).current_dir(&dir))
     };
     let out = run(&[
         "normalmap",

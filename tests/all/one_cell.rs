@@ -7,6 +7,8 @@ use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
 use tutorial13::common::vboindexer::{index_vbo_tbn, index_vbo_tbn_linear, IndexOptions};
 
+use crate::common::grid_indexer_matches_linear;
+
 fn basis_for(n: usize) -> TangentBasis {
     TangentBasis {
         tangents: (0..n).map(|i| Vec3::new(i as f32, 1.0, -0.5)).collect(),
@@ -93,10 +95,6 @@ proptest! {
     // Fails if splitting a crowded cell ever changes which vertex a corner picks, or the sums.
     #[test]
     fn crowded_cells_match_linear((soup, basis) in crowded_soup(), normalize in any::<bool>()) {
-        let options = IndexOptions { normalize_before_sum: normalize };
-        prop_assert_eq!(
-            index_vbo_tbn(&soup, &basis, options),
-            index_vbo_tbn_linear(&soup, &basis, options)
-        );
+        grid_indexer_matches_linear(&soup, &basis, normalize)?;
     }
 }

@@ -167,14 +167,9 @@ fn assert_equals_cpp_original(profile: Profile, lines: bool, cpp_frame: &str) {
     };
     let mut options = options(original.clone(), profile);
     if lines {
-        options
-            .scene
-            .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-            .debug_lines = true;
-        options
-            .scene
-            .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-            .line_mode = Some(LineMode::Legacy);
+        let cylinder = cylinder_options(&mut options);
+        cylinder.debug_lines = true;
+        cylinder.line_mode = Some(LineMode::Legacy);
     }
     let mut renderer = renderer(&options);
     if !on_reference_renderer(&test, renderer.context.info()) {

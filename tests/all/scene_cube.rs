@@ -13,7 +13,6 @@ use std::path::PathBuf;
 use crate::common::*;
 use glam::{Mat4, Vec3};
 use image::RgbImage;
-use tutorial13::assets::encode_bmp;
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::gl::Profile;
 use tutorial13::scenes::cube::{model_matrix, Cube, Face, FACES, HALF_SIZE};
@@ -36,14 +35,7 @@ fn cube_options(assets: PathBuf) -> HeadlessOptions {
 /// A scratch asset folder whose cube textures are one colour each: `diffuse`, and a flat normal map
 /// (128, 128, 255).
 fn one_colour_assets(name: &str, diffuse: [u8; 3]) -> PathBuf {
-    let dir = scratch(name);
-    std::fs::create_dir_all(dir.join("cube")).unwrap();
-    let size = 16;
-    let texels = (size * size) as usize;
-    let bmp = |rgb: [u8; 3]| encode_bmp(&vec![rgb; texels], size).unwrap();
-    std::fs::write(dir.join("cube/diffuse.bmp"), bmp(diffuse)).unwrap();
-    std::fs::write(dir.join("cube/normal.bmp"), bmp([128, 128, 255])).unwrap();
-    dir
+    flat_scene_assets(name, "cube", 16, diffuse)
 }
 
 /// A point of `face` in world space: (a, b) in -1..1 along its U and V, through `model`.
@@ -162,6 +154,23 @@ fn normal_mapping_off_and_on_differ_on_lit_faces() {
     );
 }
 
+/// With normal mapping on, then off: [`assert_all_equal`] on the frame, then `also` on it.
+fn assert_unlit_either_way(
+    renderer: &mut HeadlessRenderer,
+    samples: &[(Vec3, (u32, u32))],
+    expected: [f32; 3],
+    what: &str,
+    also: impl Fn(&RgbImage),
+) {
+    for normal_mapping in [true, false] {
+        renderer.scene_mut::<Cube>().normal_mapping = normal_mapping;
+        let frame = frame(renderer);
+        let what = format!("{what}, normal mapping {normal_mapping}");
+        assert_all_equal(&frame, samples, expected, &what);
+        also(&frame);
+    }
+}
+
 // Fails if a face turned away from the light gets any specular (the article's `facing` test
 // missing), any diffuse (max(n·l, 0) missing), or loses its emissive or ambient term: every sampled
 // pixel of it must equal emissive + ambient exactly, with normal mapping on and off. Two set-ups:
@@ -180,15 +189,7 @@ fn faces_turned_away_from_the_light_have_no_specular() {
 
     // The scene's own light and placement.
     let samples = face_samples(model_matrix(), RIGHT, 21);
-    for normal_mapping in [true, false] {
-        renderer.scene_mut::<Cube>().normal_mapping = normal_mapping;
-        let frame = frame(&mut renderer);
-        assert_all_equal(
-            &frame,
-            &samples,
-            expected,
-            &format!("right face, normal mapping {normal_mapping}"),
-        );
+    assert_unlit_either_way(&mut renderer, &samples, expected, "right face", |frame| {
         // The light does reach the front face: it is brighter than emissive + ambient.
         let (_, (x, y)) = face_samples(model_matrix(), FRONT, 3)[4];
         let lit = frame.get_pixel(x, y).0;
@@ -196,7 +197,7 @@ fn faces_turned_away_from_the_light_have_no_specular() {
             lit[0] as f32 > expected[0] + 30.0,
             "front face not lit: {lit:?}"
         );
-    }
+    });
 
     // The grazing set-up.
     let model = Mat4::from_rotation_y(-20f32.to_radians());
@@ -225,16 +226,13 @@ fn faces_turned_away_from_the_light_have_no_specular() {
     let cube = renderer.scene_mut::<Cube>();
     cube.model_matrix = model;
     cube.light_position_worldspace = light;
-    for normal_mapping in [true, false] {
-        renderer.scene_mut::<Cube>().normal_mapping = normal_mapping;
-        let frame = frame(&mut renderer);
-        assert_all_equal(
-            &frame,
-            &samples,
-            expected,
-            &format!("grazing right face, normal mapping {normal_mapping}"),
-        );
-    }
+    assert_unlit_either_way(
+        &mut renderer,
+        &samples,
+        expected,
+        "grazing right face",
+        |_| {},
+    );
 }
 
 // Fails if the emissive term is missing or not the article's 0.01 green: with a texture that has

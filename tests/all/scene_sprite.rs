@@ -3,7 +3,6 @@
 //! each test prints the numbers it measured (`cargo test --test scene_sprite -- --nocapture`).
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Duration;
 
 use glam::{DVec3, Vec2, Vec3};
@@ -101,6 +100,17 @@ fn flat_white_assets(name: &str) -> PathBuf {
     sprite_assets(name, &vec![[255; 3]; n], &vec![[128, 128, 255]; n])
 }
 
+/// The two set-ups the brightness tests measure, each with its own bound: the project's rock (`None`: the
+/// scene's own assets) and [`flat_white_assets`] in a scratch folder `name`.
+fn rock_and_flat_white<T>(
+    name: &str,
+    rock: T,
+    flat_white: T,
+) -> [(&'static str, Option<PathBuf>, T); 2] {
+    let flat = flat_white_assets(name);
+    [("rock", None, rock), ("flat white", Some(flat), flat_white)]
+}
+
 // Fails if the brightest part of the sprite does not follow the light: the column (row) of the
 // largest mean brightness over the sprite must lie near the light's column (row) for the light over
 // the sprite's left edge, centre and right edge (bottom, centre, top), and move the same way. With
@@ -113,13 +123,7 @@ fn brightest_region_follows_the_light() {
     let (w, h) = (1024, 768);
     let (left, top, side) = sprite_in_image(w, h);
     let z = DEFAULT_LIGHT_Z;
-    let flat = flat_white_assets("brightest");
-    for (assets, tolerance) in [(None, 48), (Some(flat), 2)] {
-        let what = if assets.is_some() {
-            "flat white"
-        } else {
-            "rock"
-        };
+    for (what, assets, tolerance) in rock_and_flat_white("brightest", 48, 2) {
         let render = |light: Vec3| {
             frame(&mut sprite_renderer(
                 assets.clone(),
@@ -127,44 +131,53 @@ fn brightest_region_follows_the_light() {
                 (w, h),
             ))
         };
-        let mut peaks = Vec::new();
-        for column in [left, left + side / 2, left + side - 1] {
-            let frame = render(Vec3::new(light_x(column, w), 0.5, z));
-            let means: Vec<f64> = (left..left + side)
-                .map(|x| {
-                    (top..top + side)
-                        .map(|y| luma(frame.get_pixel(x, y)))
-                        .sum::<f64>()
-                })
-                .collect();
-            let peak = left + argmax(&means) as u32;
-            println!("{what}: light over column {column}: brightest column {peak}");
-            assert!(
-                peak.abs_diff(column) <= tolerance,
-                "{what}: light over column {column}, brightest {peak}"
-            );
-            peaks.push(peak);
-        }
-        assert!(peaks.windows(2).all(|p| p[0] < p[1]), "{what}: {peaks:?}");
-        // Vertically: light y runs up the window (0 = bottom row), image rows run down.
-        for row in [top + side - 1, top + side / 2, top] {
-            let y = 1.0 - (row as f32 + 0.5) / h as f32;
-            let frame = render(Vec3::new(0.5, y, z));
-            let means: Vec<f64> = (top..top + side)
-                .map(|r| {
-                    (left..left + side)
-                        .map(|x| luma(frame.get_pixel(x, r)))
-                        .sum::<f64>()
-                })
-                .collect();
-            let peak = top + argmax(&means) as u32;
-            println!("{what}: light y {y:.4} over image row {row}: brightest row {peak}");
-            assert!(
-                peak.abs_diff(row) <= tolerance,
-                "{what}: light over row {row}, brightest {peak}"
-            );
+        for columns in [true, false] {
+            let (line, targets) = if columns {
+                ("column", [left, left + side / 2, left + side - 1])
+            } else {
+                ("row", [top + side - 1, top + side / 2, top])
+            };
+            let mut peaks = Vec::new();
+            for target in targets {
+                let light = if columns {
+                    Vec3::new(light_x(target, w), 0.5, z)
+                } else {
+                    // Light y runs up the window (0 = bottom row), image rows run down.
+                    Vec3::new(0.5, 1.0 - (target as f32 + 0.5) / h as f32, z)
+                };
+                let peak = brightest_line(&render(light), columns);
+                println!(
+                    "{what}: light ({:.4}, {:.4}) over {line} {target}: brightest {line} {peak}",
+                    light.x, light.y
+                );
+                assert!(
+                    peak.abs_diff(target) <= tolerance,
+                    "{what}: light over {line} {target}, brightest {peak}"
+                );
+                peaks.push(peak);
+            }
+            if columns {
+                assert!(peaks.windows(2).all(|p| p[0] < p[1]), "{what}: {peaks:?}");
+            }
         }
     }
+}
+
+/// The sprite's column (`columns`) or row whose pixels add up to the most brightness, in image
+/// coordinates.
+fn brightest_line(frame: &RgbImage, columns: bool) -> u32 {
+    let (left, top, side) = sprite_in_image(frame.width(), frame.height());
+    let sums: Vec<f64> = (0..side)
+        .map(|i| {
+            (0..side)
+                .map(|j| {
+                    let (x, y) = if columns { (i, j) } else { (j, i) };
+                    luma(frame.get_pixel(left + x, top + y))
+                })
+                .sum::<f64>()
+        })
+        .collect();
+    (if columns { left } else { top }) + argmax(&sums) as u32
 }
 
 fn argmax(values: &[f64]) -> usize {
@@ -195,13 +208,7 @@ fn contrast(frame: &RgbImage) -> (f64, f64) {
 // at any height, so the steps shrink: measured 18 %, 17 % and 10 %).
 #[test]
 fn a_higher_light_gives_a_flatter_image() {
-    let flat = flat_white_assets("flatter");
-    for (assets, factor) in [(None, 0.95), (Some(flat), 0.8)] {
-        let what = if assets.is_some() {
-            "flat white"
-        } else {
-            "rock"
-        };
+    for (what, assets, factor) in rock_and_flat_white("flatter", 0.95, 0.8) {
         let mut last: Option<f64> = None;
         for z in [0.075, 0.15, 0.3, 0.6] {
             let light = light_at(Vec3::new(0.5, 0.5, z));
@@ -574,10 +581,13 @@ fn a_bad_light_flag_is_refused() {
         "0.5,nan,0.1",
         "0.5,0.5,0.1,1",
     ] {
-        let out = Command::new(env!("CARGO_BIN_EXE_tutorial13"))
-            .args(["--headless", "--scene", "sprite", "--light", bad])
-            .output()
-            .unwrap();
+        let out = common::run(common::tutorial13().args([
+            "--headless",
+            "--scene",
+            "sprite",
+            "--light",
+            bad,
+        ]));
         let stderr = String::from_utf8_lossy(&out.stderr);
         println!("--light {bad}: {}", stderr.lines().next().unwrap_or(""));
         assert_eq!(out.status.code(), Some(2), "--light {bad}: {stderr}");

@@ -7,11 +7,11 @@ use crate::common;
 use std::path::{Path, PathBuf};
 
 use crate::common::{
-    assert_matches_golden, frame, own_assets, pixel_diff, renderer, scratch, H, W,
+    assert_matches_golden, drawn_pixels, flat_scene_assets, frame, frame_diff, own_assets,
+    pixel_diff, renderer, scratch, H, W,
 };
 use glam::{Vec3, Vec4};
 use image::RgbImage;
-use tutorial13::assets::encode_bmp;
 use tutorial13::common::controls::Controls;
 use tutorial13::gl::Profile;
 use tutorial13::scenes::wall::{LightingSpace, Wall, LIGHT_POSITION_WORLDSPACE};
@@ -36,19 +36,7 @@ fn render(assets: &Path, space: LightingSpace) -> RgbImage {
 
 /// A wall/ folder with a diffuse map of one colour and a flat normal map (128, 128, 255).
 fn flat_assets(name: &str, diffuse: [u8; 3]) -> PathBuf {
-    let dir = scratch(name);
-    std::fs::create_dir_all(dir.join("wall")).unwrap();
-    let size = 64;
-    let texels = (size * size) as usize;
-    let bmp = |rgb: [u8; 3]| encode_bmp(&vec![rgb; texels], size).unwrap();
-    std::fs::write(dir.join("wall/diffuse.bmp"), bmp(diffuse)).unwrap();
-    std::fs::write(dir.join("wall/normal.bmp"), bmp([128, 128, 255])).unwrap();
-    dir
-}
-
-/// Pixels inside the square (not the background).
-fn square_pixels(image: &RgbImage) -> usize {
-    image.pixels().filter(|p| !common::is_background(p)).count()
+    flat_scene_assets(name, "wall", 64, diffuse)
 }
 
 /// Renders the wall with `space`, from the tutorial's start camera or (`oblique`) from (3, 1.5, 3)
@@ -73,7 +61,7 @@ fn view_and_tangent_space_give_the_same_wall() {
         let view = render_from(&own_assets(), LightingSpace::View, oblique);
         let tangent = render_from(&own_assets(), LightingSpace::Tangent, oblique);
         let (differing, max, bbox) = pixel_diff(&view, &tangent);
-        let square = square_pixels(&view);
+        let square = drawn_pixels(&view);
         println!(
             "view vs tangent space (oblique camera: {oblique}): {differing} of {square} square \
              pixels differ, by at most {max} level(s), within {bbox:?}"
@@ -94,7 +82,7 @@ fn a_flat_normal_map_is_plain_per_pixel_lighting() {
     let stones = render(&own_assets(), LightingSpace::View);
     let plain = render(&own_assets(), LightingSpace::NoNormalMap);
     let (differing, _, _) = pixel_diff(&stones, &plain);
-    let square = square_pixels(&stones);
+    let square = drawn_pixels(&stones);
     println!("the stone normal map changes {differing} of {square} pixels");
     assert!(
         differing * 2 > square,
@@ -105,13 +93,10 @@ fn a_flat_normal_map_is_plain_per_pixel_lighting() {
     let reference = render(&flat, LightingSpace::NoNormalMap);
     for space in [LightingSpace::View, LightingSpace::Tangent] {
         let lit = render(&flat, space);
-        let (differing, max, _) = pixel_diff(&lit, &reference);
-        let total: u64 = lit
-            .pixels()
-            .zip(reference.pixels())
-            .flat_map(|(p, q)| (0..3).map(move |c| u64::from(p[c].abs_diff(q[c]))))
-            .sum();
-        let mean = total as f64 / (square * 3) as f64;
+        let d = frame_diff(&lit, &reference);
+        let (differing, max) = (d.differing(), d.max());
+        // The mean over the square's channels (the square's pixels counted on the stone wall).
+        let mean = d.total as f64 / (square * 3) as f64;
         println!(
             "flat map, {} space vs no normal map: {differing} pixels differ, max {max}, mean \
              {mean:.3} levels over the square",

@@ -6,13 +6,13 @@ use crate::common;
 use std::path::PathBuf;
 
 use crate::common::{
-    frame, is_background, options, own_assets, pixel_diff, project, renderer, scratch,
+    compare_drawn, cylinder_frame, cylinder_renderer, drawn_pixels, frame, is_background,
+    own_assets, project, scratch,
 };
 use glam::Vec3;
 use image::RgbImage;
 use tutorial13::common::objloader::{load_obj, TriangleSoup};
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
-use tutorial13::gl::Profile;
 use tutorial13::mesh::MeshOptions;
 use tutorial13::tangents::{mikktspace_tangents, TangentSource};
 
@@ -27,28 +27,10 @@ fn assets_with_mesh(name: &str, obj: &str) -> PathBuf {
 }
 
 fn render(assets: PathBuf, source: TangentSource, mesh: MeshOptions) -> RgbImage {
-    let mut options = options(assets, Profile::Core);
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .tangents = source;
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .mesh = mesh;
-    frame(&mut renderer(&options))
-}
-
-/// (pixels differing, max, mean over the non-background channels).
-fn compare(a: &RgbImage, b: &RgbImage) -> (usize, u8, f64) {
-    let (differing, max, _) = pixel_diff(a, b);
-    let drawn = a.pixels().filter(|p| !is_background(p)).count().max(1);
-    let total: u64 = a
-        .pixels()
-        .zip(b.pixels())
-        .flat_map(|(p, q)| (0..3).map(move |c| u64::from(p[c].abs_diff(q[c]))))
-        .sum();
-    (differing, max, total as f64 / (drawn * 3) as f64)
+    cylinder_frame(assets, |cylinder| {
+        cylinder.tangents = source;
+        cylinder.mesh = mesh;
+    })
 }
 
 /// A 2 × 2 quad at z = 0 facing the camera, UVs 0..1 with the file's V running down the quad, so
@@ -59,13 +41,7 @@ vt 0 1\nvt 1 1\nvt 1 0\nvt 0 0\nvn 0 0 1\n\
 f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n";
 
 fn render_normalized_tbn(assets: PathBuf) -> RgbImage {
-    let mut options = options(assets, Profile::Core);
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .switches
-        .normalize_tbn = true;
-    frame(&mut renderer(&options))
+    cylinder_frame(assets, |cylinder| cylinder.switches.normalize_tbn = true)
 }
 
 // Fails if the three sources do not light a flat, unmirrored quad alike, with the tutorial's frame
@@ -101,17 +77,17 @@ fn all_three_sources_agree_on_a_flat_quad() {
             ),
         ),
     ];
-    let drawn = frames[0].1.pixels().filter(|p| !is_background(p)).count();
+    let drawn = drawn_pixels(&frames[0].1);
     assert!(drawn > 100_000, "only {drawn} pixels of quad");
     for (i, (a, fa)) in frames.iter().enumerate() {
         for (b, fb) in &frames[i + 1..] {
-            let (differing, max, mean) = compare(fa, fb);
+            let (differing, max, mean) = compare_drawn(fa, fb);
             println!("quad, {a} vs {b}: {differing} pixels differ, max {max}, mean {mean:.3}");
             assert!(max <= 1, "{a} vs {b}: {differing} pixels, max {max}");
         }
     }
     let summed = render(assets, TangentSource::Tutorial, MeshOptions::default());
-    let (differing, max, mean) = compare(&summed, &frames[1].1);
+    let (differing, max, mean) = compare_drawn(&summed, &frames[1].1);
     println!("quad, tutorial as summed (repository shader) vs mikktspace: {differing} pixels, max {max}, mean {mean:.3}");
     assert!(
         mean > 5.0,
@@ -262,12 +238,7 @@ fn mikktspace_and_the_tutorial_agree_on_the_cylinder_up_to_the_flip() {
 // to the tutorial's source does not give the tutorial's frame bit for bit (mesh and lines rebuilt).
 #[test]
 fn the_source_key_cycles_and_comes_back_to_the_tutorials_frame() {
-    let mut options = options(own_assets(), Profile::Core);
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .debug_lines = true;
-    let mut r = renderer(&options);
+    let mut r = cylinder_renderer(own_assets(), |cylinder| cylinder.debug_lines = true);
     let start = frame(&mut r);
     let mut seen = Vec::new();
     for _ in 0..3 {

@@ -128,29 +128,101 @@ fn set_u32(f: &mut [u8], at: usize, v: u32) {
     f[at..at + 4].copy_from_slice(&v.to_le_bytes());
 }
 
-/// Asserts a `Dds` error whose message names the file and contains `reason`.
-#[track_caller]
-fn assert_dds_err(result: tutorial13::Result<impl std::fmt::Debug>, file: &str, reason: &str) {
-    match result {
-        Err(e @ Error::Dds { .. }) => {
-            let msg = e.to_string();
-            assert!(msg.contains(file), "{msg:?} does not name {file}");
-            assert!(msg.contains(reason), "{msg:?} does not say {reason:?}");
-        }
-        other => panic!("expected Error::Dds about {reason:?}, got {other:?}"),
+/// A reader of in-memory files: `read_dds_bytes` or `read_bmp_bytes`.
+type Reader<T> = fn(&[u8], &Path) -> tutorial13::Result<T>;
+
+/// The variant of a reader's error about a file's contents: "Dds" or "Bmp".
+fn kind(e: &Error) -> &'static str {
+    match e {
+        Error::Dds { .. } => "Dds",
+        Error::Bmp { .. } => "Bmp",
+        _ => "another variant",
     }
 }
 
-/// Asserts a `Bmp` error whose message names the file and contains `reason`.
+/// Asserts an error of `expected` kind (see [`kind`]) whose message names `file` and contains
+/// `reason`.
 #[track_caller]
-fn assert_bmp_err(result: tutorial13::Result<impl std::fmt::Debug>, file: &str, reason: &str) {
+fn assert_err<T: std::fmt::Debug>(
+    result: tutorial13::Result<T>,
+    expected: &str,
+    file: &str,
+    reason: &str,
+) {
     match result {
-        Err(e @ Error::Bmp { .. }) => {
+        Err(e) if kind(&e) == expected => {
             let msg = e.to_string();
             assert!(msg.contains(file), "{msg:?} does not name {file}");
             assert!(msg.contains(reason), "{msg:?} does not say {reason:?}");
         }
-        other => panic!("expected Error::Bmp about {reason:?}, got {other:?}"),
+        other => panic!("expected Error::{expected} about {reason:?}, got {other:?}"),
+    }
+}
+
+/// Asserts that `bytes`, read as the DDS file `file`, give a `Dds` error naming it and saying
+/// `reason`.
+#[track_caller]
+fn assert_dds_rejects(bytes: &[u8], file: &str, reason: &str) {
+    assert_err(read_dds_bytes(bytes, Path::new(file)), "Dds", file, reason);
+}
+
+/// Asserts that `bytes`, read as the BMP file `file`, give a `Bmp` error naming it and saying
+/// `reason`.
+#[track_caller]
+fn assert_bmp_rejects(bytes: &[u8], file: &str, reason: &str) {
+    assert_err(read_bmp_bytes(bytes, Path::new(file)), "Bmp", file, reason);
+}
+
+/// Asserts an `Io` error whose message names `file`; returns it.
+#[track_caller]
+fn assert_io_err(result: tutorial13::Result<impl std::fmt::Debug>, file: &str) -> Error {
+    match result {
+        Err(e @ Error::Io { .. }) => {
+            assert!(e.to_string().contains(file));
+            e
+        }
+        other => panic!("expected Error::Io, got {other:?}"),
+    }
+}
+
+/// Fails if `read` does not load `small` (named `name`), loads or panics on any prefix of it, or,
+/// where the tutorial's files are here, loads or panics on the tutorial's `original` cut after
+/// each of its first `header` + 4096 bytes, at every 9973rd byte after that, or one byte short.
+fn assert_every_truncation_is_an_error<T: std::fmt::Debug>(
+    test: &str,
+    read: Reader<T>,
+    (small, name): (&[u8], &str),
+    (original, header): (&str, usize),
+) {
+    assert!(read(small, Path::new(name)).is_ok());
+    for len in 0..small.len() {
+        assert!(read(&small[..len], Path::new(name)).is_err(), "{len}");
+    }
+
+    let Some(dir) = common::original_assets(&format!("{test} (the tutorial's file)")) else {
+        return;
+    };
+    let bytes = std::fs::read(dir.join(original)).unwrap();
+    let lengths = (0..=header + 4096).chain((header + 4096..bytes.len()).step_by(9973));
+    for len in lengths.chain([bytes.len() - 1]) {
+        assert!(read(&bytes[..len], Path::new(original)).is_err(), "{len}");
+    }
+}
+
+/// Reads `valid` (named `name`) with each byte at `header` set to each of a few garbage values in
+/// turn: a panic fails the test, any result passes.
+fn read_with_garbage_headers<T>(
+    read: Reader<T>,
+    valid: &[u8],
+    name: &str,
+    header: std::ops::Range<usize>,
+) {
+    for at in header {
+        for value in [0x00, 0x01, 0x7f, 0x80, 0xff] {
+            let mut bytes = valid.to_vec();
+            bytes[at] = value;
+            let _ = read(&bytes, Path::new(name));
+        }
     }
 }
 
@@ -316,19 +388,15 @@ fn dds_trailing_bytes_are_ignored() {
 fn dds_wrong_magic() {
     let mut bytes = dds_file(b"DXT1", 4, 4, 1, 8);
     bytes[..4].copy_from_slice(b"BM\0\x01");
-    assert_dds_err(
-        read_dds_bytes(&bytes, Path::new("dir/magic.DDS")),
-        "dir/magic.DDS",
-        "bad magic",
-    );
+    assert_dds_rejects(&bytes, "dir/magic.DDS", "bad magic");
 }
 
 // Fails if a file shorter than the 128-byte header is not reported as such.
 #[test]
 fn dds_truncated_header() {
     let bytes = dds_header(b"DXT1", 4, 4, 1);
-    assert_dds_err(
-        read_dds_bytes(&bytes[..100], Path::new("short.dds")),
+    assert_dds_rejects(
+        &bytes[..100],
         "short.dds",
         "file is 100 bytes, shorter than the 128-byte DDS header",
     );
@@ -337,11 +405,7 @@ fn dds_truncated_header() {
 // Fails if an empty file is not rejected with the header-length reason.
 #[test]
 fn dds_empty_file() {
-    assert_dds_err(
-        read_dds_bytes(&[], Path::new("empty.dds")),
-        "empty.dds",
-        "file is 0 bytes",
-    );
+    assert_dds_rejects(&[], "empty.dds", "file is 0 bytes");
 }
 
 // Fails if a header whose dwSize is not 124 gets past ddsfile's check unreported.
@@ -349,34 +413,18 @@ fn dds_empty_file() {
 fn dds_bad_header_size_field() {
     let mut bytes = dds_file(b"DXT1", 4, 4, 1, 8);
     set_u32(&mut bytes, 4, 99);
-    assert_dds_err(
-        read_dds_bytes(&bytes, Path::new("hsize.dds")),
-        "hsize.dds",
-        "bad header",
-    );
+    assert_dds_rejects(&bytes, "hsize.dds", "bad header");
 }
 
 // Fails if formats other than DXT1/3/5 (ATI2, DXT2, float, uncompressed, DX10) are accepted or not named.
 #[test]
 fn dds_unsupported_formats_are_named() {
     let ati2 = dds_file(b"ATI2", 4, 4, 1, 16);
-    assert_dds_err(
-        read_dds_bytes(&ati2, Path::new("ati2.dds")),
-        "ati2.dds",
-        "unsupported format FourCC \"ATI2\"",
-    );
+    assert_dds_rejects(&ati2, "ati2.dds", "unsupported format FourCC \"ATI2\"");
     let dxt2 = dds_file(b"DXT2", 4, 4, 1, 16);
-    assert_dds_err(
-        read_dds_bytes(&dxt2, Path::new("dxt2.dds")),
-        "dxt2.dds",
-        "FourCC \"DXT2\"",
-    );
+    assert_dds_rejects(&dxt2, "dxt2.dds", "FourCC \"DXT2\"");
     let float = dds_file(&113u32.to_le_bytes(), 4, 4, 1, 128);
-    assert_dds_err(
-        read_dds_bytes(&float, Path::new("f16.dds")),
-        "f16.dds",
-        "FourCC 113",
-    );
+    assert_dds_rejects(&float, "f16.dds", "FourCC 113");
 
     // Uncompressed A8R8G8B8, as the DirectX texture tool writes it.
     let mut rgba = dds_file(b"\0\0\0\0", 4, 4, 1, 64);
@@ -386,8 +434,8 @@ fn dds_unsupported_formats_are_named() {
     set_u32(&mut rgba, 96, 0x0000_ff00);
     set_u32(&mut rgba, 100, 0x0000_00ff);
     set_u32(&mut rgba, 104, 0xff00_0000);
-    assert_dds_err(
-        read_dds_bytes(&rgba, Path::new("rgba.dds")),
+    assert_dds_rejects(
+        &rgba,
         "rgba.dds",
         "unsupported format uncompressed A8R8G8B8",
     );
@@ -412,17 +460,13 @@ fn dds_unsupported_formats_are_named() {
         .unwrap();
         let mut bytes = Vec::new();
         dds.write(&mut bytes).unwrap();
-        assert_dds_err(
-            read_dds_bytes(&bytes, Path::new("dx10.dds")),
+        assert_dds_rejects(
+            &bytes,
             "dx10.dds",
             &format!("DX10 header with DXGI format {name}"),
         );
         // Cut inside the DX10 header: still a named, clean rejection.
-        assert_dds_err(
-            read_dds_bytes(&bytes[..130], Path::new("dx10.dds")),
-            "dx10.dds",
-            "DX10 header",
-        );
+        assert_dds_rejects(&bytes[..130], "dx10.dds", "DX10 header");
     }
 }
 
@@ -430,15 +474,11 @@ fn dds_unsupported_formats_are_named() {
 #[test]
 fn dds_absurd_sizes() {
     for (w, h) in [(0, 4), (4, 0), (16385, 4), (4, 16385), (u32::MAX, u32::MAX)] {
-        assert_dds_err(
-            read_dds_bytes(&dds_file(b"DXT5", w, h, 1, 64), Path::new("huge.dds")),
-            "huge.dds",
-            "absurd size",
-        );
+        assert_dds_rejects(&dds_file(b"DXT5", w, h, 1, 64), "huge.dds", "absurd size");
     }
     // The limit itself is fine as far as size goes (then the data is missing).
-    assert_dds_err(
-        read_dds_bytes(&dds_file(b"DXT1", 16384, 1, 1, 0), Path::new("edge.dds")),
+    assert_dds_rejects(
+        &dds_file(b"DXT1", 16384, 1, 1, 0),
         "edge.dds",
         "cut short: 32768 bytes needed",
     );
@@ -450,91 +490,55 @@ fn dds_truncated_level_data() {
     let needed = chain_size(DxtFormat::Dxt1, 5, 3, 3);
     assert_eq!(needed, 32);
     let bytes = dds_file(b"DXT1", 5, 3, 3, needed - 1);
-    assert_dds_err(
-        read_dds_bytes(&bytes, Path::new("cut.dds")),
+    assert_dds_rejects(
+        &bytes,
         "cut.dds",
         "level data is cut short: 32 bytes needed for 3 level(s), 31 present",
     );
     // A header promising a 16384² DXT5 with a full chain, and no data: rejected, not allocated.
     let bytes = dds_header(b"DXT5", 16384, 16384, 15);
-    assert_dds_err(
-        read_dds_bytes(&bytes, Path::new("big.dds")),
-        "big.dds",
-        "0 present",
-    );
+    assert_dds_rejects(&bytes, "big.dds", "0 present");
 }
 
 // Fails if a mip count beyond floor(log2(max(w, h))) + 1 is accepted.
 #[test]
 fn dds_too_many_mips() {
     let bytes = dds_file(b"DXT1", 5, 3, 4, 1000);
-    assert_dds_err(
-        read_dds_bytes(&bytes, Path::new("mips.dds")),
+    assert_dds_rejects(
+        &bytes,
         "mips.dds",
         "4 mipmap levels, but a 5x3 texture has at most 3",
     );
     let bytes = dds_file(b"DXT3", 1024, 1024, 12, 2_000_000);
-    assert_dds_err(
-        read_dds_bytes(&bytes, Path::new("mips.dds")),
-        "mips.dds",
-        "at most 11",
-    );
+    assert_dds_rejects(&bytes, "mips.dds", "at most 11");
     let bytes = dds_file(b"DXT3", 4, 4, u32::MAX, 64);
-    assert_dds_err(
-        read_dds_bytes(&bytes, Path::new("mips.dds")),
-        "mips.dds",
-        "mipmap levels",
-    );
+    assert_dds_rejects(&bytes, "mips.dds", "mipmap levels");
 }
 
 // Fails if a missing DDS file is not reported as Error::Io naming the path.
 #[test]
 fn dds_missing_file_is_io_error() {
     let path = common::scratch("dds-missing").join("no-such-texture.DDS");
-    match read_dds(&path) {
-        Err(e @ Error::Io { .. }) => assert!(e.to_string().contains("no-such-texture.DDS")),
-        other => panic!("expected Error::Io, got {other:?}"),
-    }
+    assert_io_err(read_dds(&path), "no-such-texture.DDS");
 }
 
 // Fails if any prefix of a valid DDS file loads, or panics, instead of returning an error.
 #[test]
 fn dds_every_truncation_is_an_error() {
     let small = dds_file(b"DXT5", 5, 3, 3, chain_size(DxtFormat::Dxt5, 5, 3, 3));
-    assert!(read_dds_bytes(&small, Path::new("s.dds")).is_ok());
-    for len in 0..small.len() {
-        assert!(
-            read_dds_bytes(&small[..len], Path::new("s.dds")).is_err(),
-            "{len}"
-        );
-    }
-
-    let Some(original) =
-        common::original_assets("dds_every_truncation_is_an_error (the tutorial's file)")
-    else {
-        return;
-    };
-    let diffuse = std::fs::read(original.join("diffuse.DDS")).unwrap();
-    let lengths = (0..=128 + 4096).chain((128 + 4096..diffuse.len()).step_by(9973));
-    for len in lengths.chain([diffuse.len() - 1]) {
-        assert!(
-            read_dds_bytes(&diffuse[..len], Path::new("diffuse.DDS")).is_err(),
-            "{len}"
-        );
-    }
+    assert_every_truncation_is_an_error(
+        "dds_every_truncation_is_an_error",
+        read_dds_bytes,
+        (&small, "s.dds"),
+        ("diffuse.DDS", 128),
+    );
 }
 
 // Fails if garbage in any header byte can make the DDS reader panic.
 #[test]
 fn dds_garbage_headers_never_panic() {
     let valid = dds_file(b"DXT1", 8, 8, 4, chain_size(DxtFormat::Dxt1, 8, 8, 4));
-    for at in 4..128 {
-        for value in [0x00, 0x01, 0x7f, 0x80, 0xff] {
-            let mut bytes = valid.clone();
-            bytes[at] = value;
-            let _ = read_dds_bytes(&bytes, Path::new("g.dds"));
-        }
-    }
+    read_with_garbage_headers(read_dds_bytes, &valid, "g.dds", 4..128);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -632,11 +636,7 @@ fn bmp_data_offset_and_larger_dib_headers_are_honoured() {
 fn bmp_wrong_magic() {
     let mut bytes = bmp_24(2, 2, &pattern(2, 2), false);
     bytes[..2].copy_from_slice(b"BA");
-    assert_bmp_err(
-        read_bmp_bytes(&bytes, Path::new("magic.bmp")),
-        "magic.bmp",
-        "bad magic \"BA\"",
-    );
+    assert_bmp_rejects(&bytes, "magic.bmp", "bad magic \"BA\"");
 }
 
 // Fails if 32-bit or 8-bit bitmaps are accepted or the bit depth is not named.
@@ -645,8 +645,8 @@ fn bmp_wrong_bit_depths() {
     for bpp in [32u16, 8, 16, 1] {
         let mut bytes = bmp_24(2, 2, &pattern(2, 2), false);
         set_u16(&mut bytes, 0x1C, bpp);
-        assert_bmp_err(
-            read_bmp_bytes(&bytes, Path::new("depth.bmp")),
+        assert_bmp_rejects(
+            &bytes,
             "depth.bmp",
             &format!("{bpp} bits per pixel, only 24 is supported"),
         );
@@ -659,11 +659,7 @@ fn bmp_compressed() {
     for (code, name) in [(1u32, "BI_RLE8"), (2, "BI_RLE4"), (3, "BI_BITFIELDS")] {
         let mut bytes = bmp_24(2, 2, &pattern(2, 2), false);
         set_u32(&mut bytes, 0x1E, code);
-        assert_bmp_err(
-            read_bmp_bytes(&bytes, Path::new("rle.bmp")),
-            "rle.bmp",
-            &format!("compression {name} ({code})"),
-        );
+        assert_bmp_rejects(&bytes, "rle.bmp", &format!("compression {name} ({code})"));
     }
 }
 
@@ -672,25 +668,17 @@ fn bmp_compressed() {
 fn bmp_bad_dib_size_and_planes() {
     let mut bytes = bmp_24(2, 2, &pattern(2, 2), false);
     set_u32(&mut bytes, 0x0E, 12);
-    assert_bmp_err(
-        read_bmp_bytes(&bytes, Path::new("os2.bmp")),
-        "os2.bmp",
-        "unsupported DIB header size 12",
-    );
+    assert_bmp_rejects(&bytes, "os2.bmp", "unsupported DIB header size 12");
     let mut bytes = bmp_24(8, 8, &pattern(8, 8), false);
     set_u32(&mut bytes, 0x0E, 124);
-    assert_bmp_err(
-        read_bmp_bytes(&bytes[..100], Path::new("v5cut.bmp")),
+    assert_bmp_rejects(
+        &bytes[..100],
         "v5cut.bmp",
         "shorter than its 138 bytes of headers",
     );
     let mut bytes = bmp_24(2, 2, &pattern(2, 2), false);
     set_u16(&mut bytes, 0x1A, 3);
-    assert_bmp_err(
-        read_bmp_bytes(&bytes, Path::new("planes.bmp")),
-        "planes.bmp",
-        "3 colour planes",
-    );
+    assert_bmp_rejects(&bytes, "planes.bmp", "3 colour planes");
 }
 
 // Fails if missing pixel bytes are accepted, or the message lacks needed/present counts.
@@ -699,8 +687,8 @@ fn bmp_truncated_data() {
     // 5 wide: rows of 15 bytes padded to 16, 3 rows = 48 bytes.
     let bytes = bmp_24(5, 3, &pattern(5, 3), false);
     assert_eq!(bytes.len(), 54 + 48);
-    assert_bmp_err(
-        read_bmp_bytes(&bytes[..bytes.len() - 10], Path::new("cut.bmp")),
+    assert_bmp_rejects(
+        &bytes[..bytes.len() - 10],
         "cut.bmp",
         "pixel data is cut short: 48 bytes needed (3 rows of 16), 38 present",
     );
@@ -708,11 +696,7 @@ fn bmp_truncated_data() {
     let mut bytes = bmp_24(1, 1, &pattern(1, 1), false);
     set_u32(&mut bytes, 0x12, 16384);
     set_u32(&mut bytes, 0x16, (-16384i32) as u32);
-    assert_bmp_err(
-        read_bmp_bytes(&bytes, Path::new("claims.bmp")),
-        "claims.bmp",
-        "805306368 bytes needed",
-    );
+    assert_bmp_rejects(&bytes, "claims.bmp", "805306368 bytes needed");
 }
 
 // Fails if a data offset past the end of the file, or inside the headers, is accepted.
@@ -720,23 +704,15 @@ fn bmp_truncated_data() {
 fn bmp_bad_data_offset() {
     let mut bytes = bmp_24(2, 2, &pattern(2, 2), false);
     set_u32(&mut bytes, 0x0A, 10_000);
-    assert_bmp_err(
-        read_bmp_bytes(&bytes, Path::new("off.bmp")),
+    assert_bmp_rejects(
+        &bytes,
         "off.bmp",
         "pixel data offset 10000 is beyond the end",
     );
     set_u32(&mut bytes, 0x0A, u32::MAX);
-    assert_bmp_err(
-        read_bmp_bytes(&bytes, Path::new("off.bmp")),
-        "off.bmp",
-        "beyond the end",
-    );
+    assert_bmp_rejects(&bytes, "off.bmp", "beyond the end");
     set_u32(&mut bytes, 0x0A, 20);
-    assert_bmp_err(
-        read_bmp_bytes(&bytes, Path::new("off.bmp")),
-        "off.bmp",
-        "lies inside the 54 bytes of headers",
-    );
+    assert_bmp_rejects(&bytes, "off.bmp", "lies inside the 54 bytes of headers");
 }
 
 // Fails if dimensions over 16384 (either sign of height) are accepted.
@@ -746,11 +722,7 @@ fn bmp_absurd_dimensions() {
         let mut bytes = bmp_24(1, 1, &pattern(1, 1), false);
         set_u32(&mut bytes, 0x12, w as u32);
         set_u32(&mut bytes, 0x16, h as u32);
-        assert_bmp_err(
-            read_bmp_bytes(&bytes, Path::new("huge.bmp")),
-            "huge.bmp",
-            "absurd size",
-        );
+        assert_bmp_rejects(&bytes, "huge.bmp", "absurd size");
     }
 }
 
@@ -765,11 +737,7 @@ fn bmp_zero_or_negative_size() {
         let mut bytes = bmp_24(2, 2, &pattern(2, 2), false);
         set_u32(&mut bytes, 0x12, w as u32);
         set_u32(&mut bytes, 0x16, h as u32);
-        assert_bmp_err(
-            read_bmp_bytes(&bytes, Path::new("zero.bmp")),
-            "zero.bmp",
-            reason,
-        );
+        assert_bmp_rejects(&bytes, "zero.bmp", reason);
     }
 }
 
@@ -777,67 +745,37 @@ fn bmp_zero_or_negative_size() {
 #[test]
 fn bmp_missing_file_is_io_error() {
     let path = common::scratch("bmp-missing").join("no-such-normal.bmp");
-    match read_bmp_custom(&path) {
-        Err(e @ Error::Io { .. }) => {
-            assert_eq!(e.path(), Some(path.as_path()));
-            assert!(e.to_string().contains("no-such-normal.bmp"));
-        }
-        other => panic!("expected Error::Io, got {other:?}"),
-    }
+    let e = assert_io_err(read_bmp_custom(&path), "no-such-normal.bmp");
+    assert_eq!(e.path(), Some(path.as_path()));
 }
 
 // Fails if an empty or header-short BMP is not reported with the header-length reason.
 #[test]
 fn bmp_empty_and_short_header() {
-    assert_bmp_err(
-        read_bmp_bytes(&[], Path::new("empty.bmp")),
+    assert_bmp_rejects(
+        &[],
         "empty.bmp",
         "file is 0 bytes, shorter than the 54-byte BMP header",
     );
     let bytes = bmp_24(2, 2, &pattern(2, 2), false);
-    assert_bmp_err(
-        read_bmp_bytes(&bytes[..30], Path::new("short.bmp")),
-        "short.bmp",
-        "file is 30 bytes",
-    );
+    assert_bmp_rejects(&bytes[..30], "short.bmp", "file is 30 bytes");
 }
 
 // Fails if any prefix of a valid BMP loads, or panics, instead of returning an error.
 #[test]
 fn bmp_every_truncation_is_an_error() {
     let small = bmp_24(5, 3, &pattern(5, 3), true);
-    assert!(read_bmp_bytes(&small, Path::new("s.bmp")).is_ok());
-    for len in 0..small.len() {
-        assert!(
-            read_bmp_bytes(&small[..len], Path::new("s.bmp")).is_err(),
-            "{len}"
-        );
-    }
-
-    let Some(original) =
-        common::original_assets("bmp_every_truncation_is_an_error (the tutorial's file)")
-    else {
-        return;
-    };
-    let normal = std::fs::read(original.join("normal.bmp")).unwrap();
-    let lengths = (0..=54 + 4096).chain((54 + 4096..normal.len()).step_by(9973));
-    for len in lengths.chain([normal.len() - 1]) {
-        assert!(
-            read_bmp_bytes(&normal[..len], Path::new("normal.bmp")).is_err(),
-            "{len}"
-        );
-    }
+    assert_every_truncation_is_an_error(
+        "bmp_every_truncation_is_an_error",
+        read_bmp_bytes,
+        (&small, "s.bmp"),
+        ("normal.bmp", 54),
+    );
 }
 
 // Fails if garbage in any header byte can make the BMP reader panic.
 #[test]
 fn bmp_garbage_headers_never_panic() {
     let valid = bmp_24(5, 3, &pattern(5, 3), false);
-    for at in 0..54 {
-        for value in [0x00, 0x01, 0x7f, 0x80, 0xff] {
-            let mut bytes = valid.clone();
-            bytes[at] = value;
-            let _ = read_bmp_bytes(&bytes, Path::new("g.bmp"));
-        }
-    }
+    read_with_garbage_headers(read_bmp_bytes, &valid, "g.bmp", 0..54);
 }

@@ -27,23 +27,6 @@ fn with_view(renderer: &mut HeadlessRenderer, name: &str) -> RgbImage {
     frame(renderer)
 }
 
-fn max_channel_diff(a: &RgbImage, b: &RgbImage) -> u8 {
-    a.pixels()
-        .zip(b.pixels())
-        .flat_map(|(p, q)| {
-            p.0.iter()
-                .zip(q.0)
-                .map(|(x, y)| x.abs_diff(y))
-                .collect::<Vec<_>>()
-        })
-        .max()
-        .unwrap()
-}
-
-fn count_differing(a: &RgbImage, b: &RgbImage) -> usize {
-    a.pixels().zip(b.pixels()).filter(|(p, q)| p != q).count()
-}
-
 // Fails if a --view name does not round-trip, or the V/C keys' cycles skip or repeat a view.
 #[test]
 fn view_names_round_trip_and_cycle() {
@@ -91,7 +74,7 @@ fn debug_program_with_tutorial_switches_equals_tutorial_program() {
         let tutorial = frame(&mut renderer);
         renderer.scene_mut::<Cylinder>().use_debug_program = true;
         let debug = frame(&mut renderer);
-        assert_eq!(count_differing(&tutorial, &debug), 0);
+        assert_eq!(differing_pixels(&tutorial, &debug), 0);
     }
 }
 
@@ -194,13 +177,13 @@ fn specular_switch_is_texture_times_point_three_versus_constant() {
     let mut white = renderer(&options(flat_white_assets("views-specular"), Profile::Core));
     let with_texture = frame(&mut white);
     white.scene_mut::<Cylinder>().switches = off;
-    assert!(max_channel_diff(&with_texture, &frame(&mut white)) <= 1);
+    assert!(frame_diff(&with_texture, &frame(&mut white)).max() <= 1);
 
     let mut bricks = renderer(&options(own_assets(), Profile::Core));
     let with_texture = frame(&mut bricks);
     bricks.scene_mut::<Cylinder>().switches = off;
     let without = frame(&mut bricks);
-    let changed = count_differing(&with_texture, &without);
+    let changed = differing_pixels(&with_texture, &without);
     println!("specular texture off changes {changed} pixels of the bricks");
     // Measured: 6930 (the lobe is narrow: exponent 5, 1/d² falloff).
     assert!(changed > 2_000);
@@ -214,7 +197,7 @@ fn normalized_tbn_switch_changes_the_lighting() {
     let repository = frame(&mut renderer);
     renderer.scene_mut::<Cylinder>().switches.normalize_tbn = true;
     let article = frame(&mut renderer);
-    let changed = count_differing(&repository, &article);
+    let changed = differing_pixels(&repository, &article);
     println!("normalized TBN changes {changed} pixels");
     assert!(changed > 10_000);
 }
@@ -339,7 +322,7 @@ fn every_switch_renders_without_gl_errors_in_both_profiles() {
         for action in actions {
             renderer.scene_mut::<Cylinder>().apply(action).unwrap();
             let switched = frame(&mut renderer);
-            let changed = count_differing(&previous, &switched);
+            let changed = differing_pixels(&previous, &switched);
             println!(
                 "{profile:?} {action:?}: {changed} pixels changed; {}",
                 renderer.scene.status()
@@ -362,7 +345,7 @@ fn every_switch_renders_without_gl_errors_in_both_profiles() {
             }
         }
         assert_eq!(
-            count_differing(&start, &frame(&mut renderer)),
+            differing_pixels(&start, &frame(&mut renderer)),
             0,
             "{profile:?}: not back to start"
         );
@@ -374,14 +357,9 @@ fn every_switch_renders_without_gl_errors_in_both_profiles() {
 #[test]
 fn legacy_lines_in_a_core_context_fall_back_with_a_notice() {
     let mut options = options(own_assets(), Profile::Core);
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .debug_lines = true;
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .line_mode = Some(LineMode::Legacy);
+    let cylinder = cylinder_options(&mut options);
+    cylinder.debug_lines = true;
+    cylinder.line_mode = Some(LineMode::Legacy);
     let mut core = renderer(&options);
     assert_eq!(
         core.scene_mut::<Cylinder>().line_mode(),
@@ -394,17 +372,11 @@ fn legacy_lines_in_a_core_context_fall_back_with_a_notice() {
         .to_string();
     assert!(notice.contains("compatibility"), "{notice}");
     let with_lines = frame(&mut core);
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .debug_lines = false;
+    cylinder_options(&mut options).debug_lines = false;
     let without = frame(&mut renderer(&options));
-    assert!(count_differing(&with_lines, &without) > 500);
+    assert!(differing_pixels(&with_lines, &without) > 500);
     // In a compatibility context the same request draws in immediate mode, with the same pixels.
-    options
-        .scene
-        .get_mut::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .debug_lines = true;
+    cylinder_options(&mut options).debug_lines = true;
     options.profile = Profile::Compat;
     let mut compat = renderer(&options);
     assert_eq!(
@@ -412,5 +384,5 @@ fn legacy_lines_in_a_core_context_fall_back_with_a_notice() {
         Some(LineMode::Legacy)
     );
     assert!(compat.scene_mut::<Cylinder>().line_notice().is_none());
-    assert_eq!(count_differing(&with_lines, &frame(&mut compat)), 0);
+    assert_eq!(differing_pixels(&with_lines, &frame(&mut compat)), 0);
 }

@@ -26,43 +26,45 @@ fn mouse_look_reset_release_and_grab() {
     let mut app = xvfb.start_program::<&str>(&dir, &[]);
     let window = xvfb.wait_for_window(&mut app);
     xvfb.xdotool(&["windowfocus", "--sync", &window]);
-    // A click grabs the cursor (Xvfb has no window manager, so focus may have come and gone).
-    xvfb.xdotool(&["mousemove", "640", "512", "click", "1"]);
-    std::thread::sleep(Duration::from_millis(300));
-    xvfb.xdotool(&["mousemove_relative", "80", "30"]);
-    std::thread::sleep(Duration::from_millis(300));
-    let turned = xvfb.screenshot(&dir, 1);
-    assert!(
-        turned != start_frame,
-        "mouse motion did not turn the camera"
-    );
-
-    xvfb.xdotool(&["key", "r"]);
-    let reset = xvfb.screenshot(&dir, 2);
-    assert!(
-        reset == start_frame,
-        "R did not restore the tutorial's start frame"
-    );
-
-    xvfb.xdotool(&["key", "Tab"]);
-    std::thread::sleep(Duration::from_millis(300));
-    xvfb.xdotool(&["mousemove_relative", "80", "30"]);
-    std::thread::sleep(Duration::from_millis(300));
-    let released = xvfb.screenshot(&dir, 3);
-    assert!(
-        released == start_frame,
-        "the released cursor still turned the camera"
-    );
-
-    xvfb.xdotool(&["click", "1"]);
-    std::thread::sleep(Duration::from_millis(300));
-    xvfb.xdotool(&["mousemove_relative", "80", "30"]);
-    std::thread::sleep(Duration::from_millis(300));
-    let grabbed = xvfb.screenshot(&dir, 4);
-    assert!(
-        grabbed != start_frame,
-        "a click did not grab the cursor again"
-    );
+    // Each step: what to do, whether to move the mouse after it, and whether the frame must then be
+    // the start frame (the camera reset or left alone) or not (the camera turned).
+    let steps: [(&[&str], bool, bool, &str); 4] = [
+        // A click grabs the cursor (Xvfb has no window manager, so focus may have come and gone).
+        (
+            &["mousemove", "640", "512", "click", "1"],
+            true,
+            false,
+            "mouse motion did not turn the camera",
+        ),
+        (
+            &["key", "r"],
+            false,
+            true,
+            "R did not restore the tutorial's start frame",
+        ),
+        (
+            &["key", "Tab"],
+            true,
+            true,
+            "the released cursor still turned the camera",
+        ),
+        (
+            &["click", "1"],
+            true,
+            false,
+            "a click did not grab the cursor again",
+        ),
+    ];
+    for ((action, then_move, unchanged, failure), n) in steps.into_iter().zip(1..) {
+        xvfb.xdotool(action);
+        if then_move {
+            std::thread::sleep(Duration::from_millis(300));
+            xvfb.xdotool(&["mousemove_relative", "80", "30"]);
+            std::thread::sleep(Duration::from_millis(300));
+        }
+        let shot = xvfb.screenshot(&dir, n);
+        assert!((shot == start_frame) == unchanged, "{failure}");
+    }
 
     // The once-a-second figure joins the status in the title instead of replacing it.
     let title = wait_for_title(&xvfb, &window, "ms/frame", |t| t.contains("ms/frame"));

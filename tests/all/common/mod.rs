@@ -4,14 +4,22 @@
 
 pub mod xvfb;
 
+use std::io::Read;
 use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
 
 use glam::Vec3;
 use image::{Rgb, RgbImage, RgbaImage};
+use proptest::test_runner::TestCaseError;
 use tutorial13::assets::{encode_bmp, encode_dds_dxt3};
 use tutorial13::common::controls::Controls;
+use tutorial13::common::objloader::TriangleSoup;
+use tutorial13::common::tangentspace::TangentBasis;
+use tutorial13::common::vboindexer::{index_vbo_tbn, index_vbo_tbn_linear, IndexOptions};
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::gl::{ContextInfo, Profile};
+use tutorial13::scenes::cylinder::CylinderOptions;
 use tutorial13::scenes::SceneOptions;
 
 pub const W: u32 = 1024;
@@ -104,24 +112,86 @@ pub fn skip_off_reference(test: &str, reason: &str) {
 /// An inclusive rectangle of pixels: (x0, y0, x1, y1).
 pub type PixelRect = (u32, u32, u32, u32);
 
-/// How many pixels differ, the largest channel difference, and the rectangle that holds every
-/// differing pixel.
-pub fn pixel_diff(a: &RgbImage, b: &RgbImage) -> (usize, u8, Option<PixelRect>) {
+/// How two frames of one size differ, pixel by pixel; a pixel differs by its largest channel
+/// difference.
+pub struct FrameDiff {
+    /// How many pixels differ by each amount: `by_amount[0]` is the number of equal pixels.
+    by_amount: [usize; 256],
+    /// The rectangle that holds every differing pixel.
+    pub bbox: Option<PixelRect>,
+    /// Every channel's difference, summed over the frame.
+    pub total: u64,
+}
+
+impl FrameDiff {
+    /// How many pixels were compared.
+    pub fn pixels(&self) -> usize {
+        self.by_amount.iter().sum()
+    }
+
+    /// How many pixels differ at all.
+    pub fn differing(&self) -> usize {
+        self.over(0)
+    }
+
+    /// How many pixels differ by more than `tolerance`.
+    pub fn over(&self, tolerance: u8) -> usize {
+        self.by_amount[usize::from(tolerance) + 1..].iter().sum()
+    }
+
+    /// The largest channel difference (0 for equal frames).
+    pub fn max(&self) -> u8 {
+        self.by_amount.iter().rposition(|&n| n > 0).unwrap_or(0) as u8
+    }
+}
+
+/// How `a` and `b`, frames of the same size, differ.
+pub fn frame_diff(a: &RgbImage, b: &RgbImage) -> FrameDiff {
     assert_eq!(a.dimensions(), b.dimensions(), "frames of different sizes");
-    let (mut differing, mut max) = (0, 0u8);
-    let mut bbox: Option<PixelRect> = None;
+    let mut d = FrameDiff {
+        by_amount: [0; 256],
+        bbox: None,
+        total: 0,
+    };
     for ((x, y, p), q) in a.enumerate_pixels().zip(b.pixels()) {
-        let m = (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap();
+        let channels = [0, 1, 2].map(|c| p[c].abs_diff(q[c]));
+        let m = channels.into_iter().max().unwrap();
+        d.by_amount[usize::from(m)] += 1;
+        d.total += channels.into_iter().map(u64::from).sum::<u64>();
         if m > 0 {
-            differing += 1;
-            max = max.max(m);
-            bbox = Some(match bbox {
+            d.bbox = Some(match d.bbox {
                 None => (x, y, x, y),
                 Some((x0, y0, x1, y1)) => (x0.min(x), y0.min(y), x1.max(x), y1.max(y)),
             });
         }
     }
-    (differing, max, bbox)
+    d
+}
+
+/// How many pixels differ, the largest channel difference, and the rectangle that holds every
+/// differing pixel.
+pub fn pixel_diff(a: &RgbImage, b: &RgbImage) -> (usize, u8, Option<PixelRect>) {
+    let d = frame_diff(a, b);
+    (d.differing(), d.max(), d.bbox)
+}
+
+/// How many pixels differ between `a` and `b`.
+pub fn differing_pixels(a: &RgbImage, b: &RgbImage) -> usize {
+    frame_diff(a, b).differing()
+}
+
+/// How many pixels of `image` are not the background.
+pub fn drawn_pixels(image: &RgbImage) -> usize {
+    image.pixels().filter(|p| !is_background(p)).count()
+}
+
+/// Pixels differing, the largest channel difference, and the mean channel difference over the
+/// pixels `a` draws (not over the whole frame, so that the background does not dilute it).
+pub fn compare_drawn(a: &RgbImage, b: &RgbImage) -> (usize, u8, f64) {
+    let d = frame_diff(a, b);
+    let drawn = drawn_pixels(a);
+    assert!(drawn > 0, "nothing drawn to take a mean difference over");
+    (d.differing(), d.max(), d.total as f64 / (drawn * 3) as f64)
 }
 
 pub fn options(assets: PathBuf, profile: Profile) -> HeadlessOptions {
@@ -139,6 +209,26 @@ pub fn options(assets: PathBuf, profile: Profile) -> HeadlessOptions {
 
 pub fn renderer(options: &HeadlessOptions) -> HeadlessRenderer {
     HeadlessRenderer::new(options).expect("headless renderer")
+}
+
+/// The cylinder scene's own options in `options` (the scene [`options`] draws).
+pub fn cylinder_options(options: &mut HeadlessOptions) -> &mut CylinderOptions {
+    options.scene.get_mut::<CylinderOptions>()
+}
+
+/// A core-profile renderer of the cylinder scene on `assets`, its options changed by `set` first.
+pub fn cylinder_renderer(
+    assets: PathBuf,
+    set: impl FnOnce(&mut CylinderOptions),
+) -> HeadlessRenderer {
+    let mut options = options(assets, Profile::Core);
+    set(cylinder_options(&mut options));
+    renderer(&options)
+}
+
+/// The first frame of [`cylinder_renderer`].
+pub fn cylinder_frame(assets: PathBuf, set: impl FnOnce(&mut CylinderOptions)) -> RgbImage {
+    frame(&mut cylinder_renderer(assets, set))
 }
 
 /// One frame (time frozen at 0), alpha dropped as in a screenshot. `render_frames` fails on any GL
@@ -195,19 +285,69 @@ pub fn files_under(dir: &Path) -> Vec<PathBuf> {
     files
 }
 
+/// A debug build on two busy cores renders in well under a second; this only catches hangs.
+const RUN_TIMEOUT: Duration = Duration::from_secs(300);
+
+/// The binary with a predictable environment: no RUST_LOG, so stderr holds only what it always
+/// prints, and no stdin.
+pub fn tutorial13() -> Command {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_tutorial13"));
+    cmd.env_remove("RUST_LOG").stdin(Stdio::null());
+    cmd
+}
+
+/// Runs to completion (killed and failed after [`RUN_TIMEOUT`]), capturing stdout and stderr.
+pub fn run(cmd: &mut Command) -> Output {
+    let mut child = cmd
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot start {cmd:?}: {e}"));
+    let stdout = drain(child.stdout.take());
+    let stderr = drain(child.stderr.take());
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("wait for the child") {
+            break status;
+        }
+        if start.elapsed() > RUN_TIMEOUT {
+            let _ = child.kill();
+            let _ = child.wait();
+            let err = text(&stderr.join().unwrap());
+            panic!("{cmd:?} still running after {RUN_TIMEOUT:?}; killed. stderr:\n{err}");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    Output {
+        status,
+        stdout: stdout.join().unwrap(),
+        stderr: stderr.join().unwrap(),
+    }
+}
+
+/// Reads a child's pipe to its end on a thread, so that a chatty child never blocks on a full pipe.
+fn drain<R: Read + Send + 'static>(pipe: Option<R>) -> std::thread::JoinHandle<Vec<u8>> {
+    std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        if let Some(mut pipe) = pipe {
+            let _ = pipe.read_to_end(&mut bytes);
+        }
+        bytes
+    })
+}
+
+/// A run's output as text (invalid UTF-8 replaced).
+pub fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
 /// The binary's headless frame (`--headless --screenshot NAME` plus `args`), run in `dir`.
 pub fn headless_screenshot(dir: &Path, name: &str, args: &[&str]) -> RgbImage {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_tutorial13"))
+    let out = run(tutorial13()
         .args(["--headless", "--screenshot", name])
         .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+        .current_dir(dir));
+    assert!(out.status.success(), "{}", text(&out.stderr));
     image::open(dir.join(name)).unwrap().into_rgb8()
 }
 
@@ -278,6 +418,21 @@ pub fn flat_assets(name: &str, obj_text: &str, diffuse: [u8; 4], specular: [u8; 
     dir
 }
 
+/// A scratch asset folder (see [`scratch`]) for a scene that reads `scene`/diffuse.bmp and
+/// `scene`/normal.bmp: a diffuse map of one colour and a flat normal map (128, 128, 255), `size`²
+/// texels each.
+#[track_caller]
+pub fn flat_scene_assets(name: &str, scene: &str, size: u32, diffuse: [u8; 3]) -> PathBuf {
+    let dir = scratch(name);
+    std::fs::create_dir_all(dir.join(scene)).unwrap();
+    let texels = (size * size) as usize;
+    for (file, rgb) in [("diffuse.bmp", diffuse), ("normal.bmp", [128, 128, 255])] {
+        let bmp = encode_bmp(&vec![rgb; texels], size).unwrap();
+        std::fs::write(dir.join(scene).join(file), bmp).unwrap();
+    }
+    dir
+}
+
 /// The project's cylinder with a flat normal map and white diffuse and specular maps.
 #[track_caller]
 pub fn flat_white_assets(name: &str) -> PathBuf {
@@ -295,4 +450,22 @@ pub fn project(world: Vec3) -> (f32, f32) {
         (ndc.x + 1.0) * 0.5 * W as f32,
         (1.0 - ndc.y) * 0.5 * H as f32,
     )
+}
+
+/// The grid indexer's property, for proptest: on `soup` and `basis`, normalizing the tangents before
+/// summing them or not, it picks the vertex the linear search picks (ties included) and sums in the
+/// same order, so indices, vertices and sums are identical to the bit.
+pub fn grid_indexer_matches_linear(
+    soup: &TriangleSoup,
+    basis: &TangentBasis,
+    normalize: bool,
+) -> Result<(), TestCaseError> {
+    let options = IndexOptions {
+        normalize_before_sum: normalize,
+    };
+    proptest::prop_assert_eq!(
+        index_vbo_tbn(soup, basis, options),
+        index_vbo_tbn_linear(soup, basis, options)
+    );
+    Ok(())
 }

@@ -106,13 +106,11 @@ impl Xvfb {
     /// The program in a window on this display, started in `dir` (where P writes tutorial13-N.png),
     /// with its stderr kept for [`wait_exit`].
     pub fn start_program<S: AsRef<OsStr>>(&self, dir: &Path, args: &[S]) -> Child {
-        Command::new(env!("CARGO_BIN_EXE_tutorial13"))
+        super::tutorial13()
             .args(args)
             .current_dir(dir)
             .env("DISPLAY", &self.display)
             .env_remove("WAYLAND_DISPLAY")
-            .env_remove("RUST_LOG")
-            .stdin(Stdio::null())
             .stdout(Stdio::null())
             .stderr(Stdio::piped())
             .spawn()
