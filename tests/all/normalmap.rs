@@ -182,3 +182,44 @@ fn the_command_keeps_the_size_and_writes_a_loadable_bmp() {
     assert_eq!(out.status.code(), Some(1));
     assert!(!dir.join("normal.jpg").exists());
 }
+
+// Fails if a negative strength given with a space (`--strength -8`, the way every other value is
+// given) is refused as an unknown argument, or if it does not turn the relief inside out: the map
+// of -8 must be the map of +8 with x and y negated (red and green mirrored about 128, within one
+// level of rounding), blue unchanged.
+#[test]
+fn a_negative_strength_parses_with_a_space_and_inverts_the_relief() {
+    let dir = crate::common::scratch("negative-strength");
+    let bump = image::GrayImage::from_fn(32, 32, |c, r| {
+        let d = ((c as f32 - 16.0).powi(2) + (r as f32 - 16.0).powi(2)).sqrt();
+        image::Luma([(255.0 * (1.0 - d / 16.0).max(0.0)) as u8])
+    });
+    bump.save(dir.join("bump.png")).unwrap();
+    let make = |strength: &str, out: &str| {
+        let args = ["normalmap", "bump.png", "-o", out, "--strength", strength];
+        let run = crate::common::run(crate::common::tutorial13().args(args).current_dir(&dir));
+        assert!(
+            run.status.success(),
+            "--strength {strength}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        image::open(dir.join(out)).unwrap().into_rgb8()
+    };
+    let (raised, engraved) = (make("8", "raised.png"), make("-8", "engraved.png"));
+    let mut tilted = 0;
+    for (up, down) in raised.pixels().zip(engraved.pixels()) {
+        for c in 0..2 {
+            let mirrored = 255 - i32::from(up[c]) + 1;
+            assert!(
+                (i32::from(down[c]) - mirrored).abs() <= 1,
+                "{up:?} vs {down:?}"
+            );
+        }
+        assert_eq!(up[2], down[2], "{up:?} vs {down:?}");
+        tilted += usize::from(up[0] != 128 || up[1] != 128);
+    }
+    assert!(
+        tilted > 100,
+        "only {tilted} tilted texels: is the bump there?"
+    );
+}
