@@ -207,7 +207,8 @@ fn run(cli: Cli, scene: SceneOptions) -> Result<()> {
         return Ok(());
     }
     if let Some(Command::MakeAssets { out, force }) = &cli.command {
-        let written = tutorial13::assets::make_assets(out, *force)?;
+        let files = scenes::generate_assets()?;
+        let written = tutorial13::assets::make_assets(out, &files, *force)?;
         let names = |paths: &[PathBuf]| {
             let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
             names.join(", ")

@@ -1,4 +1,6 @@
-//! The project's own cylinder, brick textures and normal map, made by code.
+//! The project's own cylinder, brick textures and normal map, made by code, and the helpers every
+//! scene's generated textures share (noise, hashing, BMP and DDS encoding, writing). The other
+//! scenes' generators sit in their folders (`scenes/<name>/assets.rs`).
 //!
 //! The tutorial's `cylinder.obj`, `diffuse.DDS`, `normal.bmp` and `specular.DDS` cannot be
 //! redistributed, so [`make_assets`] writes look-alikes with the same conventions: the same cylinder
@@ -30,10 +32,6 @@
 //!   right, y up the picture): the usual OpenGL normal map turned by 180°. Made that way, a brick
 //!   lit from above has bright top edges (checked in `tests/all/assets.rs` with the crate's own tangent
 //!   code). The tutorial's own `normal.bmp` agrees on red but has green the other way round.
-
-pub mod cube;
-pub mod sprite;
-pub mod wall;
 
 use std::path::{Path, PathBuf};
 
@@ -67,6 +65,9 @@ pub struct AssetsWritten {
     pub replaced: Vec<PathBuf>,
 }
 
+/// Generated files: each one's path under the assets folder, and its bytes.
+pub type GeneratedFiles = Vec<(&'static str, Vec<u8>)>;
+
 /// A scene's two generated maps, as paths under the assets folder: defined once, read by the
 /// generator that writes them and by the scene that loads them (`gl::Maps::load`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -75,18 +76,17 @@ pub struct MapFiles {
     pub normal: &'static str,
 }
 
-/// Writes the four files into `out_dir` (creating it). Deterministic: same bytes every run, on any
-/// machine.
+/// Writes `files` (paths under the assets folder, and bytes) into `out_dir`, creating folders. The
+/// generators are deterministic: same bytes every run, on any machine.
 ///
 /// A file already there with other bytes (say the tutorial's own `normal.bmp`) is never replaced
 /// unless `force` is set: without it, nothing at all is written and the error names every such file.
 /// Each file is written atomically, so an interrupted run leaves whole files only.
-pub fn make_assets(out_dir: &Path, force: bool) -> Result<AssetsWritten> {
-    let files = generate_assets()?;
+pub fn make_assets(out_dir: &Path, files: &GeneratedFiles, force: bool) -> Result<AssetsWritten> {
     let mut written = AssetsWritten::default();
     let mut differing = Vec::new();
     let mut to_write = Vec::new();
-    for (name, bytes) in &files {
+    for (name, bytes) in files {
         let path = out_dir.join(name);
         match std::fs::read(&path) {
             Ok(existing) if existing == *bytes => written.unchanged.push(path),
@@ -117,10 +117,9 @@ pub fn make_assets(out_dir: &Path, force: bool) -> Result<AssetsWritten> {
     Ok(written)
 }
 
-/// Every generated file (its path under assets/, and its bytes), made in memory before anything is
-/// written: the cylinder's four, in [`ASSET_FILES`] order, in assets/ itself; each other scene's in a
-/// folder named after the scene.
-pub fn generate_assets() -> Result<Vec<(&'static str, Vec<u8>)>> {
+/// The cylinder's four generated files (its path under assets/, and its bytes), in [`ASSET_FILES`]
+/// order, made in memory before anything is written. Every scene's files: `scenes::generate_assets`.
+pub fn generate_cylinder_assets() -> Result<GeneratedFiles> {
     let wall = BrickWall::new(TEXTURE_SIZE);
     let [obj, diffuse, normal, specular] = ASSET_FILES;
     let cylinder = tutorial_cylinder_obj_text(CYLINDER_SEGMENTS).into_bytes();
@@ -130,20 +129,15 @@ pub fn generate_assets() -> Result<Vec<(&'static str, Vec<u8>)>> {
         .map_err(|reason| write_error(diffuse, reason))?;
     let specular_dds = encode_dds_dxt3(wall.specular_rgba(), TEXTURE_SIZE)
         .map_err(|reason| write_error(specular, reason))?;
-    let mut files = vec![
+    Ok(vec![
         (obj, cylinder),
         (diffuse, diffuse_dds),
         (normal, bmp),
         (specular, specular_dds),
-    ];
-    files.extend(wall::generate()?);
-    files.extend(sprite::sprite_assets()?);
-    // Each other scene's own files, in a folder named after it.
-    files.extend(cube::generate()?);
-    Ok(files)
+    ])
 }
 
-fn write_error(path: impl Into<PathBuf>, reason: String) -> Error {
+pub fn write_error(path: impl Into<PathBuf>, reason: String) -> Error {
     Error::Write {
         path: path.into(),
         reason,
@@ -548,7 +542,7 @@ fn half_size(rgba: &[u8], side: usize) -> Vec<u8> {
 // Deterministic noise
 
 /// A 32-bit integer hash of three values (multiply-xorshift; the finaliser is MurmurHash3's).
-fn hash3(a: u32, b: u32, c: u32) -> u32 {
+pub fn hash3(a: u32, b: u32, c: u32) -> u32 {
     let mut h = a.wrapping_mul(0x9E37_79B1)
         ^ b.wrapping_mul(0x85EB_CA77).rotate_left(13)
         ^ c.wrapping_mul(0xC2B2_AE3D).rotate_left(26);
@@ -560,11 +554,11 @@ fn hash3(a: u32, b: u32, c: u32) -> u32 {
 }
 
 /// The top 24 bits of a hash as a float in [0, 1).
-fn unit(h: u32) -> f32 {
+pub fn unit(h: u32) -> f32 {
     (h >> 8) as f32 * (1.0 / 16_777_216.0)
 }
 
-fn smoothstep(t: f32) -> f32 {
+pub fn smoothstep(t: f32) -> f32 {
     let t = t.clamp(0.0, 1.0);
     t * t * (3.0 - 2.0 * t)
 }
@@ -574,7 +568,7 @@ fn smoothstep(t: f32) -> f32 {
 ///
 /// Whole fields at once: the interpolation weights depend on the column or the row only, so they are
 /// computed once per octave, which keeps debug builds quick.
-fn noise_field(size: u32, octaves: &[(u32, f32)], seed: u32) -> Vec<f32> {
+pub fn noise_field(size: u32, octaves: &[(u32, f32)], seed: u32) -> Vec<f32> {
     let n = size as usize;
     let mut field = vec![0.0f32; n * n];
     for &(cells, weight) in octaves {
@@ -612,6 +606,6 @@ fn noise_field(size: u32, octaves: &[(u32, f32)], seed: u32) -> Vec<f32> {
     field
 }
 
-fn to_u8(x: f32) -> u8 {
+pub fn to_u8(x: f32) -> u8 {
     (x * 255.0).round().clamp(0.0, 255.0) as u8
 }

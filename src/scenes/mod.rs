@@ -52,6 +52,16 @@ pub fn next(scene: &SceneDescriptor) -> &'static SceneDescriptor {
     SCENES[(i + 1) % SCENES.len()]
 }
 
+/// Every file `make-assets` writes, scene by scene in [`SCENES`] order, made in memory before anything
+/// is written.
+pub fn generate_assets() -> crate::Result<crate::assets::GeneratedFiles> {
+    let mut files = Vec::new();
+    for scene in SCENES {
+        files.extend((scene.generate_assets)()?);
+    }
+    Ok(files)
+}
+
 /// `command` with the flags several scenes share and every scene's own arguments, each scene's under
 /// a heading of its own.
 pub fn command_line(command: clap::Command) -> clap::Command {

@@ -36,11 +36,13 @@ pub struct SceneDescriptor {
     /// Loads the scene on the current context, with its options from `options` (its defaults where
     /// `options` holds none).
     pub build: fn(&SceneContext, &SceneOptions) -> Result<Box<dyn Scene>>,
+    /// The files `make-assets` generates for the scene: paths under the assets folder, and bytes.
+    pub generate_assets: fn() -> Result<crate::assets::GeneratedFiles>,
 }
 
 impl SceneDescriptor {
-    /// The descriptor of scene type `S`: mouse look, no mouse help, no shared flags (a scene that
-    /// differs sets those fields over this one).
+    /// The descriptor of scene type `S`: mouse look, no mouse help, no shared flags, no generated
+    /// files (a scene that differs sets those fields over this one).
     pub const fn of<S: SceneType>(
         name: &'static str,
         description: &'static str,
@@ -56,6 +58,7 @@ impl SceneDescriptor {
             shared_args: &[],
             read_args: read_args::<S::Args>,
             build: build::<S>,
+            generate_assets: || Ok(Vec::new()),
         }
     }
 }

@@ -46,7 +46,8 @@ fn decode_normal(p: [u8; 3]) -> Vec3 {
 #[test]
 fn make_assets_creates_nested_folders() {
     let dir = common::scratch("nested").join("a/b");
-    make_assets(&dir, false).expect("make_assets succeeds");
+    let files = tutorial13::scenes::generate_assets().unwrap();
+    make_assets(&dir, &files, false).expect("make_assets succeeds");
     for name in ASSET_FILES {
         assert!(dir.join(name).is_file(), "{name} missing");
     }

@@ -601,7 +601,7 @@ fn make_assets_reproduces_the_committed_assets() {
     let out = run(tutorial13().arg("make-assets").arg("--out").arg(&out_dir));
     eprintln!("make-assets took {:?}", started.elapsed());
     assert_success(&out, "make-assets");
-    let files = tutorial13::assets::generate_assets().unwrap();
+    let files = tutorial13::scenes::generate_assets().unwrap();
     for file in files.iter().map(|(name, _)| *name) {
         let generated = std::fs::read(out_dir.join(file))
             .unwrap_or_else(|e| panic!("{file} not generated: {e}"));

@@ -5,7 +5,8 @@
 use std::path::Path;
 use std::process::Output;
 
-use tutorial13::assets::{generate_assets, make_assets};
+use tutorial13::assets::make_assets;
+use tutorial13::scenes::generate_assets;
 use tutorial13::Error;
 
 use crate::common;
@@ -125,7 +126,8 @@ fn make_assets_keeps_files_that_differ_unless_forced() {
     let dir = common::scratch("make-assets");
     let theirs = b"the learner's own normal map".to_vec();
     std::fs::write(dir.join("normal.bmp"), &theirs).unwrap();
-    match make_assets(&dir, false) {
+    let files = generate_assets().unwrap();
+    match make_assets(&dir, &files, false) {
         Err(Error::WouldOverwrite { paths }) => assert_eq!(paths, [dir.join("normal.bmp")]),
         other => panic!("expected a refusal, got {other:?}"),
     }
@@ -142,15 +144,11 @@ fn make_assets_keeps_files_that_differ_unless_forced() {
         &["normal.bmp", "--force"],
     );
 
-    let all: Vec<&str> = generate_assets()
-        .unwrap()
-        .iter()
-        .map(|(name, _)| *name)
-        .collect();
-    let written = make_assets(&dir, true).unwrap();
+    let all: Vec<&str> = files.iter().map(|(name, _)| *name).collect();
+    let written = make_assets(&dir, &files, true).unwrap();
     assert_eq!(written.replaced, [dir.join("normal.bmp")]);
     assert_eq!(written.created.len(), all.len() - 1);
-    let again = make_assets(&dir, false).unwrap();
+    let again = make_assets(&dir, &files, false).unwrap();
     assert_eq!(again.unchanged.len(), all.len(), "{again:?}");
     let committed = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
     for name in &all {

@@ -8,8 +8,8 @@ use std::time::Duration;
 use glam::{DVec3, Vec2, Vec3};
 use image::{Rgb, RgbImage};
 use tutorial13::assets::encode_bmp;
-use tutorial13::assets::sprite::rock_height_map;
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
+use tutorial13::scenes::sprite::assets::rock_height_map;
 use tutorial13::scenes::sprite::{
     cursor_to_light, sprite_rect, Sprite, SpriteOptions, DEFAULT_LIGHT_Z, DIFFUSE_FILE,
     NORMAL_FILE, Z_MAX, Z_MIN,

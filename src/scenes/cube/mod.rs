@@ -11,13 +11,13 @@
 //! brought into tangent space per vertex, the lighting is done per fragment.
 
 pub mod args;
+pub mod assets;
 
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec2, Vec3};
 use glow::HasContext;
 
-use crate::assets::cube::FILES;
 use crate::common::objloader::TriangleSoup;
 use crate::common::shader::{load_program, shader_paths};
 use crate::common::vboindexer::IndexedMesh;
@@ -26,6 +26,7 @@ use crate::gl::state::GlState;
 use crate::gl::{Gl, Maps};
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
+use assets::FILES;
 
 use super::scene::{
     action_for_key, key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
@@ -34,11 +35,14 @@ use super::scene::{
 pub use args::CubeOptions;
 
 /// The scene as the rest of the program knows it.
-pub static SCENE: SceneDescriptor = SceneDescriptor::of::<Cube>(
-    "cube",
-    "Article 003: a stone cube lit Blinn-Phong in tangent space",
-    KEYS,
-);
+pub static SCENE: SceneDescriptor = SceneDescriptor {
+    generate_assets: assets::generate,
+    ..SceneDescriptor::of::<Cube>(
+        "cube",
+        "Article 003: a stone cube lit Blinn-Phong in tangent space",
+        KEYS,
+    )
+};
 
 /// Drawn in the tutorial's state, applied every frame (another scene may have drawn since).
 const GL_STATE: GlState = GlState::TUTORIAL;

@@ -34,6 +34,7 @@ use tutorial13::{NormalMappingProgram, Tutorial13, CLEAR_COLOR, LIGHT_POS, SHADE
 /// The scene as the rest of the program knows it.
 pub static SCENE: SceneDescriptor = SceneDescriptor {
     shared_args: &["green"],
+    generate_assets: crate::assets::generate_cylinder_assets,
     ..SceneDescriptor::of::<Cylinder>(
         "cylinder",
         "Tutorial 13: the normal-mapped cylinder, with its debugging aids as keys (the \

@@ -3,7 +3,7 @@
 //! follows the mouse: Lambert's N·L with the normal from the normal map, constant-linear-quadratic
 //! attenuation, and an ambient term. The shaders are `Sprite.*`; the textures are
 //! `<assets>/sprite/diffuse.bmp` and `normal.bmp` (made by `make-assets`, see
-//! [`crate::assets::sprite`]).
+//! [`assets`]).
 //!
 //! Decisions where the article leaves a choice (also in the README and the shader):
 //! - The sprite is drawn at its own size, one texel per pixel, centred, as the article draws its rock
@@ -18,6 +18,7 @@
 //!   [`Z_MIN`]..=[`Z_MAX`]; a click puts it back at the article's 0.075.
 
 pub mod args;
+pub mod assets;
 
 use std::path::{Path, PathBuf};
 
@@ -25,8 +26,8 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use glow::HasContext;
 
 /// The two texture files, under the assets folder, as `make-assets` writes them.
-use crate::assets::sprite::FILES;
-use crate::assets::sprite::SPRITE_SIZE;
+use assets::FILES;
+use assets::SPRITE_SIZE;
 /// The sprite's two maps, under the assets folder.
 pub const DIFFUSE_FILE: &str = FILES.diffuse;
 pub const NORMAL_FILE: &str = FILES.normal;
@@ -47,6 +48,7 @@ pub use args::SpriteArgs;
 pub static SCENE: SceneDescriptor = SceneDescriptor {
     mouse_mode: MouseMode::Cursor,
     mouse_help: MOUSE_HELP,
+    generate_assets: assets::generate,
     shared_args: &["green"],
     ..SceneDescriptor::of::<Sprite>(
         "sprite",

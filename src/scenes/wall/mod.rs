@@ -10,13 +10,13 @@
 //! this square), and the tests measure how close the two programs' frames are in floating point.
 
 pub mod args;
+pub mod assets;
 
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec2, Vec3};
 use glow::HasContext;
 
-use crate::assets::wall::FILES;
 use crate::common::objloader::TriangleSoup;
 use crate::common::shader::{load_program, shader_paths};
 use crate::gl::buffers::MeshBuffers;
@@ -24,6 +24,7 @@ use crate::gl::state::GlState;
 use crate::gl::{Gl, Maps};
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
+use assets::FILES;
 
 use super::scene::{
     action_for_key, key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
@@ -32,11 +33,14 @@ use super::scene::{
 pub use args::WallOptions;
 
 /// The scene as the rest of the program knows it.
-pub static SCENE: SceneDescriptor = SceneDescriptor::of::<Wall>(
-    "wall",
-    "Article 004: a stone wall lit in view space or in tangent space",
-    KEYS,
-);
+pub static SCENE: SceneDescriptor = SceneDescriptor {
+    generate_assets: assets::generate,
+    ..SceneDescriptor::of::<Wall>(
+        "wall",
+        "Article 004: a stone wall lit in view space or in tangent space",
+        KEYS,
+    )
+};
 
 /// The article's wall in the tutorial's frame: its state, set before each frame.
 const GL_STATE: GlState = GlState::TUTORIAL;

@@ -4,10 +4,12 @@
 //! the normal map in OpenGL's convention (green up the picture, the article's and Tutorial 13's).
 //! The texture tiles: cells, noise and the normal map's derivatives all wrap at the edges.
 //!
-//! Reproducible byte for byte like the rest of `assets/`: integer hashing, and only `+ - * /`,
+//! Reproducible byte for byte like the rest of the generated assets: integer hashing, and only `+ - * /`,
 //! `floor` and `sqrt` on floats.
 
-use super::{encode_bmp, hash3, noise_field, smoothstep, to_u8, unit, write_error, MapFiles};
+use crate::assets::{
+    encode_bmp, hash3, noise_field, smoothstep, to_u8, unit, write_error, MapFiles,
+};
 use crate::normalmap::{normal_map, HeightMap, NormalMapOptions};
 use crate::Result;
 
@@ -31,7 +33,7 @@ const SEED: u32 = 0x0005_707e;
 const STRENGTH: f32 = 5.0;
 
 /// The two files, in memory.
-pub fn generate() -> Result<Vec<(&'static str, Vec<u8>)>> {
+pub fn generate() -> Result<crate::assets::GeneratedFiles> {
     let stones = Stones::new();
     let grain = noise_field(SIZE, &[(16, 0.45), (32, 0.35), (64, 0.2)], SEED);
     let n = SIZE as usize;

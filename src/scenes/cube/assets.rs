@@ -18,7 +18,9 @@
 //! Same rules as the parent module: deterministic to the byte (integer hash noise, only `+ - * /`,
 //! `floor` and `sqrt` in the maths), and small: 256² 24-bit BMPs of 192 KiB each.
 
-use super::{encode_bmp, hash3, noise_field, smoothstep, to_u8, unit, write_error, MapFiles};
+use crate::assets::{
+    encode_bmp, hash3, noise_field, smoothstep, to_u8, unit, write_error, MapFiles,
+};
 use crate::normalmap::{normal_map, HeightMap, NormalMapOptions};
 use crate::Result;
 
@@ -52,7 +54,7 @@ const SEED_GRAIN: u32 = 12;
 const SEED_MOTTLE: u32 = 13;
 
 /// The cube's two files, in memory: (path under assets/, bytes).
-pub fn generate() -> Result<Vec<(&'static str, Vec<u8>)>> {
+pub fn generate() -> Result<crate::assets::GeneratedFiles> {
     let stones = Stones::new(TEXTURE_SIZE);
     let diffuse = encode_bmp(&stones.diffuse_rgb(), TEXTURE_SIZE)
         .map_err(|reason| write_error(FILES.diffuse, reason))?;

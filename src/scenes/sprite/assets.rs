@@ -15,7 +15,9 @@
 //!
 //! Reproducible like the rest of [`super`]: integer hashing, and only `+ - * /`, `floor` and `sqrt`.
 
-use super::{encode_bmp, hash3, noise_field, smoothstep, to_u8, unit, write_error, MapFiles};
+use crate::assets::{
+    encode_bmp, hash3, noise_field, smoothstep, to_u8, unit, write_error, MapFiles,
+};
 use crate::normalmap::{normal_map, Green, HeightMap, Kernel, NormalMapOptions};
 use crate::Result;
 
@@ -181,7 +183,7 @@ impl Rock {
 
 /// The scene's two files, as (path under assets/, bytes): the colour map and its normal map, both
 /// 24-bit BMPs of [`SPRITE_SIZE`]².
-pub fn sprite_assets() -> Result<Vec<(&'static str, Vec<u8>)>> {
+pub fn generate() -> Result<crate::assets::GeneratedFiles> {
     let rock = Rock::new(SPRITE_SIZE);
     let diffuse = encode_bmp(&rock.diffuse_rgb(), SPRITE_SIZE)
         .map_err(|reason| write_error(FILES.diffuse, reason))?;
