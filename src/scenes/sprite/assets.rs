@@ -30,22 +30,39 @@ pub const FILES: MapFiles = MapFiles {
 /// Side of both textures: drawn one texel per pixel where the window has room (see the scene).
 pub const SPRITE_SIZE: u32 = 512;
 
-/// Cells of the jittered grid the cobbles grow from, per side.
-const CELLS: u32 = 7;
-/// Half the width of the gap between two cobbles, the width of their rounded rim and of the slope
-/// up to their flattish middle, in texels.
-const GAP_HALF_WIDTH: f32 = 2.5;
-const RIM_WIDTH: f32 = 10.0;
-const DOME_WIDTH: f32 = 40.0;
-/// How far the outlines wander, in texels.
-const WARP: f32 = 24.0;
-/// Heights: gaps at the bottom, cobble tops well above them.
-const GAP_HEIGHT: f32 = 0.05;
-const STONE_HEIGHT: f32 = 0.55;
-const DOME_HEIGHT: f32 = 0.25;
-const GRAIN_DEPTH: f32 = 0.12;
-/// Relief of the normal map (texels of height for black-to-white): cobble rims tilt by ~50°.
-const NORMAL_STRENGTH: f32 = 24.0;
+/// The cobbles' layout and relief, all in one place: widths in texels of the 512² tile, heights
+/// from 0 (the gaps' floor) to 1.
+struct Layout {
+    /// Cells of the jittered grid the cobbles grow from, per side.
+    cells: u32,
+    /// Half the width of the gap between two cobbles, the width of their rounded rim and of the
+    /// slope up to their flattish middle.
+    gap_half_width: f32,
+    rim_width: f32,
+    dome_width: f32,
+    /// How far the outlines wander.
+    warp: f32,
+    /// Heights: gaps at the bottom, cobble tops well above them, the dome on top and the grain.
+    gap_height: f32,
+    stone_height: f32,
+    dome_height: f32,
+    grain_depth: f32,
+    /// Relief of the normal map (texels of height for black-to-white): cobble rims tilt by ~50°.
+    normal_strength: f32,
+}
+
+const LAYOUT: Layout = Layout {
+    cells: 7,
+    gap_half_width: 2.5,
+    rim_width: 10.0,
+    dome_width: 40.0,
+    warp: 24.0,
+    gap_height: 0.05,
+    stone_height: 0.55,
+    dome_height: 0.25,
+    grain_depth: 0.12,
+    normal_strength: 24.0,
+};
 
 const SEED_POINTS: u32 = 11;
 const SEED_GRAIN: u32 = 12;
@@ -73,11 +90,11 @@ struct Rock {
 
 impl Rock {
     fn new(size: u32) -> Self {
-        let cell = size as f32 / CELLS as f32;
+        let cell = size as f32 / LAYOUT.cells as f32;
         // One feature point per cell, jittered inside its middle 80 %.
-        let points: Vec<(f32, f32)> = (0..CELLS * CELLS)
+        let points: Vec<(f32, f32)> = (0..LAYOUT.cells * LAYOUT.cells)
             .map(|i| {
-                let (cx, cy) = (i % CELLS, i / CELLS);
+                let (cx, cy) = (i % LAYOUT.cells, i / LAYOUT.cells);
                 let jx = 0.1 + 0.8 * unit(hash3(cx, cy, SEED_POINTS));
                 let jy = 0.1 + 0.8 * unit(hash3(cy, cx, SEED_POINTS + 1));
                 ((cx as f32 + jx) * cell, (cy as f32 + jy) * cell)
@@ -89,13 +106,13 @@ impl Rock {
         let warp_x = noise_field(size, &[(6, 0.6), (12, 0.4)], SEED_WARP);
         let warp_y = noise_field(size, &[(6, 0.6), (12, 0.4)], SEED_WARP + 1);
         let span = size as f32;
-        let n = CELLS as i64;
+        let n = LAYOUT.cells as i64;
         let mut texels = Vec::with_capacity((size * size) as usize);
         for row in 0..size {
             for col in 0..size {
                 let i = texels.len();
-                let x = col as f32 + 0.5 + WARP * (warp_x[i] - 0.5);
-                let y = row as f32 + 0.5 + WARP * (warp_y[i] - 0.5);
+                let x = col as f32 + 0.5 + LAYOUT.warp * (warp_x[i] - 0.5);
+                let y = row as f32 + 0.5 + LAYOUT.warp * (warp_y[i] - 0.5);
                 let (gx, gy) = ((x / cell).floor() as i64, (y / cell).floor() as i64);
                 // The points of the 5×5 cells around (wrapping, so that the square tiles), shifted
                 // by whole squares where a neighbour wrapped.
@@ -125,13 +142,13 @@ impl Rock {
                         edge = edge.min((d2(q) - d2(&owner)) / (2.0 * spacing));
                     }
                 }
-                let inside = edge - GAP_HALF_WIDTH;
+                let inside = edge - LAYOUT.gap_half_width;
                 // A pillow: rising fast at the rim, flattening towards the middle.
-                let below = 1.0 - (inside / DOME_WIDTH).clamp(0.0, 1.0);
+                let below = 1.0 - (inside / LAYOUT.dome_width).clamp(0.0, 1.0);
                 let pillow = 1.0 - below * below;
                 texels.push(RockTexel {
                     stone: owner.0,
-                    top: smoothstep(inside / RIM_WIDTH),
+                    top: smoothstep(inside / LAYOUT.rim_width),
                     dome: pillow,
                     grain: grain[i],
                     mottle: mottle[i],
@@ -147,10 +164,10 @@ impl Rock {
             .iter()
             .map(|t| {
                 let per_stone = 0.1 * unit(hash3(t.stone, 0, SEED_STONE));
-                let stone = STONE_HEIGHT + per_stone - GAP_HEIGHT
-                    + DOME_HEIGHT * t.dome
-                    + GRAIN_DEPTH * (t.grain - 0.5);
-                (GAP_HEIGHT + t.top * stone).clamp(0.0, 1.0)
+                let stone = LAYOUT.stone_height + per_stone - LAYOUT.gap_height
+                    + LAYOUT.dome_height * t.dome
+                    + LAYOUT.grain_depth * (t.grain - 0.5);
+                (LAYOUT.gap_height + t.top * stone).clamp(0.0, 1.0)
             })
             .collect()
     }
@@ -194,7 +211,7 @@ pub fn generate() -> Result<crate::assets::GeneratedFiles> {
             values: rock.heights(),
         },
         NormalMapOptions {
-            strength: NORMAL_STRENGTH,
+            strength: LAYOUT.normal_strength,
             kernel: Kernel::Sobel,
             // +y up the picture = up the screen, where the light vector's y points.
             green: Green::Up,
