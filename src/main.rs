@@ -227,6 +227,15 @@ fn run(cli: Cli, scene: SceneOptions) -> Result<()> {
     // Refused before rendering, not after a frame (or a whole window session) has been drawn.
     if let Some(path) = &cli.screenshot {
         tutorial13::gl::image::ImageFormat::from_path(path)?;
+        // A missing folder would only show after the frame (or a whole window session) was drawn.
+        let folder = path.parent().filter(|f| !f.as_os_str().is_empty());
+        if let Some(folder) = folder.filter(|f| !f.is_dir()) {
+            anyhow::bail!(
+                "--screenshot {}: no such folder {} (create it first)",
+                path.display(),
+                folder.display()
+            );
+        }
     }
     // A mistyped folder would otherwise fall back silently (--shaders) or fail later on one file.
     for (flag, dir) in [("--assets", &cli.assets), ("--shaders", &cli.shaders)] {

@@ -37,6 +37,32 @@ pub const WINDOW_KEYS: &[(&str, &str)] = &[
     ("Esc", "quit (closing the window quits too)"),
 ];
 
+/// How the user runs this program from where they are, for the commands its messages suggest:
+/// `cargo run --release --` when the binary is the one cargo built in a crate's target folder (a
+/// clone, where it is not on PATH), else its name.
+pub fn invocation() -> String {
+    invocation_for(std::env::current_exe().ok().as_deref())
+}
+
+/// [`invocation`] for a binary at `exe`.
+pub fn invocation_for(exe: Option<&std::path::Path>) -> String {
+    let folder = |p: &std::path::Path, up: usize| {
+        p.ancestors()
+            .nth(up)
+            .and_then(|d| d.file_name())
+            .and_then(|n| n.to_str())
+            .map(str::to_owned)
+    };
+    let Some(exe) = exe else {
+        return "tutorial13".into();
+    };
+    match (folder(exe, 1).as_deref(), folder(exe, 2).as_deref()) {
+        (Some("release"), Some("target")) => "cargo run --release --".into(),
+        (Some("debug"), Some("target")) => "cargo run --".into(),
+        _ => "tutorial13".into(),
+    }
+}
+
 /// The key list printed at start and by `--help`: what the mouse does (the window's mouse look, or
 /// the scene's own use of a free cursor), the scene's keys, then the window's.
 pub fn key_list(scene: &'static SceneDescriptor) -> String {
@@ -190,6 +216,25 @@ pub fn min_median(times: &[f64]) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    // Fails if a message suggests `tutorial13 ...` to a user who runs the binary cargo built in a
+    // clone (not on PATH), or `cargo run` to one who installed it.
+    #[test]
+    fn suggested_commands_run_from_where_the_user_is() {
+        use std::path::Path;
+        let at = |p: &str| invocation_for(Some(Path::new(p)));
+        assert_eq!(
+            at("/home/l/tutorial13/target/release/tutorial13"),
+            "cargo run --release --"
+        );
+        assert_eq!(
+            at("/home/l/tutorial13/target/debug/tutorial13"),
+            "cargo run --"
+        );
+        assert_eq!(at("/usr/local/bin/tutorial13"), "tutorial13");
+        assert_eq!(at("/opt/release/tutorial13"), "tutorial13");
+        assert_eq!(invocation_for(None), "tutorial13");
+    }
 
     // Fails if the figure is not the tutorial's 1000 / frames, or the next second does not start
     // exactly one second after the last one.

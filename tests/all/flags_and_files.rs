@@ -56,6 +56,25 @@ fn zero_frames_and_zero_bench_are_refused() {
     }
 }
 
+// Fails if a screenshot into a folder that does not exist is found out only after rendering (the
+// context is made and the frame drawn first, so the log says "OpenGL"), if the error does not name
+// the folder, or if the folder is created behind the user's back.
+#[test]
+fn a_screenshot_into_a_missing_folder_is_refused_before_rendering() {
+    let dir = common::scratch("screenshot-folder");
+    let out = tutorial13(&["--headless", "--screenshot", "shots/frame.png"], &dir);
+    assert_refused(
+        &out,
+        &["--screenshot shots/frame.png: no such folder shots"],
+    );
+    assert!(
+        !stderr(&out).contains("OpenGL"),
+        "rendered first: {}",
+        stderr(&out)
+    );
+    assert!(!dir.join("shots").exists());
+}
+
 // Fails if a mistyped --shaders or --assets folder is ignored or reported without its name.
 #[test]
 fn missing_folders_are_refused_by_name() {

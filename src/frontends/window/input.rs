@@ -68,16 +68,20 @@ impl InputState {
             let grabbed = window
                 .set_cursor_grab(CursorGrabMode::Locked)
                 .or_else(|_| window.set_cursor_grab(CursorGrabMode::Confined));
-            if let Err(e) = grabbed {
-                log::warn!(
+            match grabbed {
+                Ok(()) => log::info!("cursor grabbed for mouse look: Tab releases it"),
+                Err(e) => log::warn!(
                     "cursor not grabbed ({e}): mouse look still works while it is over the window"
-                );
+                ),
             }
         } else {
             if let Err(e) = window.set_cursor_grab(CursorGrabMode::None) {
                 log::warn!("cursor not released: {e}");
             }
-            log::info!("cursor released: click the window to look around again");
+            // Only where a click grabs it again: a scene that uses the free cursor never grabs it.
+            if mode == MouseMode::Look {
+                log::info!("cursor released: click the window to look around again");
+            }
         }
         window.set_cursor_visible(!grab);
         self.input.mouse_dx = 0.0;

@@ -49,12 +49,14 @@ pub struct WindowOptions {
     pub msaa: u8,
 }
 
-/// The message for a machine without a display, with the command that works there.
+/// The message for a machine without a display, with the command that works there, as the user
+/// runs it from where they are (see [`super::invocation`]).
 pub fn no_display_message(reason: &str) -> String {
     format!(
         "no display to open a window on ({}); render without one: \
-         tutorial13 --headless --frames 1 --screenshot frame.png",
-        without_source_location(reason)
+         {} --headless --frames 1 --screenshot frame.png",
+        without_source_location(reason),
+        super::invocation()
     )
 }
 
