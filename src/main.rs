@@ -146,7 +146,8 @@ fn main() -> ExitCode {
         .format_timestamp(None)
         .format_target(false)
         .init();
-    match parse().and_then(|(cli, scene)| run(cli, scene)) {
+    let (cli, scene) = parse();
+    match run(cli, scene) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             // One line: the context chain, outermost first.
@@ -158,7 +159,7 @@ fn main() -> ExitCode {
 
 /// The global flags, and every scene's options (a flag of a scene other than `--scene`'s is an
 /// error, printed by clap like any other command-line error).
-fn parse() -> Result<(Cli, SceneOptions)> {
+fn parse() -> (Cli, SceneOptions) {
     let mut command = scenes::command_line(Cli::command());
     let matches = command.get_matches_mut();
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
@@ -172,7 +173,7 @@ fn parse() -> Result<(Cli, SceneOptions)> {
             .error(clap::error::ErrorKind::ArgumentConflict, message)
             .exit()
     });
-    Ok((cli, options))
+    (cli, options)
 }
 
 fn run(cli: Cli, scene: SceneOptions) -> Result<()> {

@@ -65,10 +65,35 @@ pub fn generate_assets() -> crate::Result<crate::assets::GeneratedFiles> {
 /// `command` with the flags several scenes share and every scene's own arguments, each scene's under
 /// a heading of its own.
 pub fn command_line(command: clap::Command) -> clap::Command {
-    let command = <SharedArgs as clap::Args>::augment_args(command);
+    let mut command = <SharedArgs as clap::Args>::augment_args(command);
+    // Each shared flag's help names the scenes that read it, from their descriptors.
+    for arg in shared_args().get_arguments() {
+        let help = arg.get_help().map(|h| h.to_string()).unwrap_or_default();
+        let help = format!("{help} [{}]", readers(arg.get_id().as_str()));
+        command = command.mut_arg(arg.get_id().clone(), |arg| arg.help(help));
+    }
     SCENES
         .iter()
         .fold(command, |command, scene| (scene.args)(command))
+}
+
+/// The flags several scenes share, alone in a command of their own (to list them).
+fn shared_args() -> clap::Command {
+    <SharedArgs as clap::Args>::augment_args(clap::Command::new("shared"))
+}
+
+/// "scene NAME" or "scenes A, B and C": the scenes whose descriptors read the shared flag `id`.
+fn readers(id: &str) -> String {
+    let names: Vec<_> = SCENES
+        .iter()
+        .filter(|s| s.shared_args.contains(&id))
+        .map(|s| s.name)
+        .collect();
+    match names.split_last() {
+        Some((last, [])) => format!("scene {last}"),
+        Some((last, others)) => format!("scenes {} and {last}", others.join(", ")),
+        None => "no scene".to_string(),
+    }
 }
 
 /// Every scene's options from a command line parsed with [`command_line`], for a program that starts
@@ -80,23 +105,13 @@ pub fn scene_options(
     mut options: SceneOptions,
 ) -> Result<SceneOptions, String> {
     let given = |id: &str| matches.value_source(id) == Some(ValueSource::CommandLine);
-    let shared = <SharedArgs as clap::Args>::augment_args(clap::Command::new("shared"));
-    for arg in shared.get_arguments() {
+    for arg in shared_args().get_arguments() {
         let id = arg.get_id().as_str();
         if given(id) && !scene.shared_args.contains(&id) {
-            let readers: Vec<_> = SCENES
-                .iter()
-                .filter(|s| s.shared_args.contains(&id))
-                .map(|s| s.name)
-                .collect();
-            let (last, others) = readers.split_last().expect("a shared flag has readers");
-            let readers = match others {
-                [] => format!("scene {last}"),
-                _ => format!("scenes {} and {last}", others.join(", ")),
-            };
             return Err(format!(
-                "{} is an option of {readers}, not of scene {} (choose one with --scene)",
+                "{} is an option of {}, not of scene {} (choose one with --scene)",
                 flag(arg),
+                readers(id),
                 scene.name
             ));
         }

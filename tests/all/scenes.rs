@@ -198,3 +198,22 @@ fn keys_find_their_actions_in_either_case() {
         assert!(!scene.keys.is_empty(), "{scene} has no keys");
     }
 }
+
+// Fails if a shared flag's help does not name exactly the scenes whose descriptors read it (a new
+// scene that reads `--green` must appear there without anyone editing the help text).
+#[test]
+fn a_shared_flags_help_names_its_scenes() {
+    let command = tutorial13::scenes::command_line(clap::Command::new("t"));
+    let green = command
+        .get_arguments()
+        .find(|a| a.get_id() == "green")
+        .expect("--green");
+    let help = green.get_help().expect("help").to_string();
+    let readers: Vec<_> = SCENES
+        .iter()
+        .filter(|s| s.shared_args.contains(&"green"))
+        .map(|s| s.name)
+        .collect();
+    assert_eq!(readers, ["cylinder", "sprite"]);
+    assert!(help.ends_with("[scenes cylinder and sprite]"), "{help}");
+}

@@ -14,6 +14,7 @@ pub mod assets;
 
 use std::path::{Path, PathBuf};
 
+use clap::ValueEnum;
 use glam::{Mat4, Vec2, Vec3};
 use glow::HasContext;
 
@@ -69,8 +70,6 @@ pub enum LightingSpace {
 }
 
 impl LightingSpace {
-    pub const ALL: [LightingSpace; 3] = [Self::View, Self::Tangent, Self::NoNormalMap];
-
     fn shaders(self) -> [&'static str; 2] {
         match self {
             Self::View => ["WallViewSpace.vertexshader", "WallViewSpace.fragmentshader"],
@@ -137,7 +136,7 @@ impl WallProgram {
 
 pub struct Wall {
     gl: Gl,
-    /// In [`LightingSpace::ALL`]'s order.
+    /// One per [`LightingSpace`], in declaration order (indexed by `space as usize`).
     programs: Vec<WallProgram>,
     pub space: LightingSpace,
     /// The diffuse and normal maps.
@@ -171,12 +170,10 @@ impl SceneType for Wall {
     }
 }
 
-impl Wall {}
-
 fn load_programs(gl: &Gl, shader_dir: Option<&Path>) -> Result<Vec<WallProgram>> {
-    LightingSpace::ALL
-        .into_iter()
-        .map(|space| WallProgram::load(gl, space, shader_dir))
+    LightingSpace::value_variants()
+        .iter()
+        .map(|&space| WallProgram::load(gl, space, shader_dir))
         .collect()
 }
 
@@ -203,10 +200,7 @@ fn square() -> TriangleSoup {
 impl Scene for Wall {
     fn draw(&mut self, frame: &FrameInput) {
         let gl = &self.gl;
-        let p = &self.programs[LightingSpace::ALL
-            .iter()
-            .position(|&s| s == self.space)
-            .unwrap_or(0)];
+        let p = &self.programs[self.space as usize];
         let light = LIGHT_POSITION_WORLDSPACE;
         GL_STATE.apply(gl);
         // SAFETY: the program, uniforms and textures all belong to this context.
@@ -249,9 +243,9 @@ impl Scene for Wall {
     }
 
     fn shader_files(&self) -> Vec<PathBuf> {
-        let names = LightingSpace::ALL
-            .into_iter()
-            .flat_map(LightingSpace::shaders);
+        let names = LightingSpace::value_variants()
+            .iter()
+            .flat_map(|space| space.shaders());
         shader_paths(names, self.shader_dir.as_deref())
     }
 
