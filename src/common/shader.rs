@@ -126,13 +126,13 @@ pub fn load_shaders(gl: &Gl, vertex: &ShaderFile, fragment: &ShaderFile) -> Resu
         if !log.trim().is_empty() {
             log::debug!("link log: {}", log.trim_end());
         }
-        let mut declared_uniforms = declared_uniforms(&vertex.source);
-        declared_uniforms.extend(self::declared_uniforms(&fragment.source));
+        let mut declared = declared_uniforms(&vertex.source);
+        declared.extend(declared_uniforms(&fragment.source));
         Ok(Program {
             gl: gl.clone(),
             id,
             files,
-            declared_uniforms,
+            declared_uniforms: declared,
         })
     }
 }
