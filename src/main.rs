@@ -113,6 +113,11 @@ enum Command {
         /// Derivative filter
         #[arg(long, value_enum, default_value_t = Kernel::Sobel)]
         kernel: Kernel,
+        /// Turn the map by 180° (red and green negated): the tutorial's own cylinder (scene
+        /// cylinder without --model) shows every map that way round, so white looks raised there
+        /// only with this. Not for --model, the wall or other programs (README: "Which way is up")
+        #[arg(long)]
+        invert: bool,
     },
 }
 
@@ -184,6 +189,7 @@ fn run(cli: Cli, scene: SceneOptions) -> Result<()> {
         green,
         two_channel,
         kernel,
+        invert,
     }) = &cli.command
     {
         use tutorial13::normalmap::{normal_map, write_normal_map, HeightMap};
@@ -192,7 +198,8 @@ fn run(cli: Cli, scene: SceneOptions) -> Result<()> {
         }
         let heights = HeightMap::load(height)?;
         let options = tutorial13::normalmap::NormalMapOptions {
-            strength: *strength,
+            // Both slopes negated: the same as the height turned inside out.
+            strength: if *invert { -strength } else { *strength },
             kernel: *kernel,
             green: *green,
             two_channel: *two_channel,

@@ -83,6 +83,17 @@ impl Controls {
         }
     }
 
+    /// Moves the camera back along its view direction until a sphere at `center` of `radius` fits
+    /// the view (the narrower of the two fields of view), with a 5 % margin. Not the tutorial's:
+    /// its start position is framed for its own cylinder only (a learner's model uses this).
+    pub fn frame_sphere(&mut self, center: Vec3, radius: f32) {
+        let half_fov_y = radians_as_glm(self.initial_fov) / 2.0;
+        let half_fov_x = (half_fov_y.tan() * self.aspect).atan();
+        let distance = 1.05 * radius / half_fov_y.min(half_fov_x).sin();
+        self.position = center - self.direction() * distance;
+        self.compute_matrices_from_inputs(&Input::default(), 0.0);
+    }
+
     /// Spherical angles to a direction, as the tutorial's `direction` vector.
     pub fn direction(&self) -> Vec3 {
         let (h, v) = (self.horizontal_angle, self.vertical_angle);

@@ -35,17 +35,53 @@ pub fn load_obj(path: &Path) -> Result<TriangleSoup> {
 
 /// [`load_obj`] on bytes already in memory; `path` is only used in error messages.
 pub fn load_obj_bytes(bytes: &[u8], path: &Path) -> Result<TriangleSoup> {
+    let no_materials = |_: &Path| Ok((Vec::new(), Default::default()));
+    Ok(read_obj(bytes, path, ObjMode::Tutorial, no_materials)?.soup)
+}
+
+/// How [`read_obj`] reads a file: as the tutorial's `loadOBJ`, or as a learner's model (the
+/// project's addition, `crate::model`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum ObjMode {
+    /// V negated, every corner `v/vt/vn`, the `.mtl` never read.
+    Tutorial,
+    /// V as written, corners `v/vt` or `v/vt/vn` (normals left out are computed by the caller), the
+    /// `.mtl` read through the material loader.
+    Model,
+}
+
+/// What [`read_obj`] reads: the soup, and for [`ObjMode::Model`] each triangle's material.
+#[derive(Debug, Default)]
+pub(crate) struct ObjRead {
+    pub soup: TriangleSoup,
+    /// One per triangle: an index into `materials`, or `None` (no `usemtl`, or an unknown one).
+    pub triangle_materials: Vec<Option<usize>>,
+    pub materials: Vec<tobj::Material>,
+    /// For each corner of the soup, its position's index in the file (the key of a smooth normal).
+    pub position_indices: Vec<u32>,
+    /// No corner has a normal index: `soup.normals` is empty, for the caller to compute.
+    pub normals_missing: bool,
+}
+
+/// tobj's parse with the checks above it, in either mode. `materials` loads an `mtllib` (called
+/// with the name as written in the OBJ).
+pub(crate) fn read_obj(
+    bytes: &[u8],
+    path: &Path,
+    mode: ObjMode,
+    materials: impl Fn(&Path) -> tobj::MTLLoadResult,
+) -> Result<ObjRead> {
     let err = |reason: String| Error::Obj {
         path: path.to_path_buf(),
         reason,
     };
     let text = std::str::from_utf8(bytes)
         .map_err(|e| err(format!("not UTF-8 text (byte {})", e.valid_up_to())))?;
-    let has_polylines = check_faces(text).map_err(err)?;
+    let scan = check_faces(text, mode).map_err(err)?;
     // tobj reads `l` lines with its face parser, so a polyline of three or more points would become
     // a triangle. The tutorial's loader skips lines it does not know, `l` included: drop them here,
     // keeping the line count so that tobj's view of the file is otherwise the same.
-    let text = if has_polylines {
+    let text = if scan.has_polylines {
         std::borrow::Cow::Owned(drop_polylines(text))
     } else {
         std::borrow::Cow::Borrowed(text)
@@ -57,34 +93,38 @@ pub fn load_obj_bytes(bytes: &[u8], path: &Path) -> Result<TriangleSoup> {
         ignore_points: true,
         ignore_lines: true,
     };
-    // Materials are not used by the tutorial: never touch the .mtl file.
-    let (models, _) = tobj::load_obj_buf(&mut text.as_bytes(), &options, |_| {
-        Ok((Vec::new(), Default::default()))
-    })
-    .map_err(|e| err(e.to_string()))?;
+    // The tutorial never touches the .mtl file: its caller passes a loader that reads nothing.
+    let (models, loaded) = tobj::load_obj_buf(&mut text.as_bytes(), &options, materials)
+        .map_err(|e| err(e.to_string()))?;
 
-    let mut soup = TriangleSoup::default();
+    let normals_missing = mode == ObjMode::Model && scan.corners_with_normal == 0;
+    let mut read = ObjRead {
+        materials: loaded.unwrap_or_default(),
+        normals_missing,
+        ..Default::default()
+    };
+    let soup = &mut read.soup;
     for model in &models {
         let mesh = &model.mesh;
-        // The pre-scan guarantees that every corner has all three indices, so the index lists match.
-        if mesh.texcoord_indices.len() != mesh.indices.len()
-            || mesh.normal_indices.len() != mesh.indices.len()
-        {
+        // The pre-scan guarantees that every corner has its indices, so the index lists match.
+        let normals_match = normals_missing || mesh.normal_indices.len() == mesh.indices.len();
+        if mesh.texcoord_indices.len() != mesh.indices.len() || !normals_match {
             return Err(err(format!(
                 "object '{}' has faces without UV or normal indices",
                 model.name
             )));
         }
-        for ((&vi, &ti), &ni) in mesh
-            .indices
-            .iter()
-            .zip(&mesh.texcoord_indices)
-            .zip(&mesh.normal_indices)
-        {
-            let (vi, ti, ni) = (vi as usize, ti as usize, ni as usize);
+        for (corner, (&vi, &ti)) in mesh.indices.iter().zip(&mesh.texcoord_indices).enumerate() {
+            let (vi, ti) = (vi as usize, ti as usize);
             let position = Vec3::from_slice(&mesh.positions[3 * vi..3 * vi + 3]);
             let uv = Vec2::from_slice(&mesh.texcoords[2 * ti..2 * ti + 2]);
-            let normal = Vec3::from_slice(&mesh.normals[3 * ni..3 * ni + 3]);
+            let normal = match normals_missing {
+                true => Vec3::ZERO,
+                false => {
+                    let ni = mesh.normal_indices[corner] as usize;
+                    Vec3::from_slice(&mesh.normals[3 * ni..3 * ni + 3])
+                }
+            };
             if !(position.is_finite() && uv.is_finite() && normal.is_finite()) {
                 return Err(err(format!(
                     "object '{}' uses a non-finite number (position {position}, uv {uv}, normal {normal})",
@@ -92,23 +132,43 @@ pub fn load_obj_bytes(bytes: &[u8], path: &Path) -> Result<TriangleSoup> {
                 )));
             }
             soup.vertices.push(position);
-            // Invert V: the tutorial's DDS textures are stored upside down.
-            soup.uvs.push(Vec2::new(uv.x, -uv.y));
-            soup.normals.push(normal);
+            soup.uvs.push(match mode {
+                // Invert V: the tutorial's DDS textures are stored upside down.
+                ObjMode::Tutorial => Vec2::new(uv.x, -uv.y),
+                ObjMode::Model => uv,
+            });
+            if !normals_missing {
+                soup.normals.push(normal);
+            }
+            read.position_indices.push(vi as u32);
         }
+        let triangles = mesh.indices.len() / 3;
+        read.triangle_materials
+            .extend(std::iter::repeat_n(mesh.material_id, triangles));
     }
-    if soup.vertices.is_empty() {
+    if read.soup.vertices.is_empty() {
         return Err(err("no faces".into()));
     }
-    Ok(soup)
+    Ok(read)
+}
+
+/// What [`check_faces`] saw besides errors.
+struct FaceScan {
+    has_polylines: bool,
+    corners_with_normal: usize,
+    corners_without_normal: usize,
 }
 
 /// Checks every `f` line for what the tutorial needs and tobj does not enforce: at least three
 /// corners, each written `v/vt/vn` with all three indices present, non-zero and in range at that
 /// point of the file (relative indices count back from the elements declared so far). Returns
 /// whether the file has `l` (polyline) lines, which the caller drops.
-fn check_faces(text: &str) -> std::result::Result<bool, String> {
-    let mut has_polylines = false;
+fn check_faces(text: &str, mode: ObjMode) -> std::result::Result<FaceScan, String> {
+    let mut scan = FaceScan {
+        has_polylines: false,
+        corners_with_normal: 0,
+        corners_without_normal: 0,
+    };
     let mut counts = [0usize; 3]; // v, vt, vn declared so far
     for (line_number, line) in text.lines().enumerate() {
         let line_number = line_number + 1;
@@ -117,13 +177,17 @@ fn check_faces(text: &str) -> std::result::Result<bool, String> {
             Some("v") => counts[0] += 1,
             Some("vt") => counts[1] += 1,
             Some("vn") => counts[2] += 1,
-            Some("l") => has_polylines = true,
+            Some("l") => scan.has_polylines = true,
             Some("f") => {
                 let mut corners = 0;
                 for corner in words {
-                    check_corner(corner, &counts).map_err(|reason| {
+                    let has_normal = check_corner(corner, &counts, mode).map_err(|reason| {
                         format!("line {line_number}: corner '{corner}': {reason}")
                     })?;
+                    match has_normal {
+                        true => scan.corners_with_normal += 1,
+                        false => scan.corners_without_normal += 1,
+                    }
                     corners += 1;
                 }
                 if corners < 3 {
@@ -135,7 +199,15 @@ fn check_faces(text: &str) -> std::result::Result<bool, String> {
             _ => {}
         }
     }
-    Ok(has_polylines)
+    if scan.corners_with_normal > 0 && scan.corners_without_normal > 0 {
+        // tobj would fill the missing ones with other corners' normals.
+        return Err(format!(
+            "{} face corners have a normal index and {} have none: give every corner one \
+             (v/vt/vn) or none (v/vt, and normals are computed)",
+            scan.corners_with_normal, scan.corners_without_normal
+        ));
+    }
+    Ok(scan)
 }
 
 /// `text` with every `l` line emptied (its line break kept). Lines are split as tobj splits them
@@ -154,17 +226,31 @@ fn drop_polylines(text: &str) -> String {
     kept
 }
 
-fn check_corner(corner: &str, counts: &[usize; 3]) -> std::result::Result<(), String> {
+/// Checks one face corner; returns whether it has a normal index.
+fn check_corner(
+    corner: &str,
+    counts: &[usize; 3],
+    mode: ObjMode,
+) -> std::result::Result<bool, String> {
     const WHAT: [&str; 3] = ["position", "UV", "normal"];
+    let needs = match mode {
+        ObjMode::Tutorial => NEEDS_UV_AND_NORMAL,
+        ObjMode::Model => NEEDS_UV,
+    };
     let mut parts = corner.split('/');
     let parts = [parts.next(), parts.next(), parts.next(), parts.next()];
-    let [Some(v), Some(vt), Some(vn), None] = parts else {
-        return Err(NEEDS_UV_AND_NORMAL.into());
+    let (v, vt, vn) = match parts {
+        [Some(v), Some(vt), Some(vn), None] => (v, vt, vn),
+        [Some(v), Some(vt), None, None] if mode == ObjMode::Model => (v, vt, ""),
+        _ => return Err(needs.into()),
     };
-    if vt.is_empty() || vn.is_empty() {
-        return Err(NEEDS_UV_AND_NORMAL.into());
+    if vt.is_empty() || (vn.is_empty() && mode == ObjMode::Tutorial) {
+        return Err(needs.into());
     }
     for (k, part) in [v, vt, vn].into_iter().enumerate() {
+        if part.is_empty() {
+            continue; // a model's missing normal
+        }
         let index: i64 = part
             .parse()
             .map_err(|_| format!("'{part}' is not an index"))?;
@@ -183,10 +269,12 @@ fn check_corner(corner: &str, counts: &[usize; 3]) -> std::result::Result<(), St
             ));
         }
     }
-    Ok(())
+    Ok(!vn.is_empty())
 }
 
 const NEEDS_UV_AND_NORMAL: &str = "needs a UV and a normal index (v/vt/vn): the tutorial uses both";
+const NEEDS_UV: &str = "needs a texture coordinate index (v/vt or v/vt/vn): normal mapping reads \
+                        its maps at each point's UV, and the model has none there";
 
 #[cfg(test)]
 mod tests {

@@ -417,7 +417,7 @@ fn compression_name(code: u32) -> &'static str {
 
 /// A GL texture name, deleted with the value.
 pub struct Texture {
-    gl: Gl,
+    pub(crate) gl: Gl,
     pub id: glow::Texture,
 }
 

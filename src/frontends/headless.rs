@@ -70,12 +70,13 @@ impl HeadlessRenderer {
             |name| context.get_proc_address(name),
         )?;
         let scene = build_scene(&context, options.descriptor, &options.scene)?;
+        let controls = scene.start_controls(options.width, options.height);
         Ok(HeadlessRenderer {
             scene,
             descriptor: options.descriptor,
             scene_options: options.scene.clone(),
             target,
-            controls: Controls::for_viewport(options.width, options.height),
+            controls,
             cursor: None,
             context,
         })
@@ -87,6 +88,24 @@ impl HeadlessRenderer {
     pub fn switch_scene(&mut self, name: &'static SceneDescriptor) -> Result<()> {
         self.scene = build_scene(&self.context, name, &self.scene_options)?;
         self.descriptor = name;
+        Ok(())
+    }
+
+    /// What the window does with a dropped file ([`crate::scenes::open_file`]): the scene that opens
+    /// it, built with it, and the camera at that scene's start. On an error the current scene stays.
+    pub fn open_file(&mut self, path: &std::path::Path) -> Result<()> {
+        let mut options = self.scene_options.clone();
+        let next = crate::scenes::open_file(path, &mut options).ok_or_else(|| {
+            crate::Error::Window(format!(
+                "{}: no scene opens this kind of file (drop an .obj model)",
+                path.display()
+            ))
+        })?;
+        self.scene = build_scene(&self.context, next, &options)?;
+        self.scene_options = options;
+        self.descriptor = next;
+        let (width, height) = (self.target.width(), self.target.height());
+        self.controls = self.scene.start_controls(width, height);
         Ok(())
     }
 

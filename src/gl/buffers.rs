@@ -117,6 +117,24 @@ impl MeshBuffers {
 
     /// The tutorial's draw: enable and point each attribute array, draw the elements, disable.
     pub fn draw(&self) {
+        self.draw_indices(0, self.index_count);
+    }
+
+    /// [`MeshBuffers::draw`] of the triangles `triangles` only (one material of a model); a range
+    /// past the end is cut to it.
+    pub fn draw_triangles(&self, triangles: std::ops::Range<usize>) {
+        let end = (3 * triangles.end).min(self.index_count as usize);
+        let first = (3 * triangles.start).min(end);
+        // Both fit: `index_count` is an i32.
+        self.draw_indices(first as i32, (end - first) as i32);
+    }
+
+    /// Draws `count` indices from index `first`.
+    fn draw_indices(&self, first: i32, count: i32) {
+        let index_size = match self.index_type {
+            glow::UNSIGNED_SHORT => 2,
+            _ => 4,
+        };
         let gl = &self.gl;
         // SAFETY: every buffer belongs to this context; the pointers describe the data uploaded in
         // `new`, whose indices were checked against the vertex count.
@@ -128,7 +146,12 @@ impl MeshBuffers {
                 gl.vertex_attrib_pointer_f32(a.location, a.components, glow::FLOAT, false, 0, 0);
             }
             gl.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, Some(self.elements.name()));
-            gl.draw_elements(glow::TRIANGLES, self.index_count, self.index_type, 0);
+            gl.draw_elements(
+                glow::TRIANGLES,
+                count,
+                self.index_type,
+                first.saturating_mul(index_size),
+            );
             for a in &self.attributes {
                 gl.disable_vertex_attrib_array(a.location);
             }

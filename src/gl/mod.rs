@@ -8,6 +8,7 @@ pub mod image;
 pub mod objects;
 pub mod offscreen;
 pub mod state;
+pub mod textures;
 pub mod uniforms;
 
 use std::fmt;

@@ -46,6 +46,18 @@ pub fn find(name: &str) -> Result<&'static SceneDescriptor, String> {
         })
 }
 
+/// The first scene that opens `path` (a file dropped on the window), with `options` changed to open
+/// it; `None` if no scene opens files of its kind.
+pub fn open_file(
+    path: &std::path::Path,
+    options: &mut SceneOptions,
+) -> Option<&'static SceneDescriptor> {
+    SCENES
+        .iter()
+        .copied()
+        .find(|scene| (scene.open_file)(path, options))
+}
+
 /// The scene after `scene`, wrapping around (the Enter key).
 pub fn next(scene: &SceneDescriptor) -> &'static SceneDescriptor {
     let i = SCENES.iter().position(|s| *s == scene).unwrap_or(0);

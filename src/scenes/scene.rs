@@ -38,6 +38,9 @@ pub struct SceneDescriptor {
     pub build: fn(&SceneContext, &SceneOptions) -> Result<Box<dyn Scene>>,
     /// The files `make-assets` generates for the scene: paths under the assets folder, and bytes.
     pub generate_assets: fn() -> Result<crate::assets::GeneratedFiles>,
+    /// A file dropped on the window: puts it into the scene's options and returns `true` if the
+    /// scene opens files of its kind (the cylinder opens an `.obj` as `--model`).
+    pub open_file: fn(&Path, &mut SceneOptions) -> bool,
 }
 
 impl SceneDescriptor {
@@ -59,6 +62,7 @@ impl SceneDescriptor {
             read_args: read_args::<S::Args>,
             build: build::<S>,
             generate_assets: || Ok(Vec::new()),
+            open_file: |_, _| false,
         }
     }
 }
@@ -107,8 +111,9 @@ pub trait SceneArgs: clap::Args + clap::FromArgMatches {
     /// What the scene is built with; its `Default` is the scene without any flag.
     type Options: SceneOption + Clone + Default;
 
-    /// The options these arguments (and the flags several scenes share) ask for.
-    fn options(&self, shared: &SharedArgs) -> Self::Options;
+    /// The options these arguments (and the flags several scenes share) ask for, or why they
+    /// cannot be (a value this scene cannot use: the message names the flag).
+    fn options(&self, shared: &SharedArgs) -> std::result::Result<Self::Options, String>;
 }
 
 /// Arguments that are the scene's options as they are (a scene whose every switch is a flag).
@@ -117,8 +122,8 @@ pub trait OwnOptions: clap::Args + clap::FromArgMatches + SceneOption + Clone + 
 impl<T: OwnOptions> SceneArgs for T {
     type Options = T;
 
-    fn options(&self, _shared: &SharedArgs) -> T {
-        self.clone()
+    fn options(&self, _shared: &SharedArgs) -> std::result::Result<T, String> {
+        Ok(self.clone())
     }
 }
 
@@ -129,7 +134,10 @@ pub fn read_args<A: SceneArgs>(
 ) -> std::result::Result<(), clap::Error> {
     let shared = <SharedArgs as clap::FromArgMatches>::from_arg_matches(matches)?;
     let args = A::from_arg_matches(matches)?;
-    options.set(args.options(&shared));
+    let value = args.options(&shared).map_err(|message| {
+        clap::Error::raw(clap::error::ErrorKind::ValueValidation, message + "\n")
+    })?;
+    options.set(value);
     Ok(())
 }
 
@@ -142,6 +150,28 @@ pub struct SharedArgs {
     /// Normal map's green channel: up the picture (OpenGL, the tutorial's) or down (DirectX) (key Y)
     #[arg(long, value_enum, value_name = "DIR", default_value_t = crate::normalmap::Green::Up)]
     pub green: crate::normalmap::Green,
+
+    /// Where the light is. cylinder: X,Y,Z in world space [default: the tutorial's lightPos 0,0,4],
+    /// or in the model's own coordinates with --model [default: where the tutorial's light is
+    /// beside its cylinder, scaled to the model]. sprite: X,Y across the window (0 to 1, y up) and
+    /// the height Z > 0 [default: 0.4,0.6,0.075]; in the window the mouse takes over once it moves
+    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
+    pub light: Option<glam::Vec3>,
+}
+
+/// `X,Y,Z` of three finite numbers.
+pub fn parse_vec3(s: &str) -> std::result::Result<glam::Vec3, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [x, y, z] = parts[..] else {
+        return Err(format!("'{s}' is not X,Y,Z, e.g. 0,0,4"));
+    };
+    let parse = |v: &str| {
+        v.parse::<f32>()
+            .ok()
+            .filter(|n| n.is_finite())
+            .ok_or_else(|| format!("'{v}' is not a finite number"))
+    };
+    Ok(glam::Vec3::new(parse(x)?, parse(y)?, parse(z)?))
 }
 
 /// A value a scene is built with (its options type): any plain data.
@@ -335,6 +365,22 @@ pub trait Scene: AsAny {
 
     /// One line for the title bar and the log: the scene's current switches.
     fn status(&self) -> String;
+
+    /// The sphere (centre, radius; world space) the camera starts by framing, and goes back to
+    /// with R; `None` = the tutorial's start camera.
+    fn framing(&self) -> Option<(glam::Vec3, f32)> {
+        None
+    }
+
+    /// The tutorial's camera for a viewport of `width × height`, framing [`Scene::framing`] if the
+    /// scene has one.
+    fn start_controls(&self, width: u32, height: u32) -> crate::common::controls::Controls {
+        let mut controls = crate::common::controls::Controls::for_viewport(width, height);
+        if let Some((center, radius)) = self.framing() {
+            controls.frame_sphere(center, radius);
+        }
+        controls
+    }
 
     /// The shader files the scene's programs are read from (the copies built into the binary are not
     /// files): the window watches them and calls [`Scene::reload_shaders`] when one is saved.

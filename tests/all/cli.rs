@@ -311,7 +311,16 @@ fn a_flag_of_another_scene_stops_the_program_before_rendering() {
     let scratch = common::scratch("other_scene_flag");
     let shot = scratch.join("frame.png");
     for (args, flag, owner) in [
-        (&["--light", "0.5,0.5,0.1"][..], "--light", "scene sprite"),
+        (
+            &["--scene", "cube", "--light", "0.5,0.5,0.1"][..],
+            "--light",
+            "scenes cylinder and sprite",
+        ),
+        (
+            &["--scene", "wall", "--model", "a.obj"][..],
+            "--model",
+            "scene cylinder",
+        ),
         (&["--space", "tangent"][..], "--space", "scene wall"),
         (
             &["--scene", "wall", "--view", "normal"][..],

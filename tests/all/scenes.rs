@@ -116,6 +116,9 @@ fn some_value(arg: &clap::Arg) -> Option<String> {
     let value = match arg.get_id().as_str() {
         "compare" => "tutorial,mikktspace".to_string(),
         "light" => "0.5,0.5,0.1".to_string(),
+        "model" => "model.obj".to_string(),
+        "diffuse" | "normal_map" | "specular" | "height" => "map.png".to_string(),
+        "strength" => "8".to_string(),
         _ => match arg.get_default_values().first() {
             Some(default) => default.to_string_lossy().into_owned(),
             None => arg.get_possible_values()[0].get_name().to_string(),
@@ -137,10 +140,14 @@ fn a_flag_of_another_scene_is_an_error_naming_its_scene() {
             let long = format!("--{}", arg.get_long().unwrap());
             let mut argv = vec!["t".to_string(), long.clone()];
             argv.extend(some_value(arg));
-            // These two need --compare, which is then the first flag found out of place.
+            // These two need --compare, which is then the first flag found out of place; and
+            // --strength needs --height.
             let named = if arg.get_id() == "split" || arg.get_id() == "compare_difference" {
                 argv.extend(["--compare".into(), "tutorial,mikktspace".into()]);
                 "--compare".to_string()
+            } else if arg.get_id() == "strength" {
+                argv.extend(["--height".into(), "map.png".into()]);
+                "--height".to_string()
             } else {
                 long.clone()
             };

@@ -6,7 +6,7 @@ use winit::keyboard::KeyCode;
 use winit::window::{CursorGrabMode, Window};
 
 use crate::common::controls::{Controls, Input};
-use crate::scenes::MouseMode;
+use crate::scenes::{MouseMode, Scene};
 
 /// The camera and the input that moves it.
 #[derive(Default)]
@@ -44,9 +44,10 @@ impl InputState {
         }
     }
 
-    /// The camera back at the tutorial's start.
-    pub fn reset_camera(&mut self) {
-        self.controls = Controls::default();
+    /// The camera back at the start of `scene` (the tutorial's, or framing the scene's model) for
+    /// the window's `size`.
+    pub fn reset_camera(&mut self, scene: &dyn Scene, size: (u32, u32)) {
+        self.controls = scene.start_controls(size.0, size.1);
     }
 
     /// This frame's input (none while time is frozen); the motion is consumed.

@@ -12,7 +12,7 @@ mod gl_window;
 mod input;
 mod renderer;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use glam::Vec2;
 use winit::application::ApplicationHandler;
@@ -173,10 +173,18 @@ impl Running {
             input: InputState::default(),
             gl_window,
         };
+        running.reset_camera();
         if options.frames.is_none() {
             running.grab_cursor(true);
         }
         Ok(running)
+    }
+
+    /// The camera at the current scene's start, for the window's size.
+    fn reset_camera(&mut self) {
+        let size = self.gl_window.window.inner_size();
+        let scene = &*self.renderer.scene;
+        self.input.reset_camera(scene, (size.width, size.height));
     }
 
     fn grab_cursor(&mut self, grab: bool) {
@@ -190,13 +198,26 @@ impl Running {
             .frame(&self.gl_window, &mut self.input, frozen)
     }
 
+    /// A file dropped on the window (an .obj: `--model`), with the camera at its start; an error
+    /// (an unreadable model, another kind of file) is logged and the scene stays.
+    fn open_file(&mut self, path: &Path) {
+        match self.renderer.open_file(&self.gl_window, path) {
+            Ok(()) => {
+                self.grab_cursor(false);
+                self.reset_camera();
+                self.grab_cursor(true);
+            }
+            Err(e) => log::error!("{e}"),
+        }
+    }
+
     /// Enter: the next scene, with the camera back at the start and the cursor as it wants it.
     fn next_scene(&mut self) {
         let next = crate::scenes::next(self.renderer.descriptor);
         match self.renderer.switch_scene(&self.gl_window, next) {
             Ok(()) => {
                 self.grab_cursor(false);
-                self.input.reset_camera();
+                self.reset_camera();
                 self.grab_cursor(true);
             }
             Err(e) => log::error!("{e}"),
@@ -214,8 +235,8 @@ impl Running {
             KeyCode::Enter => self.next_scene(),
             KeyCode::F5 => self.renderer.reload_shaders(),
             KeyCode::KeyR => {
-                self.input.reset_camera();
-                log::info!("camera back at the tutorial's start");
+                self.reset_camera();
+                log::info!("camera back at the start");
             }
             KeyCode::KeyP => {
                 // The frame on screen is the front buffer: draw it again and read it back.
@@ -334,6 +355,7 @@ impl ApplicationHandler for App {
                 };
                 running.renderer.scene.scroll(notches);
             }
+            WindowEvent::DroppedFile(path) => running.open_file(&path),
             WindowEvent::Resized(size) => {
                 running.gl_window.resize();
                 log::debug!("resized to {}x{}", size.width, size.height);

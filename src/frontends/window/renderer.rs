@@ -67,7 +67,32 @@ impl Renderer {
         gl_window: &GlWindow,
         next: &'static SceneDescriptor,
     ) -> Result<()> {
-        let scene = gl_window.with_scene_context(|c| (next.build)(c, &self.scene_options))?;
+        let options = self.scene_options.clone();
+        self.install(gl_window, next, options)
+    }
+
+    /// A file dropped on the window: the scene that opens it, with it (see
+    /// [`crate::scenes::open_file`]). On an error the current scene stays.
+    pub fn open_file(&mut self, gl_window: &GlWindow, path: &Path) -> Result<()> {
+        let mut options = self.scene_options.clone();
+        let next = crate::scenes::open_file(path, &mut options).ok_or_else(|| {
+            Error::Window(format!(
+                "{}: no scene opens this kind of file (drop an .obj model)",
+                path.display()
+            ))
+        })?;
+        self.install(gl_window, next, options)
+    }
+
+    /// Builds `next` with `options` (the current scene stays if that fails) and makes it current.
+    fn install(
+        &mut self,
+        gl_window: &GlWindow,
+        next: &'static SceneDescriptor,
+        options: SceneOptions,
+    ) -> Result<()> {
+        let scene = gl_window.with_scene_context(|c| (next.build)(c, &options))?;
+        self.scene_options = options;
         self.scene = scene;
         self.descriptor = next;
         self.shader_watch = ShaderWatch::new(&*self.scene);

@@ -5,7 +5,10 @@ use crate::common::vboindexer::IndexOptions;
 use crate::debug::compare::CompareMode;
 use crate::debug::lines::LineMode;
 use crate::debug::views::{ColorView, NormalMapConvention, ShaderSwitches};
+use std::path::PathBuf;
+
 use crate::mesh::MeshOptions;
+use crate::model::MapOverrides;
 use crate::normalmap::Green;
 use crate::scenes::scene::{SceneArgs, SharedArgs};
 use crate::tangents::TangentSource;
@@ -75,13 +78,53 @@ pub struct CylinderArgs {
     /// The normal map holds x and y only; rebuild z = sqrt(1 - x² - y²) (key Z)
     #[arg(long)]
     pub two_channel: bool,
+
+    /// Your own model instead of the tutorial's cylinder: an OBJ with UVs (normals are computed if
+    /// it has none) and the maps its .mtl names (map_Kd, map_Bump/bump/norm, map_Ks; PNG, JPEG,
+    /// TGA, BMP or DDS). A map the .mtl names but that is missing or unreadable is replaced by a
+    /// neutral one with a notice; a map not named is neutral (Kd or white, flat normal, specular
+    /// 0.3). The model is scaled onto the tutorial's cylinder, so its camera, light and debug lines
+    /// fit it. Dropping an .obj file on the window loads it too
+    #[arg(long, value_name = "FILE.obj")]
+    pub model: Option<PathBuf>,
+
+    /// Diffuse map over the material's (or the tutorial's diffuse.DDS); a missing or unreadable
+    /// file is an error
+    #[arg(long, value_name = "FILE")]
+    pub diffuse: Option<PathBuf>,
+
+    /// Normal map over the material's (or the tutorial's normal.bmp), green up. The tutorial's own
+    /// cylinder shows a map turned by 180° (see `normalmap --invert`); a model shows it as made
+    #[arg(long, value_name = "FILE", conflicts_with = "height")]
+    pub normal_map: Option<PathBuf>,
+
+    /// Specular map over the material's (or the tutorial's specular.DDS)
+    #[arg(long, value_name = "FILE")]
+    pub specular: Option<PathBuf>,
+
+    /// A grey-scale height map (white high) made into the normal map as `normalmap` does (on the
+    /// tutorial's cylinder, turned for its frame so that white still looks raised)
+    #[arg(long, value_name = "FILE")]
+    pub height: Option<PathBuf>,
+
+    /// With --height: texels of relief that black-to-white stands for [default: 8]
+    #[arg(
+        long,
+        value_name = "S",
+        requires = "height",
+        allow_negative_numbers = true
+    )]
+    pub strength: Option<f32>,
 }
 
 impl SceneArgs for CylinderArgs {
     type Options = CylinderOptions;
 
-    fn options(&self, shared: &SharedArgs) -> CylinderOptions {
-        CylinderOptions {
+    fn options(&self, shared: &SharedArgs) -> Result<CylinderOptions, String> {
+        if let Some(s) = self.strength.filter(|s| !s.is_finite()) {
+            return Err(format!("--strength {s}: must be a finite number"));
+        }
+        Ok(CylinderOptions {
             mesh: MeshOptions {
                 tangents: TangentOptions {
                     gram_schmidt: !self.no_gram_schmidt,
@@ -113,7 +156,16 @@ impl SceneArgs for CylinderArgs {
                 },
                 split: self.split,
             }),
-        }
+            model: self.model.clone(),
+            maps: MapOverrides {
+                diffuse: self.diffuse.clone(),
+                normal: self.normal_map.clone(),
+                specular: self.specular.clone(),
+                height: self.height.clone(),
+                strength: self.strength,
+            },
+            light: shared.light,
+        })
     }
 }
 

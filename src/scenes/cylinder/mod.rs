@@ -6,13 +6,16 @@
 //! the TBN debug lines (immediate mode, or the line shader).
 
 pub mod args;
+pub mod maps;
 pub mod tutorial13;
 
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 
+use glam::Vec3;
 use glow::HasContext;
 
-use crate::common::objloader::load_obj;
+use crate::common::objloader::{load_obj, TriangleSoup};
 use crate::common::shader::shader_paths;
 use crate::debug::compare::{CompareMode, CompareView};
 use crate::debug::lines::{DebugLines, LegacyGl, LineMode, LINE_SHADERS};
@@ -21,6 +24,9 @@ use crate::gl::buffers::MeshBuffers;
 use crate::gl::state::GlState;
 use crate::gl::Gl;
 use crate::mesh::MeshOptions;
+use crate::model::{
+    load_model, MapOverrides, Model, TUTORIAL_CYLINDER_CENTER, TUTORIAL_CYLINDER_RADIUS,
+};
 use crate::tangents::TangentSource;
 use crate::Result;
 
@@ -29,12 +35,14 @@ use super::scene::{
     SceneOptions, SceneType,
 };
 pub use args::CylinderArgs;
-use tutorial13::{NormalMappingProgram, Tutorial13, CLEAR_COLOR, LIGHT_POS, SHADERS};
+use maps::{model_texture_sets, override_tutorial_maps};
+use tutorial13::{NormalMappingProgram, Tutorial13, CLEAR_COLOR, SHADERS};
 
 /// The scene as the rest of the program knows it.
 pub static SCENE: SceneDescriptor = SceneDescriptor {
-    shared_args: &["green"],
+    shared_args: &["green", "light"],
     generate_assets: crate::assets::generate_cylinder_assets,
+    open_file: open_model,
     ..SceneDescriptor::of::<Cylinder>(
         "cylinder",
         "Tutorial 13: the normal-mapped cylinder, with its debugging aids as keys (the \
@@ -42,6 +50,17 @@ pub static SCENE: SceneDescriptor = SceneDescriptor {
         KEYS,
     )
 };
+
+/// A dropped `.obj` file is opened as `--model` (the other options stay as they were).
+fn open_model(path: &Path, options: &mut SceneOptions) -> bool {
+    let is_obj = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
+    if is_obj {
+        options.get_mut::<CylinderOptions>().model = Some(path.to_path_buf());
+    }
+    is_obj
+}
 
 /// The tutorial's state (`init_gl_state`), applied at the start of every frame: another scene may
 /// have drawn on this context since the cylinder was built.
@@ -58,7 +77,7 @@ pub struct CompareOptions {
 }
 
 /// The cylinder's switches, as the command line sets them.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct CylinderOptions {
     /// The CPU pipeline's switches (Gram-Schmidt, handedness, normalize before summing).
     pub mesh: MeshOptions,
@@ -72,6 +91,12 @@ pub struct CylinderOptions {
     pub tangents: TangentSource,
     /// Start in the compare view.
     pub compare: Option<CompareOptions>,
+    /// `--model FILE.obj`: a learner's model in place of the tutorial's cylinder.
+    pub model: Option<PathBuf>,
+    /// `--diffuse`, `--normal-map`, `--specular`, `--height`: maps over the model's or the tutorial's.
+    pub maps: MapOverrides,
+    /// `--light X,Y,Z`: world space for the tutorial's cylinder, the file's coordinates for a model.
+    pub light: Option<Vec3>,
 }
 
 /// What a key (or a test) can change while the program runs.
@@ -214,8 +239,25 @@ pub struct Cylinder {
     /// The immediate-mode entry points, or why this context has none.
     legacy: std::result::Result<LegacyGl, String>,
     line_mode: Option<LineMode>,
-    obj_path: PathBuf,
+    /// Where the CPU pipeline's soup comes from when a switch re-runs it.
+    soup_source: SoupSource,
     shader_dir: Option<PathBuf>,
+}
+
+/// The mesh the scene draws: the tutorial's `cylinder.obj` (read again by `loadOBJ` whenever the
+/// pipeline re-runs, as an edit of the tutorial would), or a learner's model, read once.
+enum SoupSource {
+    Tutorial(PathBuf),
+    Model(Rc<Model>),
+}
+
+impl SoupSource {
+    fn soup(&self) -> Result<std::borrow::Cow<'_, TriangleSoup>> {
+        Ok(match self {
+            SoupSource::Tutorial(path) => std::borrow::Cow::Owned(load_obj(path)?),
+            SoupSource::Model(model) => std::borrow::Cow::Borrowed(&model.soup),
+        })
+    }
 }
 
 impl SceneType for Cylinder {
@@ -230,7 +272,26 @@ impl SceneType for Cylinder {
     ) -> Result<Self> {
         let (assets, shader_dir) = (&files.assets_dir(), files.shader_dir());
         let gl = context.gl;
-        let tutorial = Tutorial13::new(gl, assets, shader_dir, cylinder.mesh)?;
+        let (mut tutorial, soup_source) = match &cylinder.model {
+            None => {
+                let mut tutorial = Tutorial13::new(gl, assets, shader_dir, cylinder.mesh)?;
+                override_tutorial_maps(gl, &mut tutorial.texture_sets[0], &cylinder.maps)?;
+                (tutorial, SoupSource::Tutorial(assets.join("cylinder.obj")))
+            }
+            Some(path) => {
+                let model = load_model(path, &cylinder.maps)?;
+                let sets = model_texture_sets(gl, &model)?;
+                let tutorial =
+                    Tutorial13::from_soup(gl, shader_dir, &model.soup, cylinder.mesh, sets)?;
+                (tutorial, SoupSource::Model(Rc::new(model)))
+            }
+        };
+        if let Some(light) = cylinder.light {
+            tutorial.light_position_worldspace = match &soup_source {
+                SoupSource::Model(model) => model.placement.to_world(light),
+                SoupSource::Tutorial(_) => light,
+            };
+        }
         let debug_program = DebugProgram::load(gl, shader_dir)?;
         let [vertex_shader, fragment_shader] = DERIVATIVE_SHADERS;
         let derivative_program =
@@ -257,7 +318,7 @@ impl SceneType for Cylinder {
             show_lines: false,
             legacy: LegacyGl::load_or_reason(context.info, context.loader),
             line_mode: cylinder.line_mode,
-            obj_path: assets.join("cylinder.obj"),
+            soup_source,
             shader_dir: shader_dir.map(Path::to_path_buf),
         };
         scene.set_tangent_source(cylinder.tangents)?;
@@ -293,7 +354,7 @@ impl Cylinder {
 
     /// Shows `sources` in the compare view (each drawn whole, the first left of the split).
     pub fn start_comparison(&mut self, sources: [TangentSource; 2]) -> Result<()> {
-        let soup = load_obj(&self.obj_path)?;
+        let soup = self.soup_source.soup()?;
         let upload = |source: TangentSource| -> Result<MeshBuffers> {
             MeshBuffers::new(&self.gl, &source.mesh(&soup, self.mesh_options)?)
         };
@@ -332,11 +393,14 @@ impl Cylinder {
     /// Runs the CPU pipeline of `source` with `options` and uploads the result; the lines follow
     /// (the per-pixel frame has no vertex tangents to show, so they are dropped until another source).
     fn rebuild_mesh(&mut self, source: TangentSource, options: MeshOptions) -> Result<()> {
-        if source == TangentSource::Tutorial {
-            self.tutorial.reload_mesh(&self.obj_path, options)?;
-        } else {
-            let soup = load_obj(&self.obj_path)?;
-            self.tutorial.set_mesh(source.mesh(&soup, options)?)?;
+        match (&self.soup_source, source) {
+            (SoupSource::Tutorial(path), TangentSource::Tutorial) => {
+                self.tutorial.reload_mesh(path, options)?
+            }
+            (soup_source, _) => {
+                let soup = soup_source.soup()?;
+                self.tutorial.set_mesh(source.mesh(&soup, options)?)?;
+            }
         }
         if source == TangentSource::Derivative {
             self.lines = None;
@@ -358,7 +422,7 @@ impl Cylinder {
                 &self.gl,
                 self.legacy.clone(),
                 &self.tutorial.mesh,
-                LIGHT_POS,
+                self.tutorial.light_position_worldspace,
                 self.line_mode,
                 self.shader_dir.as_deref(),
             )?;
@@ -526,6 +590,15 @@ impl Scene for Cylinder {
         handle_key(&BINDINGS, key, |action| self.apply(action))
     }
 
+    /// A model is placed on the tutorial's cylinder's bounding sphere; the camera starts framing it.
+    /// The tutorial's own cylinder keeps the tutorial's start.
+    fn framing(&self) -> Option<(Vec3, f32)> {
+        match self.soup_source {
+            SoupSource::Model(_) => Some((TUTORIAL_CYLINDER_CENTER, TUTORIAL_CYLINDER_RADIUS)),
+            SoupSource::Tutorial(_) => None,
+        }
+    }
+
     /// The tutorial's program, the debugging program and the line shader.
     fn shader_files(&self) -> Vec<PathBuf> {
         let programs = [SHADERS, DEBUG_SHADERS, DERIVATIVE_SHADERS, LINE_SHADERS];
@@ -559,7 +632,12 @@ impl Scene for Cylinder {
             (true, _) => "line shader",
             (false, _) => "off",
         };
-        format!(
+        let model = match &self.soup_source {
+            SoupSource::Model(model) => format!("model {} | ", model.path.display()),
+            SoupSource::Tutorial(_) => String::new(),
+        };
+        model
+            + &format!(
             "view {} | lines {lines} | Gram-Schmidt {} | handedness {} | normalize before sum {} | \
              specular texture {} | TBN {} | normal map {} | tangents {}",
             sw.view,

@@ -12,7 +12,7 @@ use std::rc::Rc;
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
 
-use crate::common::objloader::load_obj;
+use crate::common::objloader::{load_obj, TriangleSoup};
 use crate::common::shader::load_program;
 use crate::common::tangentspace::compute_tangent_basis;
 use crate::common::texture::{load_bmp_custom, load_dds, Texture};
@@ -20,7 +20,7 @@ use crate::common::vboindexer::{index_vbo_tbn, IndexedMesh};
 use crate::debug::lines::DebugLines;
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::{bind_textures, Gl};
-use crate::mesh::MeshOptions;
+use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
 
 /// `glClearColor(0.0f, 0.0f, 0.4f, 0.0f)`: dark blue.
@@ -69,14 +69,26 @@ impl NormalMappingProgram {
     }
 }
 
+/// `DiffuseTexture`, `NormalTexture`, `SpecularTexture`, and the triangles drawn with them: the
+/// tutorial has one set for its whole cylinder; a learner's model has one per material.
+pub struct TextureSet {
+    pub diffuse_texture: Texture,
+    pub normal_texture: Texture,
+    pub specular_texture: Texture,
+    /// Soup triangles drawn with these maps; `None` = all of them, in one `glDrawElements` as the
+    /// tutorial's.
+    pub triangles: Option<std::ops::Range<usize>>,
+}
+
 /// What `main` keeps between its set-up and its loop.
 pub struct Tutorial13 {
     gl: Gl,
     /// `programID` with its handles: `NormalMapping.vertexshader`, `NormalMapping.fragmentshader`.
     pub program: NormalMappingProgram,
-    pub diffuse_texture: Texture,
-    pub normal_texture: Texture,
-    pub specular_texture: Texture,
+    /// The tutorial's three textures (one set), or a model's per material.
+    pub texture_sets: Vec<TextureSet>,
+    /// `lightPos`: the tutorial's [`LIGHT_POS`] unless `--light` moves it.
+    pub light_position_worldspace: Vec3,
     /// `indexed_vertices`, `indexed_uvs`, ... and `indices`, shared with the debug lines.
     pub mesh: Rc<IndexedMesh>,
     /// `VertexArrayID`, `vertexbuffer` ... `bitangentbuffer`, `elementbuffer`.
@@ -114,9 +126,38 @@ impl Tutorial13 {
         Ok(Tutorial13 {
             gl: gl.clone(),
             program,
-            diffuse_texture,
-            normal_texture,
-            specular_texture,
+            texture_sets: vec![TextureSet {
+                diffuse_texture,
+                normal_texture,
+                specular_texture,
+                triangles: None,
+            }],
+            light_position_worldspace: LIGHT_POS,
+            mesh: Rc::new(mesh),
+            buffers,
+            model_matrix: Mat4::IDENTITY,
+        })
+    }
+
+    /// The same set-up for a mesh read another way (a learner's model) with its textures already
+    /// loaded: the GL state, the program, the CPU pipeline on `soup`, the buffers.
+    pub fn from_soup(
+        gl: &Gl,
+        shader_dir: Option<&Path>,
+        soup: &TriangleSoup,
+        mesh_options: MeshOptions,
+        texture_sets: Vec<TextureSet>,
+    ) -> Result<Self> {
+        init_gl_state(gl);
+        let [vertex_shader, fragment_shader] = SHADERS;
+        let program = NormalMappingProgram::load(gl, vertex_shader, fragment_shader, shader_dir)?;
+        let mesh = build_mesh(soup, mesh_options);
+        let buffers = MeshBuffers::new(gl, &mesh)?;
+        Ok(Tutorial13 {
+            gl: gl.clone(),
+            program,
+            texture_sets,
+            light_position_worldspace: LIGHT_POS,
             mesh: Rc::new(mesh),
             buffers,
             model_matrix: Mat4::IDENTITY,
@@ -179,7 +220,7 @@ impl Tutorial13 {
         // The upper-left 3×3 of the ModelView matrix: it turns directions, not points.
         let model_view_3x3_matrix = Mat3::from_mat4(model_view_matrix);
         let mvp = projection_matrix * model_view_matrix;
-        let light_pos = LIGHT_POS;
+        let light_pos = self.light_position_worldspace;
         // SAFETY: the program, uniforms and textures all belong to this context.
         unsafe {
             // Clear the screen.
@@ -198,19 +239,24 @@ impl Tutorial13 {
             gl.uniform_matrix_3_f32_slice(p.model_view_3x3_matrix_id.as_ref(), false, &mv3x3);
 
             gl.uniform_3_f32(p.light_id.as_ref(), light_pos.x, light_pos.y, light_pos.z);
+        }
 
+        for set in &self.texture_sets {
             // Bind the diffuse, normal and specular textures in units 0, 1, 2 and point the
             // samplers at them.
             let textures = [
-                (&self.diffuse_texture, &p.diffuse_texture_id),
-                (&self.normal_texture, &p.normal_texture_id),
-                (&self.specular_texture, &p.specular_texture_id),
+                (&set.diffuse_texture, &p.diffuse_texture_id),
+                (&set.normal_texture, &p.normal_texture_id),
+                (&set.specular_texture, &p.specular_texture_id),
             ];
             bind_textures(gl, &textures);
-        }
 
-        // The attribute buffers, the index buffer, glDrawElements.
-        buffers.draw();
+            // The attribute buffers, the index buffer, glDrawElements.
+            match &set.triangles {
+                None => buffers.draw(),
+                Some(triangles) => buffers.draw_triangles(triangles.clone()),
+            }
+        }
 
         // "Debugging with the immediate mode": the TBN lines and the light's cross (at lightPos).
         if let Some(lines) = lines {

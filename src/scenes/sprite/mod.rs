@@ -49,7 +49,7 @@ pub static SCENE: SceneDescriptor = SceneDescriptor {
     mouse_mode: MouseMode::Cursor,
     mouse_help: MOUSE_HELP,
     generate_assets: assets::generate,
-    shared_args: &["green"],
+    shared_args: &["green", "light"],
     ..SceneDescriptor::of::<Sprite>(
         "sprite",
         "Article 001: a 2D normal-mapped rock lit by a light on the mouse",

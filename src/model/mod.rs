@@ -1,0 +1,473 @@
+//! A learner's own model (`--model FILE.obj`): an OBJ with the materials of its `.mtl`, read for the
+//! tutorial's pipeline (`computeTangentBasis`, `indexVBO_TBN`, `NormalMapping.*`).
+//!
+//! Three things differ from the tutorial's `loadOBJ`, because a model exported by a modelling tool is
+//! not the tutorial's cylinder:
+//! * **V as written.** The tutorial negates V for its DDS files, stored upside down. A model's maps
+//!   are ordinary pictures (top row first, V up the picture), so nothing is negated; the GL upload
+//!   puts each map the way its sampler reads it (see [`maps`]).
+//! * **Materials.** Each `usemtl` range keeps its own maps; triangles are grouped by material (in the
+//!   order materials are first used) so that each material is one draw.
+//! * **Placement.** The positions are scaled and moved onto the tutorial's cylinder's bounding sphere
+//!   ([`TUTORIAL_CYLINDER_CENTER`], [`TUTORIAL_CYLINDER_RADIUS`]) as they are read. The tutorial's
+//!   numbers then hold at any size: its 0.01 merge tolerance in `indexVBO_TBN`, its light (`lightPos`
+//!   and the shader's `LightPower` 40 with its falloff), the camera's speed, the debug lines' length.
+//!   [`Placement`] converts the file's own coordinates (e.g. `--light`) to the placed ones.
+
+pub mod maps;
+pub mod mtl;
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use glam::{DVec3, Vec3};
+
+use crate::common::objloader::{read_obj, ObjMode, TriangleSoup};
+use crate::{Error, Result};
+
+/// The centre of the tutorial's cylinder's bounding box: it spans x and z from -1 to 1, y from 0 to 2.
+pub const TUTORIAL_CYLINDER_CENTER: Vec3 = Vec3::new(0.0, 1.0, 0.0);
+/// The distance from that centre to the cylinder's farthest vertex (its rims): √2.
+pub const TUTORIAL_CYLINDER_RADIUS: f32 = std::f32::consts::SQRT_2;
+
+/// Maps named on the command line, over every material's.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct MapOverrides {
+    /// `--diffuse FILE`.
+    pub diffuse: Option<PathBuf>,
+    /// `--normal-map FILE`.
+    pub normal: Option<PathBuf>,
+    /// `--specular FILE`.
+    pub specular: Option<PathBuf>,
+    /// `--height FILE`: a height map made into the normal map as `tutorial13 normalmap` does.
+    pub height: Option<PathBuf>,
+    /// `--strength S` for `--height` (the `normalmap` default, 8, when `None`).
+    pub strength: Option<f32>,
+}
+
+impl MapOverrides {
+    pub fn is_empty(&self) -> bool {
+        *self == MapOverrides::default()
+    }
+
+    /// The normal map these overrides name (`--normal-map`, else `--height`), if any.
+    pub fn normal_source(&self) -> Option<MapSource> {
+        let strength = self
+            .strength
+            .unwrap_or(crate::normalmap::NormalMapOptions::default().strength);
+        match (&self.normal, &self.height) {
+            (Some(path), _) => Some(MapSource::command_line(path, "--normal-map")),
+            (None, Some(path)) => Some(MapSource::Height {
+                path: path.clone(),
+                strength,
+            }),
+            (None, None) => None,
+        }
+    }
+}
+
+/// Where one of a material's three maps comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MapSource {
+    /// An image file. `named_by` says where it was named ("--diffuse", "map_Kd of material 'Brick'
+    /// in brick.mtl"); a file a material names that is missing or cannot be decoded falls back to the
+    /// neutral map with a notice, one named on the command line is an error.
+    File {
+        path: PathBuf,
+        named_by: String,
+        from_command_line: bool,
+        /// The `-bm` of a bump statement: the normal map's x and y are scaled by it.
+        bump_multiplier: Option<f32>,
+    },
+    /// A grey-scale height map made into a normal map in-process (`--height`).
+    Height { path: PathBuf, strength: f32 },
+    /// One colour (a material's `Kd` where it names no `map_Kd`).
+    Colour([f32; 3]),
+    /// White diffuse or specular (the tutorial's constant specular 0.3 = white × 0.3), or the flat
+    /// normal (0, 0, 1).
+    Neutral,
+}
+
+impl MapSource {
+    pub fn command_line(path: &Path, flag: &str) -> Self {
+        MapSource::File {
+            path: path.to_path_buf(),
+            named_by: flag.to_string(),
+            from_command_line: true,
+            bump_multiplier: None,
+        }
+    }
+}
+
+/// One material's maps.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    pub name: String,
+    pub diffuse: MapSource,
+    pub normal: MapSource,
+    pub specular: MapSource,
+}
+
+/// The triangles of one material: soup triangles `triangles` (so indices `3 × triangles`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MaterialRange {
+    pub material: usize,
+    pub triangles: std::ops::Range<usize>,
+}
+
+/// Where the file's coordinates were moved to: its bounding sphere (centre of the bounding box,
+/// distance to the farthest vertex) onto the tutorial's cylinder's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Placement {
+    /// In the file's coordinates.
+    pub center: Vec3,
+    pub radius: f32,
+}
+
+impl Placement {
+    /// Placed units per file unit.
+    pub fn scale(&self) -> f32 {
+        (TUTORIAL_CYLINDER_RADIUS as f64 / self.radius as f64) as f32
+    }
+
+    /// A point of the file (a vertex, or `--light`) where the program draws it.
+    pub fn to_world(&self, p: Vec3) -> Vec3 {
+        let scale = TUTORIAL_CYLINDER_RADIUS as f64 / self.radius as f64;
+        let placed =
+            (p.as_dvec3() - self.center.as_dvec3()) * scale + TUTORIAL_CYLINDER_CENTER.as_dvec3();
+        placed.as_vec3()
+    }
+}
+
+/// A model, read and placed, its maps named but not yet decoded.
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub path: PathBuf,
+    /// Placed positions, V as written, normals from the file or computed; grouped by material.
+    pub soup: TriangleSoup,
+    pub materials: Vec<Material>,
+    /// In soup order, covering every triangle once.
+    pub ranges: Vec<MaterialRange>,
+    pub placement: Placement,
+    /// What was filled in or left out (maps not named, normals computed, options ignored): one line
+    /// each, for the log.
+    pub notices: Vec<String>,
+}
+
+/// Reads `path` and the `.mtl` files it names (relative to its folder).
+pub fn load_model(path: &Path, overrides: &MapOverrides) -> Result<Model> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    load_model_bytes(&bytes, path, overrides, |p| std::fs::read(p))
+}
+
+/// [`load_model`] on the OBJ's bytes; `read_mtl` reads a `.mtl` file (the fuzz harness gives its own).
+pub fn load_model_bytes(
+    bytes: &[u8],
+    path: &Path,
+    overrides: &MapOverrides,
+    read_mtl: impl Fn(&Path) -> std::io::Result<Vec<u8>>,
+) -> Result<Model> {
+    let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
+    let notices = RefCell::new(Vec::new());
+    // Each material's .mtl file, for the paths its maps give.
+    let material_files = RefCell::new(HashMap::<String, PathBuf>::new());
+    let load_mtl = |name: &Path| -> tobj::MTLLoadResult {
+        let mtl_path = folder.join(name.to_string_lossy().replace('\\', "/"));
+        let parsed = read_mtl(&mtl_path)
+            .map_err(|e| e.to_string())
+            .and_then(|bytes| {
+                tobj::load_mtl_buf(&mut bytes.as_slice()).map_err(|e| format!("malformed MTL: {e}"))
+            });
+        match parsed {
+            Ok((materials, names)) => {
+                let mut files = material_files.borrow_mut();
+                for m in &materials {
+                    files.insert(m.name.clone(), mtl_path.clone());
+                }
+                Ok((materials, names))
+            }
+            Err(reason) => {
+                notices.borrow_mut().push(format!(
+                    "{}: {reason}; its materials get neutral maps",
+                    mtl_path.display()
+                ));
+                Ok((Vec::new(), Default::default()))
+            }
+        }
+    };
+    let read = read_obj(bytes, path, ObjMode::Model, load_mtl)?;
+    let mut notices = notices.into_inner();
+    let material_files = material_files.into_inner();
+
+    let mut soup = read.soup;
+    if read.normals_missing {
+        soup.normals = smooth_normals(&soup.vertices, &read.position_indices);
+        notices.push(format!(
+            "{}: no vertex normals (vn): smooth normals computed (angle-weighted per position)",
+            path.display()
+        ));
+    }
+
+    // The materials, then a neutral one for triangles without (only if there are such triangles).
+    let mut materials: Vec<Material> = read
+        .materials
+        .iter()
+        .map(|m| material(m, material_files.get(&m.name), &mut notices))
+        .collect();
+    let unnamed = materials.len();
+    let triangle_materials: Vec<usize> = read
+        .triangle_materials
+        .iter()
+        .map(|m| m.filter(|&i| i < unnamed).unwrap_or(unnamed))
+        .collect();
+    if triangle_materials.contains(&unnamed) {
+        notices.push(format!(
+            "{}: {} without a material (no usemtl, or one no .mtl defines): white diffuse, flat \
+             normal map, specular 0.3 (the tutorial's constant)",
+            path.display(),
+            if unnamed == 0 {
+                "every face is"
+            } else {
+                "some faces are"
+            }
+        ));
+        materials.push(Material {
+            name: "(none)".into(),
+            diffuse: MapSource::Neutral,
+            normal: MapSource::Neutral,
+            specular: MapSource::Neutral,
+        });
+    }
+    for material in &mut materials {
+        apply_overrides(material, overrides);
+    }
+
+    let (soup, ranges) = group_by_material(&soup, &triangle_materials);
+    let placement = placement(&soup.vertices).ok_or_else(|| Error::Obj {
+        path: path.to_path_buf(),
+        reason: "every face is at one point: a model needs some size to be framed and lit".into(),
+    })?;
+    let mut soup = soup;
+    for p in &mut soup.vertices {
+        *p = placement.to_world(*p);
+    }
+    Ok(Model {
+        path: path.to_path_buf(),
+        soup,
+        materials,
+        ranges,
+        placement,
+        notices,
+    })
+}
+
+/// One tobj material's maps, paths resolved against its `.mtl` file's folder.
+fn material(m: &tobj::Material, mtl: Option<&PathBuf>, notices: &mut Vec<String>) -> Material {
+    let mtl_name = mtl.map_or_else(|| "the .mtl".to_string(), |p| p.display().to_string());
+    let folder = mtl.and_then(|p| p.parent()).unwrap_or(Path::new(""));
+    let mut map = |keyword: &str, statement: Option<&String>| -> Option<MapSource> {
+        let statement = statement?;
+        let named_by = format!("{keyword} of material '{}' in {mtl_name}", m.name);
+        match mtl::parse_texture_statement(statement) {
+            Ok(s) => {
+                if !s.ignored.is_empty() {
+                    notices.push(format!("{named_by}: ignored {}", s.ignored.join(", ")));
+                }
+                Some(MapSource::File {
+                    path: resolve(folder, &s.file),
+                    named_by,
+                    from_command_line: false,
+                    bump_multiplier: s.bump_multiplier,
+                })
+            }
+            Err(reason) => {
+                notices.push(format!("{named_by}: {reason}; left out"));
+                None
+            }
+        }
+    };
+    let diffuse = map("map_Kd", m.diffuse_texture.as_ref());
+    // Blender writes a normal map as map_Bump (with -bm); `norm` is the PBR extension's keyword.
+    let normal = map("map_Bump", m.normal_texture.as_ref())
+        .or_else(|| map("norm", m.unknown_param.get("norm")));
+    let specular = map("map_Ks", m.specular_texture.as_ref());
+    let mut missing = Vec::new();
+    let diffuse = diffuse.unwrap_or_else(|| match m.diffuse {
+        Some(kd) => MapSource::Colour(kd),
+        None => {
+            missing.push("no map_Kd or Kd: white diffuse");
+            MapSource::Neutral
+        }
+    });
+    let normal = normal.unwrap_or_else(|| {
+        missing.push("no normal map (map_Bump, bump or norm): the flat normal (0, 0, 1)");
+        MapSource::Neutral
+    });
+    let specular = specular.unwrap_or_else(|| {
+        missing.push("no map_Ks: specular 0.3 (the tutorial's constant)");
+        MapSource::Neutral
+    });
+    if !missing.is_empty() {
+        notices.push(format!(
+            "material '{}' in {mtl_name}: {}",
+            m.name,
+            missing.join("; ")
+        ));
+    }
+    Material {
+        name: m.name.clone(),
+        diffuse,
+        normal,
+        specular,
+    }
+}
+
+/// A map's file: as written, relative to the `.mtl`'s folder; else its name alone in that folder
+/// (exporters often write the absolute path of the machine the model was made on).
+fn resolve(folder: &Path, file: &str) -> PathBuf {
+    let written = folder.join(file);
+    if written.is_file() {
+        return written;
+    }
+    match Path::new(file).file_name() {
+        Some(name) if folder.join(name).is_file() => folder.join(name),
+        _ => written,
+    }
+}
+
+fn apply_overrides(material: &mut Material, overrides: &MapOverrides) {
+    if let Some(path) = &overrides.diffuse {
+        material.diffuse = MapSource::command_line(path, "--diffuse");
+    }
+    if let Some(source) = overrides.normal_source() {
+        material.normal = source;
+    }
+    if let Some(path) = &overrides.specular {
+        material.specular = MapSource::command_line(path, "--specular");
+    }
+}
+
+/// The soup with its triangles grouped by material (stable: each material's triangles keep their
+/// order), and the ranges.
+fn group_by_material(
+    soup: &TriangleSoup,
+    triangle_materials: &[usize],
+) -> (TriangleSoup, Vec<MaterialRange>) {
+    let mut order: Vec<usize> = (0..triangle_materials.len()).collect();
+    // Materials in the order they are first used, so that a one-material file keeps its order.
+    let mut first_use = HashMap::new();
+    for &m in triangle_materials {
+        let next = first_use.len();
+        first_use.entry(m).or_insert(next);
+    }
+    order.sort_by_key(|&t| first_use[&triangle_materials[t]]);
+    let mut grouped = TriangleSoup::default();
+    let mut ranges: Vec<MaterialRange> = Vec::new();
+    for (i, &t) in order.iter().enumerate() {
+        let corners = 3 * t..3 * t + 3;
+        grouped
+            .vertices
+            .extend_from_slice(&soup.vertices[corners.clone()]);
+        grouped.uvs.extend_from_slice(&soup.uvs[corners.clone()]);
+        grouped.normals.extend_from_slice(&soup.normals[corners]);
+        let material = triangle_materials[t];
+        match ranges.last_mut() {
+            Some(range) if range.material == material => range.triangles.end = i + 1,
+            _ => ranges.push(MaterialRange {
+                material,
+                triangles: i..i + 1,
+            }),
+        }
+    }
+    (grouped, ranges)
+}
+
+/// The bounding sphere the model is placed by, or `None` if it has no size (or no finite one).
+fn placement(vertices: &[Vec3]) -> Option<Placement> {
+    let (mut min, mut max) = (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN));
+    for p in vertices {
+        min = min.min(p.as_dvec3());
+        max = max.max(p.as_dvec3());
+    }
+    let center = (min + max) * 0.5;
+    let radius = vertices
+        .iter()
+        .map(|p| p.as_dvec3().distance(center))
+        .fold(0.0, f64::max);
+    let placement = Placement {
+        center: center.as_vec3(),
+        radius: radius as f32,
+    };
+    // Too small for f32 (or zero), or too large: nothing sensible to scale by.
+    let usable = placement.radius.is_normal() && placement.scale().is_normal();
+    usable.then_some(placement)
+}
+
+/// Smooth normals for a soup whose file gave none: each face's normal, weighted by its corner's
+/// angle, summed over every corner that shares a position index in the file, normalized.
+pub fn smooth_normals(vertices: &[Vec3], position_indices: &[u32]) -> Vec<Vec3> {
+    let count = position_indices.iter().max().map_or(0, |&m| m as usize + 1);
+    let mut sums = vec![DVec3::ZERO; count];
+    for (triangle, indices) in vertices
+        .chunks_exact(3)
+        .zip(position_indices.chunks_exact(3))
+    {
+        let [a, b, c] = [0, 1, 2].map(|k| triangle[k].as_dvec3());
+        let Some(face) = (b - a).cross(c - a).try_normalize() else {
+            continue; // a degenerate triangle has no direction to give
+        };
+        for (k, &index) in indices.iter().enumerate() {
+            let p = [a, b, c][k];
+            let (e1, e2) = ([a, b, c][(k + 1) % 3] - p, [a, b, c][(k + 2) % 3] - p);
+            let angle = e1.angle_between(e2);
+            if angle.is_finite() {
+                sums[index as usize] += face * angle;
+            }
+        }
+    }
+    position_indices
+        .iter()
+        .map(|&i| {
+            sums[i as usize]
+                .try_normalize()
+                .unwrap_or(DVec3::Z)
+                .as_vec3()
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Fails if the placement does not put the bounding sphere on the tutorial's cylinder's, or
+    // loses precision far from the origin.
+    #[test]
+    fn placement_maps_the_sphere_onto_the_cylinders() {
+        let vertices = [Vec3::new(1000.0, 0.0, 0.0), Vec3::new(1200.0, 0.0, 0.0)];
+        let p = placement(&vertices).unwrap();
+        assert_eq!(p.center, Vec3::new(1100.0, 0.0, 0.0));
+        assert_eq!(p.radius, 100.0);
+        let world = p.to_world(Vec3::new(1200.0, 0.0, 0.0));
+        assert!((world - Vec3::new(TUTORIAL_CYLINDER_RADIUS, 1.0, 0.0)).length() < 1e-6);
+        assert!(placement(&[Vec3::ONE, Vec3::ONE]).is_none());
+        assert!(placement(&[Vec3::splat(-3e38), Vec3::splat(3e38)]).is_none());
+    }
+
+    // Fails if a corner's normal is not the angle-weighted mean of its faces' normals.
+    #[test]
+    fn smooth_normals_weight_faces_by_angle() {
+        // Two faces of a unit cube's corner at the origin: the xy face (normal +z) and the yz face
+        // (normal +x), each a right triangle with its right angle at the shared corner.
+        let vertices = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::ZERO, Vec3::Y, Vec3::Z];
+        let indices = [0, 1, 2, 0, 2, 3];
+        let normals = smooth_normals(&vertices, &indices);
+        let expected = Vec3::new(1.0, 0.0, 1.0).normalize();
+        assert!((normals[0] - expected).length() < 1e-6, "{}", normals[0]);
+        // The shared edge's other end (index 2) has 45° in each face: the same mean.
+        assert!((normals[2] - expected).length() < 1e-6, "{}", normals[2]);
+        assert_eq!(normals[1], Vec3::Z);
+        assert_eq!(normals[5], Vec3::X);
+    }
+}
