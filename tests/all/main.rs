@@ -14,6 +14,7 @@ mod flags_and_files;
 mod fuzz;
 mod gl_helpers;
 mod live_shaders;
+mod model;
 mod normal_map_conventions;
 mod normalmap;
 mod obj_input;
