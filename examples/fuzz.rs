@@ -3,7 +3,7 @@
 //!     cargo run --profile fuzz --example fuzz -- --seconds 1800
 //!
 //! Options: `--seconds N` (total, shared equally by the targets; default 60), `--target NAME`
-//! (obj, dds, bmp, pipeline or heightmap; repeatable; default all), `--seed N` (default: from the clock,
+//! (obj, dds, bmp, pipeline, heightmap or model; repeatable; default all), `--seed N` (default: from the clock,
 //! printed), `--slow-ms N` (a case slower than this fails; default 2000), `--replay FILE` (run one
 //! input on the target named before it, else the one its folder is named after, and print the
 //! outcome), `--make-corpus` (rewrite the seed

@@ -23,6 +23,7 @@ use tutorial13::common::vboindexer::{
     index_vbo_tbn, index_vbo_tbn_linear, IndexOptions, IndexedMesh,
 };
 use tutorial13::mesh::MeshOptions;
+use tutorial13::model::{load_model_bytes, MapOverrides, Model};
 use tutorial13::normalmap::{normal_map, HeightMap, Kernel, NormalMapOptions};
 
 /// What is fuzzed.
@@ -40,14 +41,23 @@ pub enum Target {
     /// `HeightMap::from_bytes` then `normal_map` with every kernel: an error naming the file, or
     /// one texel per height texel, each a normal facing out of the surface (blue ≥ 128).
     Heightmap,
+    /// `model::load_model_bytes` on an OBJ and its `.mtl` (one input: the OBJ, then a line
+    /// [`MTL_SEPARATOR`], then the MTL text): an error naming the OBJ, or a soup as `load_obj`'s
+    /// (computed normals of unit length), every vertex on the tutorial's cylinder's bounding sphere or inside it, and
+    /// material ranges covering every triangle once, each naming a material.
+    Model,
 }
 
-pub const TARGETS: [Target; 5] = [
+/// Where a `model` input's MTL text starts (the OBJ's `mtllib` should name `fuzz.mtl`).
+pub const MTL_SEPARATOR: &str = "#--- fuzz.mtl ---\n";
+
+pub const TARGETS: [Target; 6] = [
     Target::Obj,
     Target::Dds,
     Target::Bmp,
     Target::Pipeline,
     Target::Heightmap,
+    Target::Model,
 ];
 
 /// Meshes up to this many corners are also indexed by the quadratic reference.
@@ -63,6 +73,7 @@ impl Target {
             Target::Bmp => "bmp",
             Target::Pipeline => "pipeline",
             Target::Heightmap => "heightmap",
+            Target::Model => "model",
         }
     }
 
@@ -76,11 +87,12 @@ impl Target {
             Target::Dds => "fuzz.DDS",
             Target::Bmp => "fuzz.bmp",
             Target::Heightmap => "fuzz-height.png",
+            Target::Model => "fuzz-model.obj",
         }
     }
 
     fn is_text(self) -> bool {
-        matches!(self, Target::Obj | Target::Pipeline)
+        matches!(self, Target::Obj | Target::Pipeline | Target::Model)
     }
 }
 
@@ -234,6 +246,25 @@ fn check(target: Target, input: &[u8]) -> Result<Outcome, String> {
                 Ok(Outcome::Loaded)
             }
         },
+        Target::Model => {
+            // The input split into the OBJ and the MTL its `mtllib fuzz.mtl` reads.
+            let text = String::from_utf8_lossy(input);
+            let (obj, mtl) = match text.split_once(MTL_SEPARATOR) {
+                Some((obj, mtl)) => (obj.as_bytes().to_vec(), mtl.as_bytes().to_vec()),
+                None => (input.to_vec(), Vec::new()),
+            };
+            let read_mtl = |p: &Path| {
+                if p.file_name() == Some("fuzz.mtl".as_ref()) {
+                    Ok(mtl.clone())
+                } else {
+                    Err(std::io::Error::from(std::io::ErrorKind::NotFound))
+                }
+            };
+            match load_model_bytes(&obj, path, &MapOverrides::default(), read_mtl) {
+                Err(e) => rejected(e),
+                Ok(model) => check_model(&model).map(|_| Outcome::Loaded),
+            }
+        }
         Target::Bmp => match read_bmp_bytes(input, path) {
             Err(e) => rejected(e),
             Ok(bmp) => {
@@ -250,6 +281,43 @@ fn check(target: Target, input: &[u8]) -> Result<Outcome, String> {
             }
         },
     }
+}
+
+/// What `load_model` promises beyond a soup.
+fn check_model(model: &Model) -> Result<(), String> {
+    check_soup(&model.soup)?;
+    let unit = |n: &&glam::Vec3| (n.length() - 1.0).abs() <= 1e-3;
+    let normals = &model.soup.normals;
+    if let Some(n) = normals.iter().find(|n| model.normals_computed && !unit(n)) {
+        return Err(format!("a computed normal of length {}", n.length()));
+    }
+    let center = tutorial13::model::TUTORIAL_CYLINDER_CENTER;
+    let radius = tutorial13::model::TUTORIAL_CYLINDER_RADIUS;
+    if let Some(p) = model
+        .soup
+        .vertices
+        .iter()
+        .find(|p| p.distance(center) > radius * 1.001)
+    {
+        return Err(format!("a vertex at {p}, outside the bounding sphere"));
+    }
+    let mut next = 0;
+    for range in &model.ranges {
+        if range.triangles.start != next || range.triangles.end <= next {
+            return Err(format!("ranges {:?} leave a gap or overlap", model.ranges));
+        }
+        if range.material >= model.materials.len() {
+            return Err(format!("range names material {}", range.material));
+        }
+        next = range.triangles.end;
+    }
+    if next != model.soup.triangle_count() {
+        return Err(format!(
+            "ranges end at {next} of {} triangles",
+            model.soup.triangle_count()
+        ));
+    }
+    Ok(())
 }
 
 /// What `load_obj` promises: three corners per triangle, every number finite.

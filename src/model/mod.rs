@@ -150,6 +150,9 @@ pub struct Model {
     /// In soup order, covering every triangle once.
     pub ranges: Vec<MaterialRange>,
     pub placement: Placement,
+    /// The file has no normals: they were computed (unit length). A file's own are kept as written,
+    /// as the tutorial's `loadOBJ` keeps them.
+    pub normals_computed: bool,
     /// What was filled in or left out (maps not named, normals computed, options ignored): one line
     /// each, for the log.
     pub notices: Vec<String>,
@@ -177,6 +180,8 @@ pub fn load_model_bytes(
         let parsed = read_mtl(&mtl_path)
             .map_err(|e| e.to_string())
             .and_then(|bytes| {
+                let text = String::from_utf8_lossy(&bytes);
+                mtl::check_mtl(&text).map_err(|e| format!("malformed MTL: {e}"))?;
                 tobj::load_mtl_buf(&mut bytes.as_slice()).map_err(|e| format!("malformed MTL: {e}"))
             });
         match parsed {
@@ -258,6 +263,7 @@ pub fn load_model_bytes(
         materials,
         ranges,
         placement,
+        normals_computed: read.normals_missing,
         notices,
     })
 }

@@ -5,6 +5,23 @@
 //! defines are taken off the front (each with its count of arguments), and what is left is the file
 //! name, spaces and all, with Windows' backslashes turned into slashes.
 
+/// Checks what tobj's MTL parser would panic on rather than refuse (tobj 4.0.5 unwraps a colour
+/// of fewer than three numbers): `Ka`, `Kd`, `Ks`, `Ke` need three.
+pub fn check_mtl(text: &str) -> Result<(), String> {
+    for (number, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        if let Some(keyword @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next() {
+            if words.count() < 3 {
+                return Err(format!(
+                    "line {}: {keyword} needs three numbers (r g b)",
+                    number + 1
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// One texture statement, read.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TextureStatement {
@@ -121,6 +138,14 @@ mod tests {
         assert_eq!(parse("-clamp on -imfchan l height.png").ignored.len(), 2);
         // An unknown dash word starts the file name.
         assert_eq!(parse("-weird.png").file, "-weird.png");
+    }
+
+    // Fails if a colour of fewer than three numbers reaches tobj (which panics on it).
+    #[test]
+    fn short_colours_are_refused() {
+        assert!(check_mtl("newmtl a\nKd 0.8 0.8 0.8\nKs 1 1 1 # shiny\n").is_ok());
+        let e = check_mtl("newmtl a\n  Kd 0.8 0.8\n").unwrap_err();
+        assert!(e.contains("line 2: Kd needs three"), "{e}");
     }
 
     // Fails if a statement without a file, or a bad -bm, is accepted.
