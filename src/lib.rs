@@ -4,7 +4,7 @@
 //!
 //! | layer               | module        | what lives there                                              |
 //! |---------------------|---------------|---------------------------------------------------------------|
-//! | errors and files  | [`error`], [`files`] | the crate's error type; atomic file writing         |
+//! | errors and files  | [`error`], [`files`], [`progress`] | the crate's error type; atomic file writing; a line for a long load |
 //! | the tutorial's `common/` | [`common`] | objloader, tangentspace, vboindexer, texture, shader, controls |
 //! | CPU helpers         | [`mesh`], [`normalmap`], [`assets`], [`model`] | the CPU pipeline's switches, mesh generators, height map → normal map, the project's own assets, a learner's OBJ with its MTL maps |
 //! | GL helpers          | [`gl`]        | the `Gl` handle, context info, error draining, mesh buffers, read-back and image files, the headless context and offscreen targets |
@@ -26,6 +26,7 @@ pub mod gl;
 pub mod mesh;
 pub mod model;
 pub mod normalmap;
+pub mod progress;
 pub mod scenes;
 pub mod tangents;
 

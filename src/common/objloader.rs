@@ -77,24 +77,37 @@ pub(crate) fn read_obj(
     };
     let text = std::str::from_utf8(bytes)
         .map_err(|e| err(format!("not UTF-8 text (byte {})", e.valid_up_to())))?;
-    let scan = check_faces(text, mode).map_err(err)?;
-    // tobj reads `l` lines with its face parser, so a polyline of three or more points would become
-    // a triangle. The tutorial's loader skips lines it does not know, `l` included: drop them here,
-    // keeping the line count so that tobj's view of the file is otherwise the same.
-    let text = if scan.has_polylines {
-        std::borrow::Cow::Owned(drop_polylines(text))
-    } else {
-        std::borrow::Cow::Borrowed(text)
-    };
-
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: false,
         ignore_points: true,
         ignore_lines: true,
     };
-    // The tutorial never touches the .mtl file: its caller passes a loader that reads nothing.
-    let (models, loaded) = tobj::load_obj_buf(&mut text.as_bytes(), &options, materials)
+    // The face check and tobj's parse read the same text: they run on both cores (a quarter of a
+    // large file's load), and tobj's result is used only once the check has passed. A panic in tobj
+    // on a file the check refuses is caught, so that the check's error is what the user sees.
+    let (scan, parsed) = std::thread::scope(|scope| {
+        let checker = scope.spawn(|| check_faces(text, mode));
+        // tobj reads `l` lines with its face parser, so a polyline of three or more points would
+        // become a triangle. The tutorial's loader skips lines it does not know, `l` included: drop
+        // them here, keeping the line count so that tobj's view of the file is otherwise the same.
+        let text = if has_polylines(text) {
+            std::borrow::Cow::Owned(drop_polylines(text))
+        } else {
+            std::borrow::Cow::Borrowed(text)
+        };
+        // The tutorial never touches the .mtl file: its caller passes a loader that reads nothing.
+        let parsed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            tobj::load_obj_buf(&mut text.as_bytes(), &options, &materials)
+        }));
+        let scan = checker
+            .join()
+            .unwrap_or_else(|_| Err("the face check failed".into()));
+        (scan, parsed)
+    });
+    let scan = scan.map_err(err)?;
+    let (models, loaded) = parsed
+        .map_err(|_| err("tobj's parser panicked".into()))?
         .map_err(|e| err(e.to_string()))?;
 
     let normals_missing = mode == ObjMode::Model && scan.corners_with_normal == 0;
@@ -154,18 +167,17 @@ pub(crate) fn read_obj(
 
 /// What [`check_faces`] saw besides errors.
 struct FaceScan {
-    has_polylines: bool,
     corners_with_normal: usize,
     corners_without_normal: usize,
 }
 
 /// Checks every `f` line for what the tutorial needs and tobj does not enforce: at least three
 /// corners, each written `v/vt/vn` with all three indices present, non-zero and in range at that
-/// point of the file (relative indices count back from the elements declared so far). Returns
-/// whether the file has `l` (polyline) lines, which the caller drops.
+/// point of the file (relative indices count back from the elements declared so far); in
+/// [`ObjMode::Model`] the normal index may be left out, by every corner or by none. Returns how many
+/// corners have a normal index.
 fn check_faces(text: &str, mode: ObjMode) -> std::result::Result<FaceScan, String> {
     let mut scan = FaceScan {
-        has_polylines: false,
         corners_with_normal: 0,
         corners_without_normal: 0,
     };
@@ -177,7 +189,6 @@ fn check_faces(text: &str, mode: ObjMode) -> std::result::Result<FaceScan, Strin
             Some("v") => counts[0] += 1,
             Some("vt") => counts[1] += 1,
             Some("vn") => counts[2] += 1,
-            Some("l") => scan.has_polylines = true,
             Some("f") => {
                 let mut corners = 0;
                 for corner in words {
@@ -208,6 +219,13 @@ fn check_faces(text: &str, mode: ObjMode) -> std::result::Result<FaceScan, Strin
         ));
     }
     Ok(scan)
+}
+
+/// Whether any line of `text` is an `l` (polyline) line, as [`drop_polylines`] finds them.
+fn has_polylines(text: &str) -> bool {
+    text.split('\n').any(|line| {
+        line.trim_start().starts_with('l') && line.split_whitespace().next() == Some("l")
+    })
 }
 
 /// `text` with every `l` line emptied (its line break kept). Lines are split as tobj splits them

@@ -248,7 +248,7 @@ pub fn load_model_bytes(
         apply_overrides(material, overrides);
     }
 
-    let (soup, ranges) = group_by_material(&soup, &triangle_materials);
+    let (soup, ranges) = group_by_material(soup, &triangle_materials);
     let placement = placement(&soup.vertices).ok_or_else(|| Error::Obj {
         path: path.to_path_buf(),
         reason: "every face is at one point: a model needs some size to be framed and lit".into(),
@@ -355,38 +355,57 @@ fn apply_overrides(material: &mut Material, overrides: &MapOverrides) {
 }
 
 /// The soup with its triangles grouped by material (stable: each material's triangles keep their
-/// order), and the ranges.
+/// order; materials in the order they are first used), and the ranges. A counting sort: linear in
+/// the triangles, and no copy at all when the soup is one run of a material already.
 fn group_by_material(
-    soup: &TriangleSoup,
+    soup: TriangleSoup,
     triangle_materials: &[usize],
 ) -> (TriangleSoup, Vec<MaterialRange>) {
-    let mut order: Vec<usize> = (0..triangle_materials.len()).collect();
-    // Materials in the order they are first used, so that a one-material file keeps its order.
-    let mut first_use = HashMap::new();
+    let count = triangle_materials.iter().max().map_or(0, |&m| m + 1);
+    // Each material's rank by first use, and its number of triangles.
+    let mut rank = vec![usize::MAX; count];
+    let mut order = Vec::new();
+    let mut sizes = vec![0usize; count];
     for &m in triangle_materials {
-        let next = first_use.len();
-        first_use.entry(m).or_insert(next);
-    }
-    order.sort_by_key(|&t| first_use[&triangle_materials[t]]);
-    let mut grouped = TriangleSoup::default();
-    let mut ranges: Vec<MaterialRange> = Vec::new();
-    for (i, &t) in order.iter().enumerate() {
-        let corners = 3 * t..3 * t + 3;
-        grouped
-            .vertices
-            .extend_from_slice(&soup.vertices[corners.clone()]);
-        grouped.uvs.extend_from_slice(&soup.uvs[corners.clone()]);
-        grouped.normals.extend_from_slice(&soup.normals[corners]);
-        let material = triangle_materials[t];
-        match ranges.last_mut() {
-            Some(range) if range.material == material => range.triangles.end = i + 1,
-            _ => ranges.push(MaterialRange {
-                material,
-                triangles: i..i + 1,
-            }),
+        if rank[m] == usize::MAX {
+            rank[m] = order.len();
+            order.push(m);
         }
+        sizes[m] += 1;
     }
-    (grouped, ranges)
+    let mut ranges = Vec::with_capacity(order.len());
+    let mut start = 0;
+    for &m in &order {
+        ranges.push(MaterialRange {
+            material: m,
+            triangles: start..start + sizes[m],
+        });
+        start += sizes[m];
+    }
+    let grouped = triangle_materials
+        .windows(2)
+        .all(|w| w[0] == w[1] || rank[w[0]] < rank[w[1]]);
+    if grouped {
+        return (soup, ranges);
+    }
+    let mut next: Vec<usize> = vec![0; count];
+    for range in &ranges {
+        next[range.material] = range.triangles.start;
+    }
+    let corners = soup.vertices.len();
+    let mut out = TriangleSoup {
+        vertices: vec![Vec3::ZERO; corners],
+        uvs: vec![glam::Vec2::ZERO; corners],
+        normals: vec![Vec3::ZERO; soup.normals.len()],
+    };
+    for (t, &m) in triangle_materials.iter().enumerate() {
+        let (from, to) = (3 * t..3 * t + 3, 3 * next[m]..3 * next[m] + 3);
+        next[m] += 1;
+        out.vertices[to.clone()].copy_from_slice(&soup.vertices[from.clone()]);
+        out.uvs[to.clone()].copy_from_slice(&soup.uvs[from.clone()]);
+        out.normals[to].copy_from_slice(&soup.normals[from]);
+    }
+    (out, ranges)
 }
 
 /// The bounding sphere the model is placed by, or `None` if it has no size (or no finite one).
@@ -459,6 +478,30 @@ mod tests {
         assert!((world - Vec3::new(TUTORIAL_CYLINDER_RADIUS, 1.0, 0.0)).length() < 1e-6);
         assert!(placement(&[Vec3::ONE, Vec3::ONE]).is_none());
         assert!(placement(&[Vec3::splat(-3e38), Vec3::splat(3e38)]).is_none());
+    }
+
+    // Fails if interleaved materials are not grouped in first-use order with each one's triangles
+    // kept in order, or if the ranges do not match.
+    #[test]
+    fn triangles_are_grouped_by_material_in_first_use_order() {
+        let triangle = |k: f32| [Vec3::splat(k); 3];
+        let soup = TriangleSoup {
+            vertices: (0..5).flat_map(|t| triangle(t as f32)).collect(),
+            uvs: vec![glam::Vec2::ZERO; 15],
+            normals: vec![Vec3::Z; 15],
+        };
+        let (grouped, ranges) = group_by_material(soup.clone(), &[2, 0, 2, 1, 0]);
+        let order: Vec<f32> = grouped.vertices.chunks(3).map(|c| c[0].x).collect();
+        assert_eq!(order, [0.0, 2.0, 1.0, 4.0, 3.0]);
+        let spans: Vec<(usize, std::ops::Range<usize>)> = ranges
+            .iter()
+            .map(|r| (r.material, r.triangles.clone()))
+            .collect();
+        assert_eq!(spans, [(2, 0..2), (0, 2..4), (1, 4..5)]);
+        // Already grouped: the same soup back.
+        let (same, ranges) = group_by_material(soup.clone(), &[1, 1, 0, 0, 0]);
+        assert_eq!(same, soup);
+        assert_eq!(ranges.len(), 2);
     }
 
     // Fails if a corner's normal is not the angle-weighted mean of its faces' normals.

@@ -27,6 +27,7 @@ use crate::mesh::MeshOptions;
 use crate::model::{
     load_model, MapOverrides, Model, TUTORIAL_CYLINDER_CENTER, TUTORIAL_CYLINDER_RADIUS,
 };
+use crate::progress::Progress;
 use crate::tangents::TangentSource;
 use crate::Result;
 
@@ -279,6 +280,7 @@ impl SceneType for Cylinder {
                 (tutorial, SoupSource::Tutorial(assets.join("cylinder.obj")))
             }
             Some(path) => {
+                let _progress = Progress::start(format!("loading {}", path.display()));
                 let model = load_model(path, &cylinder.maps)?;
                 let sets = model_texture_sets(gl, &model)?;
                 let tutorial =
