@@ -242,7 +242,8 @@ fn a_far_large_model_is_framed() {
         })
         .collect();
     std::fs::write(dir.join("tower.obj"), moved).unwrap();
-    let (frame, _) = shot(&dir, "frame.png", &["--model", "tower.obj"]);
+    let (frame, stderr) = shot(&dir, "frame.png", &["--model", "tower.obj"]);
+    assert!(!stderr.contains("tolerance moved"), "{stderr}");
     let (w, h) = frame.dimensions();
     let drawn = |x, y| !common::is_background(frame.get_pixel(x, y));
     let border = (0..w).any(|x| drawn(x, 0) || drawn(x, h - 1))
@@ -564,4 +565,20 @@ fn a_dropped_obj_opens_as_the_model() {
     renderer.open_file(&obj).unwrap();
     let dropped = common::rgb(renderer.render_frames(1).unwrap());
     assert_eq!(common::differing_pixels(&dropped, &expected), 0);
+}
+
+// Fails if a model dense enough for indexVBO_TBN's 0.01 tolerance to move its corners loads without
+// saying so (it looks coarser than it is), or if one that is not dense is warned about.
+#[test]
+fn a_dense_model_is_warned_of_merged_corners() {
+    let dir = common::scratch("dense");
+    // 1000 segments around a cylinder placed at the tutorial's size: neighbours 0.006 apart.
+    let dense = tutorial13::mesh::grid_cylinder_obj_text(1000, 2, 1.0, 2.0, 1.0);
+    std::fs::write(dir.join("dense.obj"), dense).unwrap();
+    let (_, stderr) = shot(&dir, "dense.png", &["--model", "dense.obj"]);
+    assert!(stderr.contains("tolerance moved"), "{stderr}");
+    let sparse = tutorial13::mesh::grid_cylinder_obj_text(200, 2, 1.0, 2.0, 1.0);
+    std::fs::write(dir.join("sparse.obj"), sparse).unwrap();
+    let (_, stderr) = shot(&dir, "sparse.png", &["--model", "sparse.obj"]);
+    assert!(!stderr.contains("tolerance moved"), "{stderr}");
 }

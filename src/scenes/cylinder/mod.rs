@@ -52,6 +52,24 @@ pub static SCENE: SceneDescriptor = SceneDescriptor {
     )
 };
 
+/// `indexVBO_TBN` merges a corner into an earlier vertex within 0.01 of it (position, UV and normal,
+/// in the tutorial's units): on a model much denser than the tutorial's cylinder that moves corners.
+/// Says so once, with how many moved, since the model then looks coarser than it is.
+fn warn_of_merged_corners(model: &Model, mesh: &crate::common::vboindexer::IndexedMesh) {
+    let moved = (0..mesh.indices.len())
+        .filter(|&i| mesh.vertices[mesh.indices.get(i) as usize] != model.soup.vertices[i])
+        .count();
+    if moved > 0 {
+        log::warn!(
+            "{}: indexVBO_TBN's 0.01 tolerance moved {moved} of {} corners onto a neighbour (the \
+             tutorial's indexer, on a model denser than its cylinder); F switches to MikkTSpace, \
+             which merges only equal corners",
+            model.path.display(),
+            mesh.indices.len()
+        );
+    }
+}
+
 /// A dropped `.obj` file is opened as `--model` (the other options stay as they were).
 fn open_model(path: &Path, options: &mut SceneOptions) -> bool {
     let is_obj = path
@@ -285,6 +303,7 @@ impl SceneType for Cylinder {
                 let sets = model_texture_sets(gl, &model)?;
                 let tutorial =
                     Tutorial13::from_soup(gl, shader_dir, &model.soup, cylinder.mesh, sets)?;
+                warn_of_merged_corners(&model, &tutorial.mesh);
                 (tutorial, SoupSource::Model(Rc::new(model)))
             }
         };
