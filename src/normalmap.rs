@@ -81,15 +81,7 @@ impl HeightMap {
             path: path.to_path_buf(),
             reason,
         };
-        let mut limits = image::Limits::default();
-        limits.max_image_width = Some(MAX_SIDE);
-        limits.max_image_height = Some(MAX_SIDE);
-        let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
-            .with_guessed_format()
-            .map_err(|e| bad(e.to_string()))?;
-        reader.limits(limits);
-        let image = reader
-            .decode()
+        let image = decode_picture(bytes, path)
             .map_err(|e| bad(format!("not a height map this program reads: {e}")))?;
         let luma = image.into_luma16();
         let (width, height) = luma.dimensions();
@@ -104,6 +96,27 @@ impl HeightMap {
     fn at(&self, col: usize, row: usize) -> f32 {
         self.values[row * self.width as usize + col]
     }
+}
+
+/// Decodes a picture the `image` crate reads (PNG, JPEG, BMP by their contents; TGA, which has no
+/// signature, by `path`'s extension), refusing sides above [`MAX_SIDE`] before decoding.
+pub fn decode_picture(
+    bytes: &[u8],
+    path: &Path,
+) -> std::result::Result<image::DynamicImage, String> {
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_SIDE);
+    limits.max_image_height = Some(MAX_SIDE);
+    let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| e.to_string())?;
+    if reader.format().is_none() {
+        if let Ok(format) = image::ImageFormat::from_path(path) {
+            reader.set_format(format);
+        }
+    }
+    reader.limits(limits);
+    reader.decode().map_err(|e| e.to_string())
 }
 
 /// The normal map of `heights`, RGB texels in the same order (row 0 at the top).

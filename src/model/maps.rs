@@ -13,7 +13,7 @@ use std::path::Path;
 
 use super::MapSource;
 use crate::common::texture::{read_dds_bytes, DxtFormat};
-use crate::normalmap::{normal_map, HeightMap, NormalMapOptions, MAX_SIDE};
+use crate::normalmap::{decode_picture, normal_map, HeightMap, NormalMapOptions};
 use crate::{Error, Result};
 
 /// Which of a material's three maps.
@@ -190,15 +190,7 @@ pub fn read_image_bytes(bytes: &[u8], path: &Path) -> Result<MapImage> {
         path: path.to_path_buf(),
         reason,
     };
-    let mut limits = image::Limits::default();
-    limits.max_image_width = Some(MAX_SIDE);
-    limits.max_image_height = Some(MAX_SIDE);
-    let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
-        .with_guessed_format()
-        .map_err(|e| bad(e.to_string()))?;
-    reader.limits(limits);
-    let image = reader
-        .decode()
+    let image = decode_picture(bytes, path)
         .map_err(|e| {
             bad(format!(
                 "not a picture this program reads (PNG, JPEG, TGA, BMP, DDS): {e}"

@@ -496,15 +496,15 @@ fn the_tutorials_own_files_and_light_as_flags_change_nothing() {
     assert!(common::differing_pixels(&plain, &moved) > 10_000);
 }
 
-// Fails if a DDS map (stored top row first) is not shown the same way up as the same picture in a
-// PNG: the model reads V as written, so a DDS is not negated like the tutorial's.
+// Fails if a DDS map (stored top row first), a BMP (bottom row first) or a TGA is not shown the same
+// way up as the same picture in a PNG: the model reads V as written, so a DDS is not negated like
+// the tutorial's.
 #[test]
 fn a_dds_map_is_upright_like_a_png() {
     let dir = common::scratch("dds_upright");
     // Red top half, green bottom half: colours and block edges DXT stores exactly.
     let picture = |_: u32, y: u32| if y < 32 { [255, 0, 0] } else { [0, 255, 0] };
     write_picture(&dir.join("map.png"), 64, picture);
-    write_picture(&dir.join("map.dds"), 64, picture);
     let quads = [Quad {
         x0: -1.0,
         material: None,
@@ -515,12 +515,13 @@ fn a_dds_map_is_upright_like_a_png() {
         "png.png",
         &["--model", "panel.obj", "--diffuse", "map.png"],
     );
-    let (dds, _) = shot(
-        &dir,
-        "dds.png",
-        &["--model", "panel.obj", "--diffuse", "map.dds"],
-    );
-    assert_eq!(common::differing_pixels(&png, &dds), 0);
+    for format in ["dds", "bmp", "tga"] {
+        let map = format!("map.{format}");
+        write_picture(&dir.join(&map), 64, picture);
+        let args = ["--model", "panel.obj", "--diffuse", &map];
+        let (other, _) = shot(&dir, &format!("{format}.png"), &args);
+        assert_eq!(common::differing_pixels(&png, &other), 0, "{format}");
+    }
     // And upright: red above green.
     let column = png.width() / 2;
     let rows: Vec<u32> = (0..png.height())

@@ -223,3 +223,26 @@ fn a_negative_strength_parses_with_a_space_and_inverts_the_relief() {
         "only {tilted} tilted texels: is the bump there?"
     );
 }
+
+// Fails if a TGA height map (a format with no signature to recognise it by) is refused, or reads
+// other heights than the same picture as a PNG; or if --invert is not the map of the negated height.
+#[test]
+fn tga_heights_read_like_png_and_invert_negates() {
+    let dir = crate::common::scratch("tga");
+    let picture = image::GrayImage::from_fn(32, 24, |x, y| image::Luma([(x * 7 + y * 3) as u8]));
+    picture.save(dir.join("h.png")).unwrap();
+    image::DynamicImage::ImageLuma8(picture.clone())
+        .to_rgb8()
+        .save(dir.join("h.tga"))
+        .unwrap();
+    let load = |name: &str| HeightMap::load(&dir.join(name)).unwrap();
+    assert_eq!(load("h.png"), load("h.tga"));
+    let run = |args: &[&str]| {
+        let out = crate::common::run(crate::common::tutorial13().args(args).current_dir(&dir));
+        assert!(out.status.success(), "{}", crate::common::text(&out.stderr));
+    };
+    run(&["normalmap", "h.png", "--invert", "-o", "inverted.png"]);
+    run(&["normalmap", "h.png", "--strength", "-8", "-o", "negated.png"]);
+    let read = |name: &str| std::fs::read(dir.join(name)).unwrap();
+    assert_eq!(read("inverted.png"), read("negated.png"));
+}

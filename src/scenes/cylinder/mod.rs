@@ -299,8 +299,16 @@ impl SceneType for Cylinder {
             }
             Some(path) => {
                 let _progress = Progress::start(format!("loading {}", path.display()));
+                let start = std::time::Instant::now();
                 let model = load_model(path, &cylinder.maps)?;
+                let parsed = start.elapsed();
                 let sets = model_texture_sets(gl, &model)?;
+                log::debug!(
+                    "{}: read and parsed in {:.1} ms, maps decoded and uploaded in {:.1} ms",
+                    path.display(),
+                    parsed.as_secs_f64() * 1000.0,
+                    (start.elapsed() - parsed).as_secs_f64() * 1000.0
+                );
                 let tutorial =
                     Tutorial13::from_soup(gl, shader_dir, &model.soup, cylinder.mesh, sets)?;
                 warn_of_merged_corners(&model, &tutorial.mesh);

@@ -20,7 +20,7 @@ use crate::common::vboindexer::{index_vbo_tbn, IndexedMesh};
 use crate::debug::lines::DebugLines;
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::{bind_textures, Gl};
-use crate::mesh::{build_mesh, MeshOptions};
+use crate::mesh::MeshOptions;
 use crate::Result;
 
 /// `glClearColor(0.0f, 0.0f, 0.4f, 0.0f)`: dark blue.
@@ -151,8 +151,19 @@ impl Tutorial13 {
         init_gl_state(gl);
         let [vertex_shader, fragment_shader] = SHADERS;
         let program = NormalMappingProgram::load(gl, vertex_shader, fragment_shader, shader_dir)?;
-        let mesh = build_mesh(soup, mesh_options);
+        let start = std::time::Instant::now();
+        let basis = compute_tangent_basis(soup, mesh_options.tangents);
+        let tangents = start.elapsed();
+        let mesh = index_vbo_tbn(soup, &basis, mesh_options.indexing);
+        let indexing = start.elapsed() - tangents;
         let buffers = MeshBuffers::new(gl, &mesh)?;
+        let ms = |d: std::time::Duration| d.as_secs_f64() * 1000.0;
+        log::debug!(
+            "computeTangentBasis {:.1} ms, indexVBO_TBN {:.1} ms, upload {:.1} ms",
+            ms(tangents),
+            ms(indexing),
+            ms(start.elapsed() - tangents - indexing)
+        );
         Ok(Tutorial13 {
             gl: gl.clone(),
             program,
