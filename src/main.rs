@@ -79,9 +79,10 @@ struct Cli {
 enum Command {
     /// Generate the project's own assets (cylinder, brick textures, normal map) into a folder
     MakeAssets {
-        /// Output folder (created if missing)
-        #[arg(long, value_name = "DIR", default_value = "assets")]
-        out: PathBuf,
+        /// Output folder (created if missing) [default: the crate's assets/, where the program reads
+        /// them]
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
         /// Replace files that are already there with other contents (e.g. the tutorial's own files);
         /// without it such files are named and nothing is written
         #[arg(long)]
@@ -216,7 +217,9 @@ fn run(cli: Cli, scene: SceneOptions) -> Result<()> {
     }
     if let Some(Command::MakeAssets { out, force }) = &cli.command {
         let files = scenes::generate_assets()?;
-        let written = tutorial13::assets::make_assets(out, &files, *force)?;
+        // Where the program reads them unless told otherwise, wherever this is run from.
+        let out = out.clone().unwrap_or_else(scenes::crate_assets_dir);
+        let written = tutorial13::assets::make_assets(&out, &files, *force)?;
         let names = |paths: &[PathBuf]| {
             let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
             names.join(", ")
@@ -293,9 +296,14 @@ fn run_headless(cli: &Cli, scene: SceneOptions) -> Result<()> {
         );
     }
     if cli.bench.is_none() || cli.screenshot.is_some() {
-        let image = renderer.render_frames(cli.frames.unwrap_or(1))?;
-        if let Some(path) = &cli.screenshot {
-            save(path, &image)?;
+        let frames = cli.frames.unwrap_or(1);
+        let image = renderer.render_frames(frames)?;
+        match &cli.screenshot {
+            Some(path) => save(path, &image)?,
+            None => log::warn!(
+                "rendered {frames} frame(s) and wrote nothing: add --screenshot FILE.png to save \
+                 the last one"
+            ),
         }
     }
     Ok(())

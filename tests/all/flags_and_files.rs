@@ -236,3 +236,40 @@ fn a_wider_viewport_shows_more_without_stretching() {
         "{boxes:?}"
     );
 }
+
+// Fails if make-assets without --out writes into the folder it is run from (the program would not
+// read them there) instead of the crate's assets/ (where, the committed files being what it makes,
+// nothing changes and each is listed unchanged).
+#[test]
+fn make_assets_writes_where_the_program_reads() {
+    let dir = common::scratch("make-assets-default");
+    let out = tutorial13(&["make-assets"], &dir);
+    assert!(out.status.success(), "{}", common::text(&out.stderr));
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "wrote into the working folder"
+    );
+    let stdout = common::text(&out.stdout);
+    let crate_assets = common::own_assets().join("cylinder.obj");
+    assert!(
+        stdout.contains(&crate_assets.display().to_string()),
+        "{stdout}"
+    );
+    assert!(stdout.starts_with("unchanged: "), "{stdout}");
+}
+
+// Fails if --headless without --screenshot renders silently (a learner waits for a file that is
+// never written) instead of saying what to add.
+#[test]
+fn headless_without_a_screenshot_says_what_is_missing() {
+    let dir = common::scratch("headless-alone");
+    let out = tutorial13(&["--headless"], &dir);
+    let stderr = common::text(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("wrote nothing: add --screenshot"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+}

@@ -242,7 +242,14 @@ fn tga_heights_read_like_png_and_invert_negates() {
         assert!(out.status.success(), "{}", crate::common::text(&out.stderr));
     };
     run(&["normalmap", "h.png", "--invert", "-o", "inverted.png"]);
-    run(&["normalmap", "h.png", "--strength", "-8", "-o", "negated.png"]);
+    run(&[
+        "normalmap",
+        "h.png",
+        "--strength",
+        "-8",
+        "-o",
+        "negated.png",
+    ]);
     let read = |name: &str| std::fs::read(dir.join(name)).unwrap();
     assert_eq!(read("inverted.png"), read("negated.png"));
 }
