@@ -73,11 +73,11 @@ pub fn grid_cylinder_obj_text(
 
 /// OBJ text of the same open cylinder as [`grid_cylinder_obj_text`], with its UVs laid out the way
 /// modelling tools export them: the surface cut into charts of `chart × chart` quads, each chart with
-/// its own island of a [0, 1]² atlas (90 % of its atlas cell). Positions on a chart border are
-/// repeated with another UV for each chart they belong to (a seam), so they index to several
-/// vertices; faces are written chart by chart. Each chart's vertices are distinct, so the mesh
-/// indexes to `Σ (chart width + 1) × (chart height + 1)` vertices wherever its positions stay more
-/// than 0.01 apart, and a chart's atlas cell is wider than 0.01.
+/// its own island in a [0, 1]² atlas (half of its atlas cell, the rest padding). Positions on a chart
+/// border are repeated with another UV for each chart they belong to (a seam), so they index to
+/// several vertices; faces are written chart by chart. Each chart keeps its own vertices, so the mesh
+/// indexes to `Σ (chart width + 1) × (chart height + 1)` vertices while positions stay more than 0.01
+/// apart and the padding (half a cell: 0.5 / charts across, or up) is wider than 0.01.
 pub fn charted_cylinder_obj_text(
     segments: u32,
     rings: u32,
@@ -101,8 +101,8 @@ pub fn charted_cylinder_obj_text(
         let (w, h) = (chart.min(segments - s0), chart.min(rings - r0));
         for r in 0..=h {
             for s in 0..=w {
-                let u = (cs as f32 + 0.9 * s as f32 / chart as f32) / across as f32;
-                let v = (cr as f32 + 0.9 * r as f32 / chart as f32) / up as f32;
+                let u = (cs as f32 + 0.5 * s as f32 / chart as f32) / across as f32;
+                let v = (cr as f32 + 0.5 * r as f32 / chart as f32) / up as f32;
                 let _ = writeln!(text, "vt {u:.6} {v:.6}");
             }
         }
