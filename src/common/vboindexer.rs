@@ -173,7 +173,11 @@ impl Builder {
     /// mesh shares each vertex among about six corners) and grow if needed: reserving for every
     /// corner touches several times the memory, and fresh pages cost more than the indexing here.
     fn new(corners: usize, options: IndexOptions) -> Self {
-        let capacity = corners / 4 + 16;
+        Self::with_capacity(corners / 4 + 16, corners, options)
+    }
+
+    /// Room for `capacity` vertices and `corners` indices.
+    fn with_capacity(capacity: usize, corners: usize, options: IndexOptions) -> Self {
         Builder {
             mesh: IndexedMesh {
                 indices: Indices::U16(Vec::new()),
@@ -212,6 +216,7 @@ impl Builder {
     }
 
     /// Adds a corner's tangents to vertex `index`'s sums.
+    #[inline]
     fn add_sums(&mut self, index: u32, t: Vec3, b: Vec3) {
         let (t, b) = self.prepare(t, b);
         let i = index as usize;
@@ -262,6 +267,7 @@ impl Builder {
 
     /// The corner that made vertex `index` (the next one without sums): its tangents start the
     /// sums.
+    #[inline]
     fn start_sums(&mut self, index: u32, t: Vec3, b: Vec3) {
         let (t, b) = self.prepare(t, b);
         if within_limit(t, b) {
@@ -349,7 +355,7 @@ const AHEAD: usize = 16;
 
 /// Corners seen so far, by their exact bits, each numbered in the order it first came. What
 /// meshoptimizer's remap does, sized the same way: an open-addressing table hashed once per
-/// corner, reserved up front, under half full (doubling when needed). A slot holds the key's number
+/// corner, reserved up front, at most two thirds full (doubling when needed). A slot holds the key's number
 /// plus one (0: free) and 32 bits of its hash, so that a probe reads the key itself (from the soup,
 /// at the corner where it first came) only when those agree.
 struct Weld<'a> {
@@ -377,7 +383,7 @@ impl<'a> Weld<'a> {
     fn with_capacity(soup: &'a TriangleSoup, expected: usize) -> Self {
         Weld {
             soup,
-            slots: vec![(0, 0); (2 * expected).next_power_of_two().max(64)],
+            slots: vec![(0, 0); (expected + expected / 3).next_power_of_two().max(64)],
             first: Vec::with_capacity(expected),
             recent: vec![(0, 0); RECENT],
         }
@@ -432,7 +438,7 @@ impl<'a> Weld<'a> {
         let id = self.first.len() as u32;
         self.slots[slot] = (id, tag);
         self.recent[recent] = (id, tag);
-        if 2 * self.first.len() > self.slots.len() {
+        if 3 * self.first.len() > 2 * self.slots.len() {
             self.grow();
         }
         (id - 1, true)
@@ -706,7 +712,7 @@ impl Grid {
     /// Sized for up to `vertices` vertices, each registered in two or three cells.
     fn with_capacity(vertices: usize) -> Self {
         Grid {
-            buckets: Cells::with_capacity(vertices / 4),
+            buckets: Cells::with_capacity(vertices / 2),
             entries: Vec::with_capacity(3 * vertices),
             fine: FxHashMap::default(),
             fine_entries: Vec::new(),
@@ -885,9 +891,9 @@ fn index_with_grid(
     options: IndexOptions,
 ) -> (IndexedMesh, u64) {
     check_lengths(soup, basis);
-    let n = soup.vertices.len();
     let (mut numbers, first) = weld(soup, true);
-    let mut out = Builder::new(n, options);
+    // At most one vertex per number; the index buffer will be `numbers`.
+    let mut out = Builder::with_capacity(first.len(), 0, options);
     let mut grid = Grid::with_capacity(first.len());
     let mut vertex_of = Vec::with_capacity(first.len());
     let mut steps = 0u64;
