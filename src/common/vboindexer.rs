@@ -544,12 +544,9 @@ pub fn index_vbo_tbn_linear(
     out.finish()
 }
 
-/// Side of a position cell. A vertex's neighbourhood (± `MARGIN`) spans 0.0202 per axis, so it
-/// touches one or two cells per axis (1.2 on average). Measured on the benchmark meshes: when
-/// every corner searched the grid, 0.05 beat 0.025 (more registrations) and 0.1 (longer lists);
-/// now that only a key's first corner does (about one in six), 0.1 beats 0.05 and 0.2: fewer and
-/// fuller cells, a table a quarter the size.
-const CELL: f64 = 0.1;
+/// Smallest side of a position cell (see [`cell_side`]). A vertex's neighbourhood (± `MARGIN`)
+/// spans 0.0202 per axis, so it touches one or two cells per axis.
+const MIN_CELL: f64 = 0.05;
 /// Side of a UV-and-normal cell in a split position cell (see [`Grid`]): there the lists are
 /// walked by every corner that searches, so they are kept short.
 const FINE_CELL: f64 = 0.05;
@@ -558,23 +555,46 @@ const FINE_CELL: f64 = 0.05;
 const MARGIN: f64 = 0.0101;
 const NO_ENTRY: u32 = u32::MAX;
 
-/// Cell coordinate along one axis. The float-to-int cast saturates, so huge values share the end
-/// cells; that only adds candidates, never loses one, because the exact test decides. Cells are
-/// centred on multiples of `CELL` (boundaries at odd multiples of `CELL / 2`), so that the values
-/// files are full of (0, 1, 0.5) sit mid-cell and their neighbourhoods touch one cell, not two.
-fn cell_of(x: f64) -> i64 {
-    cell_in(x, CELL)
+/// Side of the position cells for `soup`: the 0.05 × 2^k nearest to twice its typical edge (the
+/// median edge of up to about 1000 triangles spread over the soup), at least 0.05. A cell then
+/// holds a handful of vertices at any scale: measured on the benchmark meshes, a 1M-triangle
+/// cylinder with edges of 0.05 to 0.08 indexes fastest in cells of 0.1 (0.05 makes four times the
+/// cells, 0.2 lists twice as long), and the 0.02-spaced soup of the one-cell benchmark in cells of
+/// 0.05 (0.1 lists overflow [`SPLIT`]). (When every corner searched the grid, not only a key's
+/// first, 0.05 was best on the benchmark meshes.) The side changes which vertices are looked at,
+/// never which is found.
+fn cell_side(soup: &TriangleSoup) -> f64 {
+    let triangles = soup.vertices.len() / 3;
+    let mut edges: Vec<f32> = (0..triangles)
+        .step_by((triangles / 1024).max(1))
+        .flat_map(|t| {
+            let v = &soup.vertices[3 * t..3 * t + 3];
+            [
+                v[0].distance(v[1]),
+                v[1].distance(v[2]),
+                v[2].distance(v[0]),
+            ]
+        })
+        .filter(|e| e.is_finite())
+        .collect();
+    if edges.is_empty() {
+        return MIN_CELL;
+    }
+    let middle = edges.len() / 2;
+    let median = *edges.select_nth_unstable_by(middle, f32::total_cmp).1 as f64;
+    let k = (2.0 * median / MIN_CELL).log2().round().clamp(0.0, 60.0);
+    MIN_CELL * k.exp2()
 }
 
-/// [`cell_of`] for cells of side `FINE_CELL`.
-fn fine_cell_of(x: f64) -> i64 {
-    cell_in(x, FINE_CELL)
-}
-
-fn cell_in(x: f64, side: f64) -> i64 {
+/// Cell coordinate along one axis, for cells of side `1 / inverse_side`. The float-to-int cast
+/// saturates, so huge values share the end cells; that only adds candidates, never loses one,
+/// because the exact test decides. Cells are centred on multiples of the side (boundaries at odd
+/// multiples of half of it), so that 0 sits mid-cell, and with a side of 0.05 or 0.1 so do the
+/// other values files are full of (1, 0.5): their neighbourhoods touch one cell, not two.
+fn cell_of(x: f64, inverse_side: f64) -> i64 {
     // floor() by truncation and a correction: the libm call is not inlined on baseline x86-64 and
     // was a tenth of the indexing time. Monotone in x, which is all the grid needs.
-    let q = x * (1.0 / side) + 0.5;
+    let q = x * inverse_side + 0.5;
     let t = q as i64;
     if (t as f64) > q {
         t.saturating_sub(1)
@@ -702,6 +722,8 @@ impl Cells {
 /// neighbourhood touches), again in increasing vertex order. A corner in a split cell looks in the
 /// one list for its own UV-and-normal cell, which holds every vertex near it.
 struct Grid {
+    /// 1 / the side of a position cell.
+    inverse_side: f64,
     buckets: Cells,
     entries: Vec<(u32, u32)>, // vertex, next entry of the same bucket
     fine: FxHashMap<(u64, u64), (u32, u32)>, // (position key, UV/normal key) → first, last entry
@@ -709,9 +731,11 @@ struct Grid {
 }
 
 impl Grid {
-    /// Sized for up to `vertices` vertices, each registered in two or three cells.
-    fn with_capacity(vertices: usize) -> Self {
+    /// Cells of side `side`, sized for up to `vertices` vertices, each registered in one to three
+    /// cells.
+    fn new(side: f64, vertices: usize) -> Self {
         Grid {
+            inverse_side: 1.0 / side,
             buckets: Cells::with_capacity(vertices / 2),
             entries: Vec::with_capacity(3 * vertices),
             fine: FxHashMap::default(),
@@ -720,18 +744,18 @@ impl Grid {
     }
 
     /// The cells a vertex at `p` is registered in: every cell of the box lo..=hi.
-    fn neighbourhood(p: Vec3) -> ([i64; 3], [i64; 3]) {
+    fn neighbourhood(&self, p: Vec3) -> ([i64; 3], [i64; 3]) {
         let p = p.to_array().map(|x| x as f64);
         (
-            p.map(|x| cell_of(x - MARGIN)),
-            p.map(|x| cell_of(x + MARGIN)),
+            p.map(|x| cell_of(x - MARGIN, self.inverse_side)),
+            p.map(|x| cell_of(x + MARGIN, self.inverse_side)),
         )
     }
 
     /// Starts loading the slots that a corner at `p` will read ([`Grid::find`]) and, if it becomes
     /// a vertex, write ([`Grid::insert`]).
     fn prefetch(&self, p: Vec3) {
-        let (lo, hi) = Self::neighbourhood(p);
+        let (lo, hi) = self.neighbourhood(p);
         for x in lo[0]..=hi[0] {
             for y in lo[1]..=hi[1] {
                 for z in lo[2]..=hi[2] {
@@ -743,7 +767,7 @@ impl Grid {
 
     /// Registers output vertex `index` (which must be the newest) of `out`.
     fn insert(&mut self, index: u32, out: &IndexedMesh) {
-        let (lo, hi) = Self::neighbourhood(out.vertices[index as usize]);
+        let (lo, hi) = self.neighbourhood(out.vertices[index as usize]);
         for x in lo[0]..=hi[0] {
             for y in lo[1]..=hi[1] {
                 for z in lo[2]..=hi[2] {
@@ -769,8 +793,8 @@ impl Grid {
     fn insert_fine(&mut self, key: u64, index: u32, out: &IndexedMesh) {
         let j = index as usize;
         let rest = rest_of(out.uvs[j], out.normals[j]);
-        let lo = rest.map(|x| fine_cell_of(x - MARGIN));
-        let hi = rest.map(|x| fine_cell_of(x + MARGIN));
+        let lo = rest.map(|x| cell_of(x - MARGIN, 1.0 / FINE_CELL));
+        let hi = rest.map(|x| cell_of(x + MARGIN, 1.0 / FINE_CELL));
         // Every cell of the box lo..=hi (one to 32), as an odometer.
         let mut cells = lo;
         loop {
@@ -820,15 +844,15 @@ impl Grid {
     /// Also gives how many vertices were looked at.
     fn find(&self, (p, uv, n): (Vec3, Vec2, Vec3), out: &IndexedMesh) -> Found {
         let key = cell_key(
-            cell_of(p.x as f64),
-            cell_of(p.y as f64),
-            cell_of(p.z as f64),
+            cell_of(p.x as f64, self.inverse_side),
+            cell_of(p.y as f64, self.inverse_side),
+            cell_of(p.z as f64, self.inverse_side),
         );
         let Some((first, last)) = self.buckets.get(key) else {
             return Found::default();
         };
         let (mut entry, entries) = if last == SPLIT_BUCKET {
-            let fine = fine_key(rest_of(uv, n).map(fine_cell_of));
+            let fine = fine_key(rest_of(uv, n).map(|x| cell_of(x, 1.0 / FINE_CELL)));
             match self.fine.get(&(key, fine)) {
                 Some(&(first, _)) => (first, &self.fine_entries),
                 None => return Found::default(),
@@ -894,7 +918,7 @@ fn index_with_grid(
     let (mut numbers, first) = weld(soup, true);
     // At most one vertex per number; the index buffer will be `numbers`.
     let mut out = Builder::with_capacity(first.len(), 0, options);
-    let mut grid = Grid::with_capacity(first.len());
+    let mut grid = Grid::new(cell_side(soup), first.len());
     let mut vertex_of = Vec::with_capacity(first.len());
     let mut steps = 0u64;
     for (d, &i) in first.iter().enumerate() {
@@ -1066,6 +1090,28 @@ mod tests {
             // Unsplit, every corner walks every earlier vertex: n²/2 = 4.5 million steps.
             assert!(steps < 20 * n as u64, "{position}: {steps} steps");
         }
+    }
+
+    // Fails if the position cells are not sized to the mesh: twice the typical edge, rounded to
+    // 0.05 × 2^k, at least 0.05 (also for a soup of one point, or of edges too long for f32).
+    #[test]
+    fn cell_side_follows_the_edges() {
+        // Right triangles along x, legs `edge` long (so the median edge is `edge`).
+        let strip = |edge: f32| {
+            let positions: Vec<Vec3> = (0..300)
+                .map(|i| {
+                    let corner = [Vec3::ZERO, Vec3::X, Vec3::Y][i % 3];
+                    (corner + Vec3::X * (i / 3) as f32) * edge
+                })
+                .collect();
+            soup_of(&positions).0
+        };
+        assert_eq!(cell_side(&strip(0.06)), 0.1);
+        assert_eq!(cell_side(&strip(0.02)), 0.05);
+        assert_eq!(cell_side(&strip(0.5)), 0.8);
+        assert_eq!(cell_side(&soup_of(&[Vec3::ONE; 30]).0), 0.05);
+        assert_eq!(cell_side(&strip(3e38)), 0.05);
+        assert_eq!(cell_side(&soup_of(&[]).0), 0.05);
     }
 
     // Fails if the index width rule is off by one at the 16-bit limit.
