@@ -5,11 +5,19 @@
 //! *first* such vertex and its tangent and bitangent are added to that vertex's (a sum, not an
 //! average, and not normalized: the shader normalizes). It searches linearly, so it is quadratic.
 //!
-//! [`index_vbo_tbn`] gives the same result in expected linear time: output vertices are kept in a hash
-//! grid keyed on their position (each registered in the cells its ±0.01 neighbourhood touches), and
-//! a corner looks only in its own cell, taking the lowest matching index, as the linear search would.
+//! [`index_vbo_tbn`] gives the same result in expected linear time, in two passes. First the
+//! corners are numbered by their exact bits, as the plain [`index_vbo`] (and meshoptimizer's remap)
+//! does: a corner equal to an earlier one to the bit gets that corner's vertex, which the search
+//! would find again. Then, corner by corner in the tutorial's order, the search (once per distinct
+//! corner), the index and the tangent sums. The search keeps output vertices in a hash grid keyed
+//! on their position (each registered in the cells its ±0.01 neighbourhood touches); a corner looks
+//! only in its own cell, taking the lowest matching index, as the linear search would.
 //! [`index_vbo_tbn_linear`] is the straightforward port, kept as the reference the tests compare with.
-//! [`index_vbo`] ports the plain `indexVBO` (exact matches through a map, no tangents).
+//!
+//! The two hash tables are written here rather than taken from a crate because their speed comes
+//! from what a general map does not offer: a slot is loaded a few corners before it is needed
+//! (with a prefetch), and a small table of recent keys answers most corners of a mesh from the
+//! core's cache. Both are measured against meshoptimizer in `benches/first_frame.rs`.
 //!
 //! Where the port differs: indices are 16-bit only while every vertex fits (at most 65 535 of them),
 //! else 32-bit; the original casts to `unsigned short` and silently wraps.
@@ -476,8 +484,8 @@ fn weld(soup: &TriangleSoup, finite_only: bool) -> (Vec<u32>, Vec<u32>) {
     let mut numbers = Vec::with_capacity(n);
     let mut ahead = Ahead::new(soup);
     for i in 0..n {
-        let (hash, next) = ahead.step(soup, i);
-        if let Some((_, next)) = next {
+        let (key, hash, next) = ahead.step(soup, i);
+        if let Some(next) = next {
             weld.prefetch(next);
         }
         let listed = !finite_only
@@ -485,7 +493,7 @@ fn weld(soup: &TriangleSoup, finite_only: bool) -> (Vec<u32>, Vec<u32>) {
                 && soup.uvs[i].is_finite()
                 && soup.normals[i].is_finite();
         numbers.push(if listed {
-            weld.number(i, &key_of(soup, i), hash).0
+            weld.number(i, &key, hash).0
         } else {
             weld.number_unlisted(i)
         });
@@ -493,31 +501,34 @@ fn weld(soup: &TriangleSoup, finite_only: bool) -> (Vec<u32>, Vec<u32>) {
     (numbers, weld.first)
 }
 
-/// The hashes of the next [`AHEAD`] corners, so that what they will read can be loaded early.
+/// The keys and hashes of the next [`AHEAD`] corners, so that what they will read can be loaded
+/// early.
 struct Ahead {
-    hashes: [u64; AHEAD],
+    keys: [(Key, u64); AHEAD],
 }
 
 impl Ahead {
     fn new(soup: &TriangleSoup) -> Self {
-        let mut hashes = [0; AHEAD];
-        for (i, hash) in hashes.iter_mut().enumerate().take(soup.vertices.len()) {
-            *hash = hash_key(&key_of(soup, i));
+        let mut keys = [([0; 4], 0); AHEAD];
+        for (i, slot) in keys.iter_mut().enumerate().take(soup.vertices.len()) {
+            let key = key_of(soup, i);
+            *slot = (key, hash_key(&key));
         }
-        Ahead { hashes }
+        Ahead { keys }
     }
 
-    /// Corner `i`'s hash (the corners must come in order), and the corner [`AHEAD`] further on with
-    /// its hash, if there is one.
-    fn step(&mut self, soup: &TriangleSoup, i: usize) -> (u64, Option<(usize, u64)>) {
-        let hash = self.hashes[i % AHEAD];
+    /// Corner `i`'s key and hash (the corners must come in order), and the hash of the corner
+    /// [`AHEAD`] further on, if there is one.
+    fn step(&mut self, soup: &TriangleSoup, i: usize) -> (Key, u64, Option<u64>) {
+        let (key, hash) = self.keys[i % AHEAD];
         let next = i + AHEAD;
         if next >= soup.vertices.len() {
-            return (hash, None);
+            return (key, hash, None);
         }
-        let next_hash = hash_key(&key_of(soup, next));
-        self.hashes[i % AHEAD] = next_hash;
-        (hash, Some((next, next_hash)))
+        let next_key = key_of(soup, next);
+        let next_hash = hash_key(&next_key);
+        self.keys[i % AHEAD] = (next_key, next_hash);
+        (key, hash, Some(next_hash))
     }
 }
 
@@ -899,64 +910,68 @@ pub fn index_vbo_tbn(
     index_with_grid(soup, basis, options).0
 }
 
-/// How many distinct corners ahead [`index_with_grid`] starts loading their cells.
+/// How many numbers ahead [`index_with_grid`] starts loading the cells of their first corners.
 const GRID_AHEAD: usize = 8;
 
 /// [`index_vbo_tbn`], also giving how many candidate vertices the searches looked at in all.
 ///
-/// In three passes, each in the corners' order, each with a small working set: number the corners
-/// by their exact bits ([`weld`]); search the grid once per number, at its first corner (a corner
+/// In two passes over the corners, each with a small working set: number them by their exact bits
+/// ([`weld`]); then, corner by corner, search the grid at each number's first corner (a corner
 /// equal to an earlier one to the bit gets that corner's vertex: any near vertex with a lower index
-/// existed back then, and would have been found); then write the indices and sum the tangents,
-/// corner by corner, as the tutorial does.
+/// existed back then, and would have been found), write the index and sum the tangents, as the
+/// tutorial does.
 fn index_with_grid(
     soup: &TriangleSoup,
     basis: &TangentBasis,
     options: IndexOptions,
 ) -> (IndexedMesh, u64) {
     check_lengths(soup, basis);
-    let (mut numbers, first) = weld(soup, true);
+    let (mut numbers, mut first) = weld(soup, true);
     // At most one vertex per number; the index buffer will be `numbers`.
     let mut out = Builder::with_capacity(first.len(), 0, options);
     let mut grid = Grid::new(cell_side(soup), first.len());
-    let mut vertex_of = Vec::with_capacity(first.len());
     let mut steps = 0u64;
-    for (d, &i) in first.iter().enumerate() {
-        if let Some(&next) = first.get(d + GRID_AHEAD) {
-            grid.prefetch(soup.vertices[next as usize]);
-        }
-        let corner = corner(soup, i as usize);
-        // A non-finite component is never near anything (NaN and inf - inf compare false), so such
-        // a corner is always new and never found again: [`weld`] numbered it alone.
-        let finite = corner.0.is_finite() && corner.1.is_finite() && corner.2.is_finite();
-        if !finite {
-            vertex_of.push(out.add_vertex(corner));
-            continue;
-        }
-        let found = grid.find(corner, &out.mesh);
-        steps += found.steps as u64;
-        if let Some(key) = found.split {
-            grid.split(key, &out.mesh);
-        }
-        vertex_of.push(match found.vertex {
-            Some(j) => j,
-            None => {
-                let index = out.add_vertex(corner);
-                grid.insert(index, &out.mesh);
-                index
-            }
-        });
-    }
-    // Each corner's number becomes its vertex: the index buffer, in place.
+    // Numbers below `searched` have their vertex, which replaces their first corner in `first`.
+    let mut searched = 0;
     for (i, index) in numbers.iter_mut().enumerate() {
+        let number = *index as usize;
+        // Numbers come in the order of their first corners: this is number `searched`'s.
+        if number == searched {
+            if let Some(&next) = first.get(number + GRID_AHEAD) {
+                grid.prefetch(soup.vertices[next as usize]);
+            }
+            let corner = corner(soup, i);
+            // A non-finite component is never near anything (NaN and inf - inf compare false), so
+            // such a corner is always new and never found again: [`weld`] numbered it alone.
+            let finite = corner.0.is_finite() && corner.1.is_finite() && corner.2.is_finite();
+            first[number] = if finite {
+                let found = grid.find(corner, &out.mesh);
+                steps += found.steps as u64;
+                if let Some(key) = found.split {
+                    grid.split(key, &out.mesh);
+                }
+                match found.vertex {
+                    Some(j) => j,
+                    None => {
+                        let j = out.add_vertex(corner);
+                        grid.insert(j, &out.mesh);
+                        j
+                    }
+                }
+            } else {
+                out.add_vertex(corner)
+            };
+            searched += 1;
+        }
+        let j = first[number];
         let (t, b) = (basis.tangents[i], basis.bitangents[i]);
-        let j = vertex_of[*index as usize];
         // Vertices are numbered in the order of the corners that made them.
         if j as usize == out.mesh.tangents.len() {
             out.start_sums(j, t, b);
         } else {
             out.add_sums(j, t, b);
         }
+        // The corner's number becomes its vertex: the index buffer, in place.
         *index = j;
     }
     out.indices = numbers;
