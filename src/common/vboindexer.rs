@@ -363,9 +363,9 @@ const AHEAD: usize = 16;
 
 /// Corners seen so far, by their exact bits, each numbered in the order it first came. What
 /// meshoptimizer's remap does, sized the same way: an open-addressing table hashed once per
-/// corner, reserved up front, at most two thirds full (doubling when needed). A slot holds the key's number
-/// plus one (0: free) and 32 bits of its hash, so that a probe reads the key itself (from the soup,
-/// at the corner where it first came) only when those agree.
+/// corner, reserved up front, at most two thirds full (doubling when needed). A slot holds the
+/// key's number plus one (0: free) and 32 bits of its hash, so that a probe reads the key itself
+/// (from the soup, at the corner where it first came) only when those agree.
 struct Weld<'a> {
     soup: &'a TriangleSoup,
     slots: Vec<(u32, u32)>,
@@ -403,14 +403,12 @@ impl<'a> Weld<'a> {
     }
 
     /// Starts loading what [`Weld::number`] will read for `hash`: its slot in the big table, unless
-    /// the small one seems to hold the key already (most corners of a mesh). Says which.
-    fn prefetch(&self, hash: u64) -> bool {
+    /// the small one seems to hold the key already (most corners of a mesh).
+    fn prefetch(&self, hash: u64) {
         let (id, tag) = self.recent[recent_slot(hash)];
-        let recent = id != 0 && tag == hash as u32;
-        if !recent {
+        if id == 0 || tag != hash as u32 {
             prefetch(&self.slots[self.home(hash)]);
         }
-        !recent
     }
 
     /// Whether key number `id` + 1 is `key`. (Word by word in registers: comparing the arrays
@@ -420,14 +418,13 @@ impl<'a> Weld<'a> {
         (other[0] ^ key[0]) | (other[1] ^ key[1]) | (other[2] ^ key[2]) | (other[3] ^ key[3]) == 0
     }
 
-    /// The number of corner `i`, whose key and hash are given, and whether it is new (the key's
-    /// first corner).
-    fn number(&mut self, i: usize, key: &Key, hash: u64) -> (u32, bool) {
+    /// The number of corner `i`, whose key and hash are given (a new one if the key is new).
+    fn number(&mut self, i: usize, key: &Key, hash: u64) -> u32 {
         let tag = hash as u32;
         let recent = recent_slot(hash);
         let (id, recent_tag) = self.recent[recent];
         if id != 0 && recent_tag == tag && self.is(id, key) {
-            return (id - 1, false);
+            return id - 1;
         }
         let mask = self.slots.len() - 1;
         let mut slot = self.home(hash);
@@ -438,7 +435,7 @@ impl<'a> Weld<'a> {
             }
             if slot_tag == tag && self.is(id, key) {
                 self.recent[recent] = (id, tag);
-                return (id - 1, false);
+                return id - 1;
             }
             slot = (slot + 1) & mask;
         }
@@ -449,7 +446,7 @@ impl<'a> Weld<'a> {
         if 3 * self.first.len() > 2 * self.slots.len() {
             self.grow();
         }
-        (id - 1, true)
+        id - 1
     }
 
     /// A number of its own for corner `i`, never looked up (a corner that merges with nothing).
@@ -493,7 +490,7 @@ fn weld(soup: &TriangleSoup, finite_only: bool) -> (Vec<u32>, Vec<u32>) {
                 && soup.uvs[i].is_finite()
                 && soup.normals[i].is_finite();
         numbers.push(if listed {
-            weld.number(i, &key, hash).0
+            weld.number(i, &key, hash)
         } else {
             weld.number_unlisted(i)
         });
