@@ -7,24 +7,16 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
+mod common;
+
+use common::{cylinder, spread_soup};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use tutorial13::common::objloader::{load_obj, TriangleSoup};
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::common::vboindexer::{index_vbo_tbn, index_vbo_tbn_linear, IndexOptions};
-use tutorial13::mesh::{build_mesh, grid_cylinder_obj_text, MeshOptions};
+use tutorial13::mesh::{build_mesh, MeshOptions};
 use tutorial13::tangents::TangentSource;
-
-/// `segments × rings × 2` triangles, about 0.06 apart around and 0.05 along the axis.
-fn cylinder(segments: u32, rings: u32) -> String {
-    grid_cylinder_obj_text(
-        segments,
-        rings,
-        segments as f32 / 100.0,
-        rings as f32 / 20.0,
-        2.3,
-    )
-}
 
 fn write_obj(name: &str, segments: u32, rings: u32) -> PathBuf {
     let dir = std::env::temp_dir().join("tutorial13-bench");
@@ -72,20 +64,6 @@ fn indexers(c: &mut Criterion) {
         });
     }
     group.finish();
-}
-
-/// 20k triangles whose 60k corners all stay distinct vertices: UVs on a 0.02 grid (never within
-/// 0.01 of each other), positions either all at `at` (one grid cell) or on the same 0.02 grid.
-fn spread_soup(one_position: Option<Vec3>) -> TriangleSoup {
-    let corners = 60_000;
-    let grid = |i: usize| Vec2::new(0.02 * (i % 250) as f32, 0.02 * (i / 250) as f32);
-    TriangleSoup {
-        vertices: (0..corners)
-            .map(|i| one_position.unwrap_or_else(|| grid(i).extend(0.0)))
-            .collect(),
-        uvs: (0..corners).map(grid).collect(),
-        normals: vec![Vec3::Z; corners],
-    }
 }
 
 /// The worst case of the position grid (every vertex in one cell) against a mesh of the same size

@@ -40,13 +40,7 @@ pub fn grid_cylinder_obj_text(
         text,
         "# tutorial13: open cylinder, {segments} segments, {rings} rings, radius {radius}, height {height}"
     );
-    for ring in 0..=rings {
-        let y = height * ring as f32 / rings as f32;
-        for s in 0..segments {
-            let (sin, cos) = angle(s, segments).sin_cos();
-            let _ = writeln!(text, "v {:.6} {:.6} {:.6}", radius * sin, y, -radius * cos);
-        }
-    }
+    write_positions(&mut text, segments, rings, radius, height);
     for ring in 0..=rings {
         let v = ring as f32 / rings as f32;
         for s in 0..=segments {
@@ -56,10 +50,7 @@ pub fn grid_cylinder_obj_text(
             let _ = writeln!(text, "vt {u:.6} {v:.6}");
         }
     }
-    for s in 0..segments {
-        let (sin, cos) = angle(s, segments).sin_cos();
-        let _ = writeln!(text, "vn {:.6} 0.000000 {:.6}", sin, -cos);
-    }
+    write_normals(&mut text, segments);
     // 1-based OBJ indices of the corner at (segment s, ring r); s may be `segments` (the seam's UV).
     let v = |s: u32, r: u32| r * segments + s % segments + 1;
     let vt = |s: u32, r: u32| r * (segments + 1) + s + 1;
@@ -78,6 +69,84 @@ pub fn grid_cylinder_obj_text(
         }
     }
     text
+}
+
+/// OBJ text of the same open cylinder as [`grid_cylinder_obj_text`], with its UVs laid out the way
+/// modelling tools export them: the surface cut into charts of `chart × chart` quads, each chart with
+/// its own island in a [0, 1]² atlas (half of its atlas cell, the rest padding). Positions on a chart
+/// border are repeated with another UV for each chart they belong to (a seam), so they index to
+/// several vertices; faces are written chart by chart. Each chart keeps its own vertices, so the mesh
+/// indexes to `Σ (chart width + 1) × (chart height + 1)` vertices while positions stay more than 0.01
+/// apart and the padding (half a cell: 0.5 / charts across, or up) is wider than 0.01.
+pub fn charted_cylinder_obj_text(
+    segments: u32,
+    rings: u32,
+    radius: f32,
+    height: f32,
+    chart: u32,
+) -> String {
+    use std::fmt::Write;
+    let (across, up) = (segments.div_ceil(chart), rings.div_ceil(chart));
+    let mut text = String::with_capacity((segments as usize + 1) * (rings as usize + 1) * 128);
+    let _ = writeln!(
+        text,
+        "# tutorial13: open cylinder, {segments} segments, {rings} rings, radius {radius}, height {height}, charts of {chart}"
+    );
+    write_positions(&mut text, segments, rings, radius, height);
+    write_normals(&mut text, segments);
+    // Each chart: its UV island, then its faces (OBJ indices may point back at any earlier `vt`).
+    let mut vt_count = 0;
+    for (cr, cs) in (0..up).flat_map(|cr| (0..across).map(move |cs| (cr, cs))) {
+        let (s0, r0) = (cs * chart, cr * chart);
+        let (w, h) = (chart.min(segments - s0), chart.min(rings - r0));
+        for r in 0..=h {
+            for s in 0..=w {
+                let u = (cs as f32 + 0.5 * s as f32 / chart as f32) / across as f32;
+                let v = (cr as f32 + 0.5 * r as f32 / chart as f32) / up as f32;
+                let _ = writeln!(text, "vt {u:.6} {v:.6}");
+            }
+        }
+        let corner = |s: u32, r: u32| {
+            let (gs, gr) = (s0 + s, r0 + r);
+            let v = gr * segments + gs % segments + 1;
+            let vt = vt_count + r * (w + 1) + s + 1;
+            format!("{v}/{vt}/{}", gs % segments + 1)
+        };
+        for r in 0..h {
+            for s in 0..w {
+                let (a, b, c, d) = (
+                    corner(s, r),
+                    corner(s + 1, r),
+                    corner(s + 1, r + 1),
+                    corner(s, r + 1),
+                );
+                let _ = writeln!(text, "f {a} {d} {c}\nf {a} {c} {b}");
+            }
+        }
+        vt_count += (w + 1) * (h + 1);
+    }
+    text
+}
+
+/// The cylinder's `v` lines: `segments` around each of the `rings + 1` circles, bottom to top.
+fn write_positions(text: &mut String, segments: u32, rings: u32, radius: f32, height: f32) {
+    use std::fmt::Write;
+    for ring in 0..=rings {
+        let y = height * ring as f32 / rings as f32;
+        for s in 0..segments {
+            let (sin, cos) = angle(s, segments).sin_cos();
+            let _ = writeln!(text, "v {:.6} {:.6} {:.6}", radius * sin, y, -radius * cos);
+        }
+    }
+}
+
+/// The cylinder's `vn` lines: one radial normal per segment.
+fn write_normals(text: &mut String, segments: u32) {
+    use std::fmt::Write;
+    for s in 0..segments {
+        let (sin, cos) = angle(s, segments).sin_cos();
+        let _ = writeln!(text, "vn {:.6} 0.000000 {:.6}", sin, -cos);
+    }
 }
 
 fn angle(s: u32, segments: u32) -> f32 {

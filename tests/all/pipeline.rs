@@ -8,7 +8,9 @@ use proptest::prelude::*;
 use tutorial13::common::objloader::{load_obj, load_obj_bytes, TriangleSoup};
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
 use tutorial13::common::vboindexer::{index_vbo, index_vbo_tbn_linear, IndexOptions, Indices};
-use tutorial13::mesh::{build_mesh, grid_cylinder_obj_text, MeshOptions};
+use tutorial13::mesh::{
+    build_mesh, charted_cylinder_obj_text, grid_cylinder_obj_text, MeshOptions,
+};
 use tutorial13::scenes::cylinder::tutorial13::load_mesh;
 
 use crate::common;
@@ -103,6 +105,86 @@ fn bad_obj_files_name_the_file() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+// Fails if either indexer's output changes by one bit (vertex order, indices, tangent sums) from its
+// reference (the tutorial's linear search, the tutorial's map) on meshes shaped like real ones: a
+// cylinder whose vertices stay apart, one so dense that the 0.01 tolerance merges neighbours, one
+// cut into UV charts (positions repeated with other UVs along every seam), and corners that differ
+// only in the sign of a zero. Every speed-up of the indexers is checked against this.
+#[test]
+fn indexers_equal_references_bit_for_bit() {
+    let meshes = [
+        ("apart", grid_cylinder_obj_text(100, 40, 1.0, 2.0, 2.3)),
+        // 700 segments of radius 1: neighbours 0.009 apart in position, 0.0014 in U and 0.009 in
+        // the normal, so the tolerance merges them in chains.
+        ("dense", grid_cylinder_obj_text(700, 6, 1.0, 0.03, 1.0)),
+        ("charted", charted_cylinder_obj_text(120, 40, 1.2, 2.0, 7)),
+    ];
+    for (name, text) in meshes {
+        let soup = load_obj_bytes(text.as_bytes(), Path::new(name)).unwrap();
+        for options in [
+            TangentOptions::default(),
+            TangentOptions {
+                gram_schmidt: false,
+                ..TangentOptions::default()
+            },
+        ] {
+            let basis = compute_tangent_basis(&soup, options);
+            for normalize in [false, true] {
+                if let Err(e) = common::indexers_match_references(&soup, &basis, normalize) {
+                    panic!("{name}, {options:?}, normalize {normalize}: {e}");
+                }
+            }
+        }
+    }
+    let merged = |text: &str| {
+        let soup = load_obj_bytes(text.as_bytes(), Path::new("m")).unwrap();
+        build_mesh(&soup, MeshOptions::default()).vertices.len()
+    };
+    // The dense cylinder really merges within the tolerance (7 × 701 corners' positions otherwise).
+    assert!(merged(&grid_cylinder_obj_text(700, 6, 1.0, 0.03, 1.0)) < 7 * 500);
+    // Signed zeros: 0.0 and -0.0 are near (one vertex for index_vbo_tbn) but not the same bytes (two
+    // for index_vbo); a sum that starts at -0.0 stays -0.0 only if the first corner is stored, not added.
+    let z = Vec3::new(0.0, -0.0, 0.0);
+    let soup = TriangleSoup {
+        vertices: vec![z, Vec3::ZERO, -z, z, -Vec3::ZERO, z],
+        uvs: vec![Vec2::new(-0.0, 0.0); 6],
+        normals: vec![Vec3::new(0.0, 0.0, -0.0); 6],
+    };
+    let basis = TangentBasis {
+        tangents: vec![
+            -Vec3::ZERO,
+            Vec3::X,
+            -Vec3::ZERO,
+            -Vec3::ZERO,
+            Vec3::ZERO,
+            Vec3::Y,
+        ],
+        bitangents: vec![-Vec3::ZERO; 6],
+    };
+    for normalize in [false, true] {
+        common::indexers_match_references(&soup, &basis, normalize).unwrap();
+    }
+}
+
+// Fails if the charted cylinder (the benchmarks' mesh with seams) loses its seams or merges across
+// them: each chart of 7 × 7 quads (fewer at the ends) keeps its own grid of vertices, so the
+// border positions index to one vertex per chart they belong to.
+#[test]
+fn charted_cylinder_keeps_a_vertex_per_chart() {
+    let (segments, rings, chart) = (50, 16, 7);
+    let text = charted_cylinder_obj_text(segments, rings, 1.2, 2.0, chart);
+    let soup = load_obj_bytes(text.as_bytes(), Path::new("charted.obj")).unwrap();
+    assert_eq!(soup.triangle_count(), (2 * segments * rings) as usize);
+    let side = |n: u32| (0..n.div_ceil(chart)).map(move |c| chart.min(n - c * chart) + 1);
+    let expected: u32 = side(segments)
+        .flat_map(|w| side(rings).map(move |h| w * h))
+        .sum();
+    let mesh = build_mesh(&soup, MeshOptions::default());
+    assert_eq!(mesh.vertices.len(), expected as usize);
+    assert_eq!(index_vbo(&soup).vertices.len(), expected as usize);
+    assert!(expected > (segments + 1) * (rings + 1));
+}
+
 /// Offsets that stress the 0.01 test: zero half the time, else just inside or just outside the
 /// tolerance, or far.
 fn offset() -> impl Strategy<Value = f32> {
@@ -154,6 +236,6 @@ proptest! {
     // sums tangents in another order: indices, vertices and sums must be identical to the bit.
     #[test]
     fn fast_indexer_equals_linear_reference((soup, basis) in soup_strategy(), normalize in any::<bool>()) {
-        common::grid_indexer_matches_linear(&soup, &basis, normalize)?;
+        common::indexers_match_references(&soup, &basis, normalize)?;
     }
 }

@@ -16,7 +16,9 @@ use tutorial13::assets::{encode_bmp, encode_dds_dxt3};
 use tutorial13::common::controls::Controls;
 use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::TangentBasis;
-use tutorial13::common::vboindexer::{index_vbo_tbn, index_vbo_tbn_linear, IndexOptions};
+use tutorial13::common::vboindexer::{
+    index_vbo, index_vbo_tbn, index_vbo_tbn_linear, IndexOptions, IndexedMesh, Indices,
+};
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::gl::{ContextInfo, Profile};
 use tutorial13::scenes::cylinder::CylinderOptions;
@@ -452,10 +454,11 @@ pub fn project(world: Vec3) -> (f32, f32) {
     )
 }
 
-/// The grid indexer's property, for proptest: on `soup` and `basis`, normalizing the tangents before
-/// summing them or not, it picks the vertex the linear search picks (ties included) and sums in the
-/// same order, so indices, vertices and sums are identical to the bit.
-pub fn grid_indexer_matches_linear(
+/// The indexers' property, for proptest: on `soup` and `basis`, normalizing the tangents before
+/// summing them or not, `index_vbo_tbn` picks the vertex the linear search picks (ties included) and
+/// sums in the same order, and `index_vbo` merges exactly the corners the tutorial's map merges, so
+/// indices, vertices and sums are identical to the bit ([`mesh_bit_difference`]).
+pub fn indexers_match_references(
     soup: &TriangleSoup,
     basis: &TangentBasis,
     normalize: bool,
@@ -463,9 +466,83 @@ pub fn grid_indexer_matches_linear(
     let options = IndexOptions {
         normalize_before_sum: normalize,
     };
-    proptest::prop_assert_eq!(
-        index_vbo_tbn(soup, basis, options),
-        index_vbo_tbn_linear(soup, basis, options)
-    );
+    let fast = index_vbo_tbn(soup, basis, options);
+    let linear = index_vbo_tbn_linear(soup, basis, options);
+    if let Some(difference) = mesh_bit_difference(&fast, &linear) {
+        return Err(TestCaseError::fail(format!(
+            "index_vbo_tbn against the linear search: {difference}"
+        )));
+    }
+    if let Some(difference) = mesh_bit_difference(&index_vbo(soup), &index_vbo_reference(soup)) {
+        return Err(TestCaseError::fail(format!(
+            "index_vbo against the tutorial's map: {difference}"
+        )));
+    }
     Ok(())
+}
+
+/// The first place where `a` and `b` differ to the bit (index width, an index, an array's length or
+/// one float's bits: 0.0 and -0.0 differ, a NaN equals the same NaN), or None.
+pub fn mesh_bit_difference(a: &IndexedMesh, b: &IndexedMesh) -> Option<String> {
+    if a.indices.index_size() != b.indices.index_size() || a.indices.len() != b.indices.len() {
+        return Some(format!(
+            "{} indices of {} bytes against {} of {}",
+            a.indices.len(),
+            a.indices.index_size(),
+            b.indices.len(),
+            b.indices.index_size()
+        ));
+    }
+    if let Some(i) = (0..a.indices.len()).find(|&i| a.indices.get(i) != b.indices.get(i)) {
+        let (x, y) = (a.indices.get(i), b.indices.get(i));
+        return Some(format!("indices[{i}]: {x} against {y}"));
+    }
+    let arrays: [(&str, Vec<f32>, Vec<f32>); 5] = [
+        ("vertices", floats(&a.vertices), floats(&b.vertices)),
+        ("uvs", floats(&a.uvs), floats(&b.uvs)),
+        ("normals", floats(&a.normals), floats(&b.normals)),
+        ("tangents", floats(&a.tangents), floats(&b.tangents)),
+        ("bitangents", floats(&a.bitangents), floats(&b.bitangents)),
+    ];
+    for (name, x, y) in arrays {
+        if x.len() != y.len() {
+            return Some(format!("{name}: {} floats against {}", x.len(), y.len()));
+        }
+        if let Some(i) = (0..x.len()).find(|&i| x[i].to_bits() != y[i].to_bits()) {
+            return Some(format!("{name}, float {i}: {:?} against {:?}", x[i], y[i]));
+        }
+    }
+    None
+}
+
+fn floats<T: bytemuck::Pod>(values: &[T]) -> Vec<f32> {
+    bytemuck::cast_slice(values).to_vec()
+}
+
+/// The tutorial's `indexVBO`, as written: a map from each corner's bytes (`memcmp` order) to the
+/// first vertex made from it. The reference `index_vbo` is compared with.
+pub fn index_vbo_reference(soup: &TriangleSoup) -> IndexedMesh {
+    let mut mesh = IndexedMesh {
+        indices: Indices::U32(Vec::new()),
+        vertices: Vec::new(),
+        uvs: Vec::new(),
+        normals: Vec::new(),
+        tangents: Vec::new(),
+        bitangents: Vec::new(),
+    };
+    let mut map = std::collections::BTreeMap::new();
+    let mut indices = Vec::new();
+    for i in 0..soup.vertices.len() {
+        let (p, uv, n) = (soup.vertices[i], soup.uvs[i], soup.normals[i]);
+        let bytes: [u8; 32] = bytemuck::cast([p.x, p.y, p.z, uv.x, uv.y, n.x, n.y, n.z]);
+        let index = *map.entry(bytes).or_insert_with(|| {
+            mesh.vertices.push(p);
+            mesh.uvs.push(uv);
+            mesh.normals.push(n);
+            mesh.vertices.len() as u32 - 1
+        });
+        indices.push(index);
+    }
+    mesh.indices = Indices::from_u32(indices, mesh.vertices.len());
+    mesh
 }
