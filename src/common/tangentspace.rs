@@ -152,15 +152,24 @@ fn unit_scaled(v: Vec3) -> Vec3 {
 /// any perpendicular if both are); `b = n × t`. So `t` and `b` are unit length, orthogonal to each
 /// other and to `n`, right-handed, and the same for every switch setting.
 pub fn fallback_frame(normal: Vec3, delta_pos1: Vec3, delta_pos2: Vec3) -> (Vec3, Vec3) {
-    let n = normal
-        .try_normalize()
-        .or_else(|| delta_pos1.cross(delta_pos2).try_normalize())
+    let n = direction(normal)
+        .or_else(|| direction(delta_pos1.cross(delta_pos2)))
         .unwrap_or(Vec3::Z);
     let t = [delta_pos1, delta_pos2]
         .into_iter()
-        .find_map(|edge| (edge - n * n.dot(edge)).try_normalize())
+        .find_map(|edge| direction(edge - n * n.dot(edge)))
         .unwrap_or_else(|| n.any_orthonormal_vector());
     (t, n.cross(t))
+}
+
+/// `v` normalized, or `None` for a zero or non-finite `v`. A vector so small (or large) that its
+/// squared length leaves f32's normal range is normalized from a copy scaled towards 1: directly,
+/// its subnormal square made a fuzzed corner's tangent 0.92 long.
+fn direction(v: Vec3) -> Option<Vec3> {
+    match v.try_normalize() {
+        Some(unit) if unit.is_normalized() => Some(unit),
+        _ => unit_scaled(v).try_normalize(),
+    }
 }
 
 #[cfg(test)]
@@ -263,6 +272,15 @@ mod tests {
                 }
             }
         }
+    }
+
+    // Fails if an edge so short (1e-23 off the normal) that its squared length is subnormal gives a
+    // tangent that is not unit length (it was 0.92 long, found by the fuzzer).
+    #[test]
+    fn fallback_is_unit_for_tiny_edges() {
+        let normal = Vec3::new(0.0, 1e-30, 0.0099);
+        let (t, b) = fallback_frame(normal, Vec3::ZERO, Vec3::new(1e-30, 0.0, -483648.0));
+        assert!(t.is_normalized() && b.is_normalized(), "{t} {b}");
     }
 
     // Fails if a triangle with no area, or a zero normal, reaches NaN in the fallback.
