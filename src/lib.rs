@@ -6,7 +6,7 @@
 //! |---------------------|---------------|---------------------------------------------------------------|
 //! | errors and files  | [`error`], [`files`] | the crate's error type; atomic file writing         |
 //! | the tutorial's `common/` | [`common`] | objloader, tangentspace, vboindexer, texture, shader, controls |
-//! | CPU helpers         | [`mesh`], [`normalmap`], [`assets`] | the CPU pipeline's switches, mesh generators, height map → normal map, the project's own assets |
+//! | CPU helpers         | [`mesh`], [`normalmap`], [`photo`], [`photometric`], [`assets`] | the CPU pipeline's switches, mesh generators, height map → normal map, photos → normal map (one photo's guess, photometric stereo), the project's own assets |
 //! | GL helpers          | [`gl`]        | the `Gl` handle, context info, error draining, mesh buffers, read-back and image files, the headless context and offscreen targets |
 //! | debugging aids      | [`debug`]     | the TBN lines (immediate mode and line shader), colour views  |
 //! | scenes              | [`scenes`]    | `tutorial13.rs` (`tutorial13.cpp`), the cylinder scene, the [`scenes::Scene`] seam |
@@ -25,6 +25,8 @@ pub mod frontends;
 pub mod gl;
 pub mod mesh;
 pub mod normalmap;
+pub mod photo;
+pub mod photometric;
 pub mod scenes;
 pub mod tangents;
 
