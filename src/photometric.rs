@@ -174,25 +174,19 @@ pub fn recover(
     let (width, height) = (photos[0].width, photos[0].height);
     let texels = width as usize * height as usize;
     let bits = photos[0].bits();
+    let samples = |p: &Photo| match &p.samples {
+        Samples::Eight(v) => v.len(),
+        Samples::Sixteen(v) => v.len(),
+    };
     if photos
         .iter()
-        .any(|p| (p.width, p.height, p.bits()) != (width, height, bits))
+        .any(|p| (p.width, p.height, p.bits()) != (width, height, bits) || samples(p) != 3 * texels)
     {
         return Err(Error::Photometric(
             "photos of different sizes or bit depths (see load_photos)".into(),
         ));
     }
-    let midpoints = options.encoding.midpoints();
-    let job = Solver {
-        lights: &lights,
-        table: options.encoding.table(bits),
-        saturated: (SATURATED * f64::from((1u32 << bits) - 1)).ceil() as usize,
-        coarse: (0..=COARSE)
-            .map(|i| midpoints.partition_point(|&m| m <= i as f32 / COARSE as f32) as u8)
-            .collect(),
-        midpoints,
-        options,
-    };
+    let solver = Solver::new(&lights, bits, options);
     let mut normals = vec![[0u8; 3]; texels];
     let mut albedo = vec![[0u8; 3]; if options.albedo { texels } else { 0 }];
     // Whole rows per band; each band keeps its own cache of solves.
@@ -208,11 +202,11 @@ pub fn recover(
         let handles: Vec<_> = bands
             .into_iter()
             .map(|(i, (normals, albedo))| {
-                let job = &job;
+                let solver = &solver;
                 let first = i * band;
                 scope.spawn(move || match &photos[0].samples {
-                    Samples::Eight(_) => job.band(photos, eight, first, normals, albedo),
-                    Samples::Sixteen(_) => job.band(photos, sixteen, first, normals, albedo),
+                    Samples::Eight(_) => solver.band(photos, eight, first, normals, albedo),
+                    Samples::Sixteen(_) => solver.band(photos, sixteen, first, normals, albedo),
                 })
             })
             .collect();
@@ -258,7 +252,21 @@ struct Solver<'a> {
     options: &'a PhotometricOptions,
 }
 
-impl Solver<'_> {
+impl<'a> Solver<'a> {
+    fn new(lights: &'a [DVec3], bits: u32, options: &'a PhotometricOptions) -> Self {
+        let midpoints = options.encoding.midpoints();
+        Solver {
+            lights,
+            table: options.encoding.table(bits),
+            saturated: (SATURATED * f64::from((1u32 << bits) - 1)).ceil() as usize,
+            coarse: (0..=COARSE)
+                .map(|i| midpoints.partition_point(|&m| m <= i as f32 / COARSE as f32) as u8)
+                .collect(),
+            midpoints,
+            options,
+        }
+    }
+
     /// Solves the texels from `first` on, as many as `normals` holds; returns how many were left flat.
     fn band<T: Copy + Into<usize>>(
         &self,
@@ -508,4 +516,69 @@ pub fn load_photos(paths: &[PathBuf]) -> Result<Vec<Photo>> {
         photos = photos.into_iter().map(Photo::to_sixteen).collect();
     }
     Ok(photos)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ring(elevation_degrees: f64, k: usize) -> Vec<DVec3> {
+        let e = elevation_degrees.to_radians();
+        (0..k)
+            .map(|i| {
+                let a = std::f64::consts::TAU * i as f64 / k as f64 + 0.3;
+                DVec3::new(e.cos() * a.cos(), e.cos() * a.sin(), e.sin())
+            })
+            .collect()
+    }
+
+    // Fails if the spread is not the lights' RMS angle to their best plane: a ring of lights at
+    // elevation e is e from the surface's plane (for e up to 35.26°, where sin² e = cos² e / 2; above
+    // it a vertical plane fits better), three perpendicular axes are asin(√⅓) from any plane, coplanar or equal lights 0.
+    #[test]
+    fn light_spread_is_the_angle_to_the_best_plane() {
+        for e in [0.0, 3.0, 10.0, 30.0, 35.0] {
+            let spread = light_spread_degrees(&ring(e, 5));
+            assert!((spread - e).abs() < 1e-6, "{e}: {spread}");
+        }
+        let axes = [DVec3::X, DVec3::Y, DVec3::Z];
+        let expected = (1.0f64 / 3.0).sqrt().asin().to_degrees();
+        assert!((light_spread_degrees(&axes) - expected).abs() < 1e-9);
+        let tilted = [
+            DVec3::new(1.0, 1.0, 1.0),
+            DVec3::new(1.0, -1.0, 0.0),
+            DVec3::new(2.0, 0.0, 1.0),
+        ];
+        let tilted: Vec<DVec3> = tilted.iter().map(|l| l.normalize()).collect();
+        assert!(light_spread_degrees(&tilted) < 1e-6);
+        assert!(light_spread_degrees(&[DVec3::Z; 4]) < 1e-6);
+    }
+
+    // Fails if the albedo's 8-bit value is not round(from_linear(l) · 255) (computed in f64, so
+    // that only values within float rounding of a midpoint may go either way) for sRGB and linear.
+    #[test]
+    fn the_albedo_encoder_rounds_as_the_curve_says() {
+        for encoding in [Encoding::Srgb, Encoding::Linear] {
+            let options = PhotometricOptions {
+                encoding,
+                ..Default::default()
+            };
+            let solver = Solver::new(&[], 8, &options);
+            for i in 0..=200_000 {
+                let l = i as f32 / 200_000.0;
+                let exact = match encoding {
+                    Encoding::Linear => f64::from(l),
+                    Encoding::Srgb if l <= 0.003_130_8 => 12.92 * f64::from(l),
+                    Encoding::Srgb => 1.055 * f64::from(l).powf(1.0 / 2.4) - 0.055,
+                } * 255.0;
+                let got = f64::from(solver.encode(l));
+                let near_midpoint = (exact.fract() - 0.5).abs() < 1e-4;
+                assert!(
+                    got == exact.round() || near_midpoint && (got - exact).abs() <= 0.5 + 1e-4,
+                    "{encoding:?} {l}: {got} for {exact}"
+                );
+            }
+            assert_eq!((solver.encode(-1.0), solver.encode(2.0)), (0, 255));
+        }
+    }
 }
