@@ -106,9 +106,11 @@ pub fn decode_image(bytes: &[u8], path: &Path, what: &str) -> Result<image::Dyna
         .with_guessed_format()
         .map_err(|e| bad(e.to_string()))?;
     reader.limits(limits);
-    reader
-        .decode()
-        .map_err(|e| bad(format!("not {what} this program reads: {e}")))
+    reader.decode().map_err(|e| {
+        // One line: some decoders' messages (zune-jpeg's) end in or hold line breaks.
+        let reason = e.to_string().trim().replace('\n', "; ");
+        bad(format!("not {what} this program reads: {reason}"))
+    })
 }
 
 /// A unit normal's texel: each component c as round(127.5 · (c + 1)), so flat is (128, 128, 255).
