@@ -106,11 +106,25 @@ pub fn decode_image(bytes: &[u8], path: &Path, what: &str) -> Result<image::Dyna
         .with_guessed_format()
         .map_err(|e| bad(e.to_string()))?;
     reader.limits(limits);
+    if reader.format() == Some(image::ImageFormat::Jpeg) && jpeg_cut_short(bytes) {
+        return Err(bad(format!(
+            "not {what} this program reads: a JPEG cut short (no end marker after its last scan)"
+        )));
+    }
     reader.decode().map_err(|e| {
         // One line: some decoders' messages (zune-jpeg's) end in or hold line breaks.
         let reason = e.to_string().trim().replace('\n', "; ");
         bad(format!("not {what} this program reads: {reason}"))
     })
+}
+
+/// Whether a JPEG's last scan (its last start-of-scan marker, FF DA) has no end-of-image marker
+/// (FF D9) after it: the file was cut short. The decoder would fill the missing rows in silently.
+/// Inside a scan an FF byte is always followed by 00 or a restart marker, so neither pair occurs
+/// there by chance; an EXIF thumbnail's own markers come before the main image's scan.
+fn jpeg_cut_short(bytes: &[u8]) -> bool {
+    let last_scan = bytes.windows(2).rposition(|pair| pair == [0xFF, 0xDA]);
+    last_scan.is_some_and(|at| !bytes[at..].windows(2).any(|pair| pair == [0xFF, 0xD9]))
 }
 
 /// A unit normal's texel: each component c as round(127.5 · (c + 1)), so flat is (128, 128, 255).

@@ -392,7 +392,7 @@ fn assert_refused(dir: &Path, args: &[String], says: &str, before: &[PathBuf]) {
 // Fails if any bad input is not refused with one line saying why (naming the file where there is
 // one), a non-zero exit and no file written: too few photos, a --light count that differs, lights
 // (nearly) coplanar, a --light that is not X,Y,Z or not a direction, photos of different sizes, a
-// photo that is not an image or is missing, an output named neither .png nor .bmp, an output into a
+// photo that is not an image, is a JPEG cut short or is missing, an output named neither .png nor .bmp, an output into a
 // missing folder, -o and --albedo the same file, a --shadow out of range.
 #[test]
 fn bad_input_is_one_line_and_writes_nothing() {
@@ -401,6 +401,16 @@ fn bad_input_is_one_line_and_writes_nothing() {
     let three = shoot(&dir, &surface, &lights(3), Format::Png, |_, _| {});
     let (photos, lights3) = (&three[..3], &three[3..]);
     std::fs::write(dir.join("notes.png"), "not a photo").unwrap();
+    // A JPEG cut short (zune-jpeg's message for it ends in a line break).
+    let jpeg = save(
+        &read_rgb(&dir.join("photo1.png")),
+        &dir,
+        "whole",
+        Format::Jpeg(90),
+    );
+    let bytes = std::fs::read(dir.join(&jpeg)).unwrap();
+    std::fs::write(dir.join("cut.jpg"), &bytes[..bytes.len() / 3]).unwrap();
+    std::fs::remove_file(dir.join(jpeg)).unwrap();
     let small = image::imageops::resize(
         &read_rgb(&dir.join("photo2.png")),
         128,
@@ -458,6 +468,10 @@ fn bad_input_is_one_line_and_writes_nothing() {
         (
             args(&[ok_photos[0], "notes.png", ok_photos[2]], &ok_lights, &out),
             "notes.png: not a photo this program reads",
+        ),
+        (
+            args(&[ok_photos[0], "cut.jpg", ok_photos[2]], &ok_lights, &out),
+            "cut.jpg: not a photo this program reads",
         ),
         (
             args(
@@ -548,6 +562,38 @@ fn from_photo_cannot_tell_raised_from_engraved() {
     let raised = from_photo(&dir, "raised.png", "raised-normal.png");
     let engraved = from_photo(&dir, "engraved.png", "engraved-normal.png");
     assert_eq!(raised, engraved);
+}
+
+// Fails if a photo of one colour does not give the flat map (128, 128, 255) everywhere, whatever
+// the radius, including radii wider than the photo (the blur wraps around it several times).
+#[test]
+fn from_photo_of_one_colour_is_flat_at_any_radius() {
+    let dir = scratch("from-photo-flat");
+    save(
+        &RgbImage::from_pixel(37, 20, image::Rgb([180, 120, 60])),
+        &dir,
+        "plain",
+        Format::Png,
+    );
+    for radius in ["1", "16", "50", "4096"] {
+        let args = [
+            "normalmap",
+            "--from-photo",
+            "plain.png",
+            "-o",
+            "flat.png",
+            "--radius",
+            radius,
+        ];
+        let out = run(tutorial13().args(args).current_dir(&dir));
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let map = read_rgb(&dir.join("flat.png"));
+        assert_eq!(map.dimensions(), (37, 20));
+        assert!(
+            map.pixels().all(|p| p.0 == [128, 128, 255]),
+            "--radius {radius}"
+        );
+    }
 }
 
 /// A 128² photo of a grey dome of radius 40 texels and height `sign` · 20 in the middle of a flat
