@@ -3,7 +3,7 @@
 //!     cargo run --profile fuzz --example fuzz -- --seconds 1800
 //!
 //! Options: `--seconds N` (total, shared equally by the targets; default 60), `--target NAME`
-//! (obj, dds, bmp, pipeline, heightmap or model; repeatable; default all), `--seed N` (default: from the clock,
+//! (obj, dds, bmp, pipeline, heightmap, model or photo; repeatable; default all), `--seed N` (default: from the clock,
 //! printed), `--slow-ms N` (a case slower than this fails; default 2000), `--replay FILE` (run one
 //! input on the target named before it, else the one its folder is named after, and print the
 //! outcome), `--make-corpus` (rewrite the seed
@@ -119,7 +119,7 @@ fn parse(s: &str) -> u64 {
 
 fn usage(problem: &str) -> ! {
     eprintln!(
-        "fuzz: {problem}\nusage: fuzz [--seconds N] [--target obj|dds|bmp|pipeline|heightmap]... [--seed N] [--slow-ms N] [--replay FILE] [--make-corpus]"
+        "fuzz: {problem}\nusage: fuzz [--seconds N] [--target obj|dds|bmp|pipeline|heightmap|photo]... [--seed N] [--slow-ms N] [--replay FILE] [--make-corpus]"
     );
     std::process::exit(2);
 }
@@ -225,6 +225,35 @@ fn make_corpus() {
         "ramp-4x4.bmp",
         &encode_bmp(&ramp, 4).unwrap(),
     );
+    // Photos: colour and grey JPEG (the format phones write), 16-bit PNG, TGA.
+    let encoded = |image: image::DynamicImage, format| {
+        let mut bytes = Vec::new();
+        let mut cursor = std::io::Cursor::new(&mut bytes);
+        image.write_to(&mut cursor, format).unwrap();
+        bytes
+    };
+    let colour = image::RgbImage::from_fn(8, 6, |x, y| {
+        image::Rgb([(x * 30) as u8, (y * 40) as u8, ((x + y) * 15) as u8])
+    });
+    let jpeg = image::ImageFormat::Jpeg;
+    write(
+        Target::Photo,
+        "rgb-8x6.jpg",
+        &encoded(colour.clone().into(), jpeg),
+    );
+    let grey = image::DynamicImage::from(colour.clone()).into_luma8();
+    write(Target::Photo, "grey-8x6.jpg", &encoded(grey.into(), jpeg));
+    let deep = image::ImageBuffer::from_fn(3, 2, |x, y| {
+        image::Rgb([(x * 30000) as u16, (y * 60000) as u16, 65535])
+    });
+    let deep = image::DynamicImage::ImageRgb16(deep);
+    write(
+        Target::Photo,
+        "rgb16-3x2.png",
+        &encoded(deep, image::ImageFormat::Png),
+    );
+    let tga = image::ImageFormat::Tga;
+    write(Target::Photo, "rgb-8x6.tga", &encoded(colour.into(), tga));
     println!(
         "fuzz: corpus written to {}",
         harness::fuzz_dir().join("corpus").display()

@@ -16,6 +16,8 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use glam::Vec3;
+
 use tutorial13::common::objloader::{load_obj_bytes, TriangleSoup};
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::common::texture::{dxt_level_size, read_bmp_bytes, read_dds_bytes};
@@ -24,7 +26,9 @@ use tutorial13::common::vboindexer::{
 };
 use tutorial13::mesh::MeshOptions;
 use tutorial13::model::{load_model_bytes, MapOverrides, Model};
-use tutorial13::normalmap::{normal_map, HeightMap, Kernel, NormalMapOptions};
+use tutorial13::normalmap::{decode_image, normal_map, HeightMap, Kernel, NormalMapOptions};
+use tutorial13::photo::{height_from_photo, Photo};
+use tutorial13::photometric::{recover, PhotometricOptions};
 
 /// What is fuzzed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -43,21 +47,26 @@ pub enum Target {
     Heightmap,
     /// `model::load_model_bytes` on an OBJ and its `.mtl` (one input: the OBJ, then a line
     /// [`MTL_SEPARATOR`], then the MTL text): an error naming the OBJ, or a soup as `load_obj`'s
-    /// (computed normals of unit length), every vertex on the tutorial's cylinder's bounding sphere or inside it, and
-    /// material ranges covering every triangle once, each naming a material.
+    /// (computed normals of unit length), every vertex on the tutorial's cylinder's bounding sphere
+    /// or inside it, and material ranges covering every triangle once, each naming a material.
     Model,
+    /// A photo (any format the `image` crate reads here, JPEG included) through `Photo::from_image`,
+    /// `height_from_photo` and `photometric::recover` (three copies under three lights, albedo on):
+    /// an error naming the file, or one height, normal and albedo per texel, heights finite.
+    Photo,
 }
 
 /// Where a `model` input's MTL text starts (the OBJ's `mtllib` should name `fuzz.mtl`).
 pub const MTL_SEPARATOR: &str = "#--- fuzz.mtl ---\n";
 
-pub const TARGETS: [Target; 6] = [
+pub const TARGETS: [Target; 7] = [
     Target::Obj,
     Target::Dds,
     Target::Bmp,
     Target::Pipeline,
     Target::Heightmap,
     Target::Model,
+    Target::Photo,
 ];
 
 /// Meshes up to this many corners are also indexed by the quadratic reference.
@@ -74,6 +83,7 @@ impl Target {
             Target::Pipeline => "pipeline",
             Target::Heightmap => "heightmap",
             Target::Model => "model",
+            Target::Photo => "photo",
         }
     }
 
@@ -88,6 +98,7 @@ impl Target {
             Target::Bmp => "fuzz.bmp",
             Target::Heightmap => "fuzz-height.png",
             Target::Model => "fuzz-model.obj",
+            Target::Photo => "fuzz-photo.jpg",
         }
     }
 
@@ -265,6 +276,11 @@ fn check(target: Target, input: &[u8]) -> Result<Outcome, String> {
                 Ok(model) => check_model(&model).map(|_| Outcome::Loaded),
             }
         }
+        Target::Photo => match check_photo_bytes(input, path) {
+            None => Ok(Outcome::Rejected("larger than the harness decodes".into())),
+            Some(Err(e)) => rejected(e),
+            Some(Ok(photo)) => check_photo(photo).map(|_| Outcome::Loaded),
+        },
         Target::Bmp => match read_bmp_bytes(input, path) {
             Err(e) => rejected(e),
             Ok(bmp) => {
@@ -315,6 +331,54 @@ fn check_model(model: &Model) -> Result<(), String> {
         return Err(format!(
             "ranges end at {next} of {} triangles",
             model.soup.triangle_count()
+        ));
+    }
+    Ok(())
+}
+
+/// Photos that declare more texels than this are not decoded: a few hundred bytes of JPEG can
+/// declare 46 million (seconds and a gigabyte per case, the decoder's time, not the tools'), and the
+/// mutants of such a file would fill the pool. The tools' code is the same at any size.
+const MAX_PHOTO_TEXELS: u64 = 1 << 16;
+
+/// The photo target: `input`'s declared size first, then decoding and the photo tools.
+fn check_photo_bytes(input: &[u8], path: &Path) -> Option<Result<Photo, tutorial13::Error>> {
+    let reader = image::ImageReader::new(std::io::Cursor::new(input)).with_guessed_format();
+    if let Ok((w, h)) = reader
+        .map_err(drop)
+        .and_then(|r| r.into_dimensions().map_err(drop))
+    {
+        if u64::from(w) * u64::from(h) > MAX_PHOTO_TEXELS {
+            return None;
+        }
+    }
+    Some(decode_image(input, path, "a photo").map(Photo::from_image))
+}
+
+/// The photo tools' promises: one height (finite), normal and albedo texel per texel.
+fn check_photo(photo: Photo) -> Result<(), String> {
+    let texels = photo.width as usize * photo.height as usize;
+    let heights = height_from_photo(&photo, 2);
+    if heights.values.len() != texels || !heights.values.iter().all(|h| h.is_finite()) {
+        return Err(format!(
+            "{} heights (finite: {}) for {texels} texels",
+            heights.values.len(),
+            heights.values.iter().all(|h| h.is_finite())
+        ));
+    }
+    let lights = [(1.0, 0.0, 1.0), (-0.5, 0.8, 1.0), (-0.5, -0.8, 1.0)].map(Vec3::from);
+    let options = PhotometricOptions {
+        albedo: true,
+        ..Default::default()
+    };
+    let photos = [photo.clone(), photo.clone(), photo];
+    let recovered = recover(&photos, &lights, &options).map_err(|e| e.to_string())?;
+    let albedo = recovered.albedo.as_ref().map_or(0, Vec::len);
+    if recovered.normals.len() != texels || albedo != texels || recovered.unsolved > texels {
+        return Err(format!(
+            "{} normals, {albedo} albedo texels, {} unsolved for {texels} texels",
+            recovered.normals.len(),
+            recovered.unsolved
         ));
     }
     Ok(())

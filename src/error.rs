@@ -47,6 +47,10 @@ pub enum Error {
     /// An image the program reads (a height map) could not be decoded.
     #[error("{}: {reason}", path.display())]
     Image { path: PathBuf, reason: String },
+    /// Photos and lights that photometric stereo cannot use (too few, a count that differs, lights
+    /// nearly coplanar, a `--light` that is not a direction); the message names the option.
+    #[error("{0}")]
+    Photometric(String),
     /// `make-assets` would replace files that differ from the ones it makes.
     #[error(
         "{}: already there with other contents; nothing was written (pass --force to replace {})",
@@ -71,7 +75,11 @@ impl Error {
             | Error::Image { path, .. }
             | Error::Write { path, .. } => Some(path),
             Error::WouldOverwrite { paths } => paths.first().map(PathBuf::as_path),
-            Error::Context(_) | Error::Window(_) | Error::Gl { .. } | Error::Mesh(_) => None,
+            Error::Context(_)
+            | Error::Window(_)
+            | Error::Gl { .. }
+            | Error::Mesh(_)
+            | Error::Photometric(_) => None,
         }
     }
 

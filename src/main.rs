@@ -89,9 +89,10 @@ enum Command {
         force: bool,
     },
     /// Make a tangent-space normal map from a grey-scale height map (white high, black low; any size;
-    /// edges wrap so that tiling maps tile)
+    /// edges wrap so that tiling maps tile), or guess one from a photo (--from-photo)
     Normalmap {
-        /// The height map: PNG, BMP or TGA, 8 or 16 bits (colour is read as luma)
+        /// The height map: PNG, BMP, TGA or JPEG, 8 or 16 bits (colour is read as luma); with
+        /// --from-photo, the photo
         height: PathBuf,
         /// Output: .bmp (24-bit, what the tutorial loads) or .png
         #[arg(short, long, value_name = "FILE")]
@@ -119,6 +120,53 @@ enum Command {
         /// only with this. Not for --model, the wall or other programs (README: "Which way is up")
         #[arg(long)]
         invert: bool,
+        /// Guess the relief from one photo instead, CrazyBump's way (a guess: see the README)
+        ///
+        /// The photo's luminance (sRGB decoded to linear light) minus a wide blur of it (--radius)
+        /// is taken as the height: brighter than its surroundings = higher. It reads brightness, not
+        /// shape: a dark stain or joint becomes a dent, a light one a ridge; an engraved shape lit
+        /// from the front comes out raised; a bump lit from one side is shifted and flattened.
+        /// Several photos under known lights (`tutorial13 photometric`) measure the surface instead
+        #[arg(long)]
+        from_photo: bool,
+        /// With --from-photo: brightness changes wider than about R texels are removed (the blur is
+        /// three box blurs of 2R+1 texels, near a Gaussian of σ ≈ R)
+        #[arg(long, value_name = "R", default_value_t = tutorial13::photo::DEFAULT_RADIUS,
+              requires = "from_photo", value_parser = clap::value_parser!(u32).range(1..=4096))]
+        radius: u32,
+    },
+    /// Photometric stereo: a normal map (and albedo) from three or more photos under known lights
+    ///
+    /// Photos of a matte surface from one camera position, each lit by one distant light from a
+    /// known direction, all equally bright (one lamp at one distance, exposure locked). Photos are
+    /// read as sRGB (or --linear) and solved in linear light, Lambert's law by least squares. Per
+    /// texel, photos where it is near black (--shadow) or saturated (98 % of full scale) are left
+    /// out; texels left with fewer than three, or with lights within 5° of one plane, get the flat
+    /// normal and are counted on stderr. Shine, a lamp close to the surface and light bounced
+    /// between its parts break the model
+    Photometric {
+        /// The photos (PNG, JPEG, TGA or BMP, 8 or 16 bits), all the same size
+        photos: Vec<PathBuf>,
+        /// Direction towards the light of each photo, in the photos' order: x to the photo's right,
+        /// y up it, z out of the surface towards the camera; any length (e.g. --light -1,0,1)
+        #[arg(long = "light", value_name = "X,Y,Z", allow_hyphen_values = true)]
+        lights: Vec<String>,
+        /// Output normal map: .bmp (24-bit, what the tutorial loads) or .png
+        #[arg(short, long, value_name = "FILE")]
+        output: PathBuf,
+        /// Also write the albedo (the surface's colour without the lighting), .bmp or .png, encoded
+        /// as the photos are
+        #[arg(long, value_name = "FILE")]
+        albedo: Option<PathBuf>,
+        /// Green channel up the picture (OpenGL, the tutorial) or down (DirectX)
+        #[arg(long, value_enum, default_value_t = Green::Up)]
+        green: Green,
+        /// The photos are linear already (a raw converter's linear output, a render), not sRGB
+        #[arg(long)]
+        linear: bool,
+        /// Linear luminance below which a photo's texel counts as shadow and is left out
+        #[arg(long, value_name = "L", default_value_t = tutorial13::photometric::DEFAULT_SHADOW)]
+        shadow: f32,
     },
 }
 
@@ -191,13 +239,19 @@ fn run(cli: Cli, scene: SceneOptions) -> Result<()> {
         two_channel,
         kernel,
         invert,
+        from_photo,
+        radius,
     }) = &cli.command
     {
         use tutorial13::normalmap::{normal_map, write_normal_map, HeightMap};
+        use tutorial13::photo::{height_from_photo, Photo};
         if !strength.is_finite() {
             anyhow::bail!("--strength {strength}: must be a finite number");
         }
-        let heights = HeightMap::load(height)?;
+        let heights = match from_photo {
+            true => height_from_photo(&Photo::load(height)?, *radius),
+            false => HeightMap::load(height)?,
+        };
         let options = tutorial13::normalmap::NormalMapOptions {
             // Both slopes negated: the same as the height turned inside out.
             strength: if *invert { -strength } else { *strength },
@@ -212,6 +266,46 @@ fn run(cli: Cli, scene: SceneOptions) -> Result<()> {
             output.display(),
             heights.width,
             heights.height
+        );
+        return Ok(());
+    }
+    if let Some(Command::Photometric {
+        photos,
+        lights,
+        output,
+        albedo,
+        green,
+        linear,
+        shadow,
+    }) = &cli.command
+    {
+        use tutorial13::photo::Encoding;
+        let recovered = tutorial13::photometric::run(&tutorial13::photometric::Job {
+            photos,
+            lights,
+            output,
+            albedo: albedo.as_deref(),
+            encoding: if *linear {
+                Encoding::Linear
+            } else {
+                Encoding::Srgb
+            },
+            green: *green,
+            shadow: *shadow,
+        })?;
+        let (w, h, flat) = (recovered.width, recovered.height, recovered.unsolved);
+        if flat > 0 {
+            log::warn!(
+                "{flat} of {} texels kept fewer than three photos (or photos whose lights are \
+                 nearly coplanar): flat normal there",
+                w as usize * h as usize
+            );
+        }
+        let albedo = albedo.iter().map(|a| format!(" and {}", a.display()));
+        println!(
+            "wrote {}{} ({w}x{h})",
+            output.display(),
+            albedo.collect::<String>()
         );
         return Ok(());
     }

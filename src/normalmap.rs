@@ -77,13 +77,7 @@ impl HeightMap {
     /// [`HeightMap::load`] on bytes already read; `path` names them in errors. Sides above 16384
     /// texels are refused before anything is decoded.
     pub fn from_bytes(bytes: &[u8], path: &Path) -> Result<Self> {
-        let bad = |reason: String| Error::Image {
-            path: path.to_path_buf(),
-            reason,
-        };
-        let image = decode_picture(bytes, path)
-            .map_err(|e| bad(format!("not a height map this program reads: {e}")))?;
-        let luma = image.into_luma16();
+        let luma = decode_image(bytes, path, "a height map")?.into_luma16();
         let (width, height) = luma.dimensions();
         let values = luma.pixels().map(|p| f32::from(p.0[0]) / 65535.0).collect();
         Ok(HeightMap {
@@ -98,25 +92,61 @@ impl HeightMap {
     }
 }
 
-/// Decodes a picture the `image` crate reads (PNG, JPEG, BMP by their contents; TGA, which has no
-/// signature, by `path`'s extension), refusing sides above [`MAX_SIDE`] before decoding.
-pub fn decode_picture(
-    bytes: &[u8],
-    path: &Path,
-) -> std::result::Result<image::DynamicImage, String> {
+/// Decodes any image the `image` crate reads here (PNG, JPEG, BMP by their contents; TGA, which has
+/// no signature, by `path`'s extension), refusing sides above
+/// [`MAX_SIDE`] before decoding; errors name `path` and say it is not `what` this program reads.
+pub fn decode_image(bytes: &[u8], path: &Path, what: &str) -> Result<image::DynamicImage> {
+    let bad = |reason: String| Error::Image {
+        path: path.to_path_buf(),
+        reason,
+    };
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(MAX_SIDE);
     limits.max_image_height = Some(MAX_SIDE);
     let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
         .with_guessed_format()
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| bad(e.to_string()))?;
+    // TGA has no signature to guess it by: its extension says it.
     if reader.format().is_none() {
         if let Ok(format) = image::ImageFormat::from_path(path) {
             reader.set_format(format);
         }
     }
     reader.limits(limits);
-    reader.decode().map_err(|e| e.to_string())
+    if reader.format() == Some(image::ImageFormat::Jpeg) && jpeg_cut_short(bytes) {
+        return Err(bad(format!(
+            "not {what} this program reads: a JPEG cut short (no end marker after its last scan)"
+        )));
+    }
+    reader.decode().map_err(|e| {
+        // One line: some decoders' messages (zune-jpeg's) end in or hold line breaks.
+        let reason = e.to_string().trim().replace('\n', "; ");
+        bad(format!("not {what} this program reads: {reason}"))
+    })
+}
+
+/// Whether a JPEG's last scan (its last start-of-scan marker, FF DA) has no end-of-image marker
+/// (FF D9) after it: the file was cut short. The decoder would fill the missing rows in silently.
+/// Inside a scan an FF byte is always followed by 00 or a restart marker, so neither pair occurs
+/// there by chance; an EXIF thumbnail's own markers come before the main image's scan.
+fn jpeg_cut_short(bytes: &[u8]) -> bool {
+    let last_scan = bytes.windows(2).rposition(|pair| pair == [0xFF, 0xDA]);
+    last_scan.is_some_and(|at| !bytes[at..].windows(2).any(|pair| pair == [0xFF, 0xD9]))
+}
+
+/// A unit normal's texel: each component c as round(127.5 · (c + 1)), so flat is (128, 128, 255).
+pub fn encode_normal(v: [f32; 3]) -> [u8; 3] {
+    let encode = |c: f32| round_to_u8(127.5 * (c + 1.0));
+    [encode(v[0]), encode(v[1]), encode(v[2])]
+}
+
+/// `x.round().clamp(0.0, 255.0) as u8`, to the bit, without a call to libm's `roundf` (which x86-64's
+/// baseline instruction set makes a function call: a third of photometric stereo's time per texel).
+pub fn round_to_u8(x: f32) -> u8 {
+    let x = x.clamp(0.0, 255.0);
+    let whole = x as u8;
+    // Exact: both are below 2²⁴.
+    whole + u8::from(x - f32::from(whole) >= 0.5)
 }
 
 /// The normal map of `heights`, RGB texels in the same order (row 0 at the top).
@@ -163,8 +193,7 @@ pub fn normal_map(heights: &HeightMap, options: NormalMapOptions) -> Vec<[u8; 3]
                 1.0,
             ];
             let inv_len = 1.0 / (v[0] * v[0] + v[1] * v[1] + 1.0).sqrt();
-            let mut texel =
-                v.map(|c| (127.5 * (c * inv_len + 1.0)).round().clamp(0.0, 255.0) as u8);
+            let mut texel = encode_normal(v.map(|c| c * inv_len));
             if options.two_channel {
                 texel[2] = 0;
             }
@@ -181,16 +210,7 @@ pub fn write_normal_map(path: &Path, texels: &[[u8; 3]], width: u32, height: u32
         path: path.to_path_buf(),
         reason,
     };
-    let format = match path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .as_deref()
-    {
-        Some("bmp") => image::ImageFormat::Bmp,
-        Some("png") => image::ImageFormat::Png,
-        _ => return Err(bad("name the output .bmp or .png".into())),
-    };
+    let format = map_format(path)?;
     let flat: Vec<u8> = texels.iter().flatten().copied().collect();
     let image = image::RgbImage::from_raw(width, height, flat)
         .ok_or_else(|| bad(format!("{} texels for {width}×{height}", texels.len())))?;
@@ -200,4 +220,21 @@ pub fn write_normal_map(path: &Path, texels: &[[u8; 3]], width: u32, height: u32
             other => bad(other.to_string()),
         })
     })
+}
+
+/// The format [`write_normal_map`] writes to `path`: BMP or PNG by its extension, else an error.
+pub fn map_format(path: &Path) -> Result<image::ImageFormat> {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("bmp") => Ok(image::ImageFormat::Bmp),
+        Some("png") => Ok(image::ImageFormat::Png),
+        _ => Err(Error::Write {
+            path: path.to_path_buf(),
+            reason: "name the output .bmp or .png".into(),
+        }),
+    }
 }

@@ -13,7 +13,7 @@ use std::path::Path;
 
 use super::MapSource;
 use crate::common::texture::{read_dds_bytes, DxtFormat};
-use crate::normalmap::{decode_picture, normal_map, HeightMap, NormalMapOptions};
+use crate::normalmap::{decode_image, normal_map, HeightMap, NormalMapOptions};
 use crate::{Error, Result};
 
 /// Which of a material's three maps.
@@ -186,17 +186,7 @@ pub fn read_image_bytes(bytes: &[u8], path: &Path) -> Result<MapImage> {
     if is_dds {
         return read_dds_image(bytes, path);
     }
-    let bad = |reason: String| Error::Image {
-        path: path.to_path_buf(),
-        reason,
-    };
-    let image = decode_picture(bytes, path)
-        .map_err(|e| {
-            bad(format!(
-                "not a picture this program reads (PNG, JPEG, TGA, BMP, DDS): {e}"
-            ))
-        })?
-        .into_rgba8();
+    let image = decode_image(bytes, path, "a picture (PNG, JPEG, TGA, BMP, DDS)")?.into_rgba8();
     Ok(MapImage {
         width: image.width(),
         height: image.height(),

@@ -19,6 +19,7 @@ mod normal_map_conventions;
 mod normalmap;
 mod obj_input;
 mod one_cell;
+mod photometric;
 mod pipeline;
 mod render;
 mod scene_cube;
