@@ -271,12 +271,18 @@ fn vertex_shader_syntax_error_is_one_line_with_the_driver_log() {
 // ---------------------------------------------------------------------------------------------------
 // 4. --help
 
-// Fails if --help stops exiting 0 or drops the key list or any flag of the contract.
+// Fails if --help stops exiting 0, drops the key list or any flag of the contract, or opens with
+// another line than the program's own (a doc comment on a scene's Args struct once took its place).
 #[test]
 fn help_lists_the_keys_and_every_flag() {
     let out = run(tutorial13().arg("--help"));
     assert_success(&out, "--help");
     let help = text(&out.stdout);
+    assert!(
+        help.starts_with("opengl-tutorial.org's Tutorial 13 (Normal Mapping), ported to Rust\n"),
+        "--help opens with {:?}",
+        help.lines().next()
+    );
     for needle in ["arrow", "Esc", "make-assets"] {
         assert!(
             help.contains(needle),

@@ -2,7 +2,8 @@
 
 use crate::scenes::scene::OwnOptions;
 
-/// The cube's switches, as the command line sets them.
+// The cube's switches, as the command line sets them. (A plain comment: clap would make a doc
+// comment on an Args struct the whole program's `about`.)
 #[derive(clap::Args, Debug, Clone, Copy, PartialEq, Eq)]
 #[command(next_help_heading = "Scene cube")]
 pub struct CubeOptions {

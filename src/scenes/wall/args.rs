@@ -4,7 +4,8 @@ use crate::scenes::scene::OwnOptions;
 
 use super::LightingSpace;
 
-/// The wall's switches, as the command line sets them.
+// The wall's switches, as the command line sets them. (A plain comment: clap would make a doc
+// comment on an Args struct the whole program's `about`.)
 #[derive(clap::Args, Debug, Clone, Copy, Default, PartialEq, Eq)]
 #[command(next_help_heading = "Scene wall")]
 pub struct WallOptions {
