@@ -417,8 +417,41 @@ fn compression_name(code: u32) -> &'static str {
 
 /// A GL texture name, deleted with the value.
 pub struct Texture {
-    pub(crate) gl: Gl,
+    gl: Gl,
     pub id: glow::Texture,
+}
+
+impl Texture {
+    /// `glGenTextures` + `glBindTexture(GL_TEXTURE_2D, …)`: a new texture, bound, for an upload.
+    pub fn create_bound(gl: &Gl) -> Result<Self> {
+        // SAFETY: plain GL calls on the current context; the name is owned from here on.
+        unsafe {
+            let id = gl.create_texture().map_err(|e| Error::gl("texture", e))?;
+            gl.bind_texture(glow::TEXTURE_2D, Some(id));
+            Ok(Texture { gl: gl.clone(), id })
+        }
+    }
+}
+
+/// `loadBMP_custom`'s sampling for the bound texture: REPEAT, linear magnification, trilinear
+/// minification, and the mipmaps generated from the level uploaded.
+pub fn use_bmp_sampling(gl: &Gl) {
+    // SAFETY: state calls on the texture bound to TEXTURE_2D of the current context.
+    unsafe {
+        gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_WRAP_S, glow::REPEAT as i32);
+        gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_WRAP_T, glow::REPEAT as i32);
+        gl.tex_parameter_i32(
+            glow::TEXTURE_2D,
+            glow::TEXTURE_MAG_FILTER,
+            glow::LINEAR as i32,
+        );
+        gl.tex_parameter_i32(
+            glow::TEXTURE_2D,
+            glow::TEXTURE_MIN_FILTER,
+            glow::LINEAR_MIPMAP_LINEAR as i32,
+        );
+        gl.generate_mipmap(glow::TEXTURE_2D);
+    }
 }
 
 impl Drop for Texture {
@@ -447,12 +480,10 @@ pub fn upload_dds(gl: &Gl, dds: &DdsImage, path: &Path) -> Result<Texture> {
             reason: format!("this GL driver lacks {S3TC_EXTENSION}, needed for DXT textures"),
         });
     }
+    let texture = Texture::create_bound(gl)?;
     // SAFETY: plain GL calls on the current context; each level's data has the size GL expects for
     // its dimensions and format (checked by `read_dds`).
     unsafe {
-        let id = gl.create_texture().map_err(|e| Error::gl("texture", e))?;
-        let texture = Texture { gl: gl.clone(), id };
-        gl.bind_texture(glow::TEXTURE_2D, Some(id));
         gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
         for (level, data) in dds.levels.iter().enumerate() {
             gl.compressed_tex_image_2d(
@@ -482,11 +513,9 @@ pub fn load_bmp_custom(gl: &Gl, path: &Path) -> Result<Texture> {
 
 /// Uploads BGR data as GL_RGB with the tutorial's sampling: REPEAT, trilinear, generated mipmaps.
 pub fn upload_bmp(gl: &Gl, bmp: &BmpImage) -> Result<Texture> {
+    let texture = Texture::create_bound(gl)?;
     // SAFETY: `bgr` holds width × height tightly packed texels, matching UNPACK_ALIGNMENT 1.
     unsafe {
-        let id = gl.create_texture().map_err(|e| Error::gl("texture", e))?;
-        let texture = Texture { gl: gl.clone(), id };
-        gl.bind_texture(glow::TEXTURE_2D, Some(id));
         gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
         gl.tex_image_2d(
             glow::TEXTURE_2D,
@@ -499,19 +528,7 @@ pub fn upload_bmp(gl: &Gl, bmp: &BmpImage) -> Result<Texture> {
             glow::UNSIGNED_BYTE,
             glow::PixelUnpackData::Slice(Some(&bmp.bgr)),
         );
-        gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_WRAP_S, glow::REPEAT as i32);
-        gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_WRAP_T, glow::REPEAT as i32);
-        gl.tex_parameter_i32(
-            glow::TEXTURE_2D,
-            glow::TEXTURE_MAG_FILTER,
-            glow::LINEAR as i32,
-        );
-        gl.tex_parameter_i32(
-            glow::TEXTURE_2D,
-            glow::TEXTURE_MIN_FILTER,
-            glow::LINEAR_MIPMAP_LINEAR as i32,
-        );
-        gl.generate_mipmap(glow::TEXTURE_2D);
-        Ok(texture)
     }
+    use_bmp_sampling(gl);
+    Ok(texture)
 }

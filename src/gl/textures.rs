@@ -4,17 +4,17 @@
 
 use glow::HasContext;
 
-use crate::common::texture::Texture;
+use crate::common::texture::{use_bmp_sampling, Texture};
 use crate::common::Gl;
 use crate::model::maps::{MapImage, MapPixels};
-use crate::{Error, Result};
+use crate::Result;
 
 /// Uploads `pixels`; a picture goes bottom row first when `bottom_row_first`, else top row first
 /// (see [`crate::model::maps`] for which sampler needs which).
-pub fn upload_map(gl: &Gl, pixels: &MapPixels, bottom_row_first: bool) -> Result<Texture> {
+pub fn upload_map(gl: &Gl, pixels: MapPixels, bottom_row_first: bool) -> Result<Texture> {
     match pixels {
-        MapPixels::Image(image) if bottom_row_first => upload_rgba(gl, &image.clone().flipped()),
-        MapPixels::Image(image) => upload_rgba(gl, image),
+        MapPixels::Image(image) if bottom_row_first => upload_rgba(gl, &image.flipped()),
+        MapPixels::Image(image) => upload_rgba(gl, &image),
         MapPixels::Colour(colour) => {
             let [r, g, b] = colour.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
             let texel = MapImage {
@@ -30,9 +30,9 @@ pub fn upload_map(gl: &Gl, pixels: &MapPixels, bottom_row_first: bool) -> Result
 
 /// An RGBA8 picture, its rows in the order given, sampled as the tutorial's BMP textures are.
 pub fn upload_rgba(gl: &Gl, image: &MapImage) -> Result<Texture> {
+    let texture = Texture::create_bound(gl)?;
     // SAFETY: `rgba` holds width × height × 4 tightly packed bytes, matching UNPACK_ALIGNMENT 1.
     unsafe {
-        let texture = new_texture(gl)?;
         gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
         gl.tex_image_2d(
             glow::TEXTURE_2D,
@@ -45,19 +45,18 @@ pub fn upload_rgba(gl: &Gl, image: &MapImage) -> Result<Texture> {
             glow::UNSIGNED_BYTE,
             glow::PixelUnpackData::Slice(Some(&image.rgba)),
         );
-        set_sampling(gl, glow::LINEAR_MIPMAP_LINEAR);
-        gl.generate_mipmap(glow::TEXTURE_2D);
-        Ok(texture)
     }
+    use_bmp_sampling(gl);
+    Ok(texture)
 }
 
 /// The flat normal as a 1×1 half-float texel (0.5, 0.5, 1): the shader's `2c − 1` gives exactly
 /// (0, 0, 1), where 8 bits (128 or 127) would tilt it by 0.4 %.
 fn upload_flat_normal(gl: &Gl) -> Result<Texture> {
     let texel: [f32; 3] = [0.5, 0.5, 1.0];
+    let texture = Texture::create_bound(gl)?;
     // SAFETY: three floats for one RGB texel.
     unsafe {
-        let texture = new_texture(gl)?;
         gl.tex_image_2d(
             glow::TEXTURE_2D,
             0,
@@ -69,30 +68,7 @@ fn upload_flat_normal(gl: &Gl) -> Result<Texture> {
             glow::FLOAT,
             glow::PixelUnpackData::Slice(Some(bytemuck::cast_slice(&texel))),
         );
-        set_sampling(gl, glow::LINEAR);
-        Ok(texture)
     }
-}
-
-/// A new texture, bound to TEXTURE_2D.
-unsafe fn new_texture(gl: &Gl) -> Result<Texture> {
-    let id = gl.create_texture().map_err(|e| Error::gl("texture", e))?;
-    gl.bind_texture(glow::TEXTURE_2D, Some(id));
-    Ok(Texture { gl: gl.clone(), id })
-}
-
-/// Repeat in both directions, linear magnification, `min_filter` below.
-unsafe fn set_sampling(gl: &Gl, min_filter: u32) {
-    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_WRAP_S, glow::REPEAT as i32);
-    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_WRAP_T, glow::REPEAT as i32);
-    gl.tex_parameter_i32(
-        glow::TEXTURE_2D,
-        glow::TEXTURE_MAG_FILTER,
-        glow::LINEAR as i32,
-    );
-    gl.tex_parameter_i32(
-        glow::TEXTURE_2D,
-        glow::TEXTURE_MIN_FILTER,
-        min_filter as i32,
-    );
+    use_bmp_sampling(gl);
+    Ok(texture)
 }

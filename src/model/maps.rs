@@ -44,11 +44,14 @@ pub struct MapImage {
 }
 
 impl MapImage {
-    /// The rows in the other order (top first ↔ bottom first).
+    /// The rows in the other order (top first ↔ bottom first), swapped in place.
     pub fn flipped(mut self) -> Self {
         let row = self.width as usize * 4;
-        let rows: Vec<&[u8]> = self.rgba.chunks_exact(row).rev().collect();
-        self.rgba = rows.concat();
+        let rows = self.height as usize;
+        for top in 0..rows / 2 {
+            let (upper, lower) = self.rgba.split_at_mut((rows - 1 - top) * row);
+            upper[top * row..(top + 1) * row].swap_with_slice(&mut lower[..row]);
+        }
         self
     }
 

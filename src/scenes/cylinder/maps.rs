@@ -23,7 +23,7 @@ pub fn model_texture_sets(gl: &Gl, model: &Model) -> Result<Vec<TextureSet>> {
             let pixels = decode(source, slot, &mut notices)?;
             // V as written: GL's bottom-row-first for the maps read at UV, top row first for the
             // normal map, which the tutorial's shader reads at (UV.x, -UV.y).
-            upload_map(gl, &pixels, slot != Slot::Normal)
+            upload_map(gl, pixels, slot != Slot::Normal)
         };
         sets.push(TextureSet {
             diffuse_texture: load(&material.diffuse, Slot::Diffuse)?,
@@ -64,7 +64,7 @@ pub fn override_tutorial_maps(
                 let pixels = decode(&source, slot, &mut Vec::new())?;
                 // The tutorial's V is negated: the normal map (read at (U, V)) bottom row first,
                 // the others (read at (U, -V)) top row first.
-                upload_map(gl, &pixels, slot == Slot::Normal)
+                upload_map(gl, pixels, slot == Slot::Normal)
             }
         }
     };
