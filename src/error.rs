@@ -58,6 +58,9 @@ pub enum Error {
         if paths.len() == 1 { "it" } else { "them" }
     )]
     WouldOverwrite { paths: Vec<PathBuf> },
+    /// A file given to the program (dropped on the window) that nothing opens.
+    #[error("{}: {reason}", path.display())]
+    Open { path: PathBuf, reason: String },
     /// Writing a generated asset failed for a reason other than I/O (e.g. the encoder refused).
     #[error("{}: cannot write: {reason}", path.display())]
     Write { path: PathBuf, reason: String },
@@ -73,6 +76,7 @@ impl Error {
             | Error::Bmp { path, .. }
             | Error::Shader { path, .. }
             | Error::Image { path, .. }
+            | Error::Open { path, .. }
             | Error::Write { path, .. } => Some(path),
             Error::WouldOverwrite { paths } => paths.first().map(PathBuf::as_path),
             Error::Context(_)

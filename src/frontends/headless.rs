@@ -95,12 +95,7 @@ impl HeadlessRenderer {
     /// it, built with it, and the camera at that scene's start. On an error the current scene stays.
     pub fn open_file(&mut self, path: &std::path::Path) -> Result<()> {
         let mut options = self.scene_options.clone();
-        let next = crate::scenes::open_file(path, &mut options).ok_or_else(|| {
-            crate::Error::Window(format!(
-                "{}: no scene opens this kind of file (drop an .obj model)",
-                path.display()
-            ))
-        })?;
+        let next = crate::scenes::open_file(path, &mut options)?;
         self.scene = build_scene(&self.context, next, &options)?;
         self.scene_options = options;
         self.descriptor = next;

@@ -47,15 +47,19 @@ pub fn find(name: &str) -> Result<&'static SceneDescriptor, String> {
 }
 
 /// The first scene that opens `path` (a file dropped on the window), with `options` changed to open
-/// it; `None` if no scene opens files of its kind.
+/// it; an error naming the file if no scene opens files of its kind.
 pub fn open_file(
     path: &std::path::Path,
     options: &mut SceneOptions,
-) -> Option<&'static SceneDescriptor> {
+) -> crate::Result<&'static SceneDescriptor> {
     SCENES
         .iter()
         .copied()
         .find(|scene| (scene.open_file)(path, options))
+        .ok_or_else(|| crate::Error::Open {
+            path: path.to_path_buf(),
+            reason: "no scene opens this kind of file (drop an .obj model)".into(),
+        })
 }
 
 /// The scene after `scene`, wrapping around (the Enter key).

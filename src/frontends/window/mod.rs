@@ -198,23 +198,24 @@ impl Running {
             .frame(&self.gl_window, &mut self.input, frozen)
     }
 
-    /// A file dropped on the window (an .obj: `--model`), with the camera at its start; an error
-    /// (an unreadable model, another kind of file) is logged and the scene stays.
+    /// A file dropped on the window (an .obj: `--model`); an error (an unreadable model, another
+    /// kind of file) is logged and the scene stays.
     fn open_file(&mut self, path: &Path) {
-        match self.renderer.open_file(&self.gl_window, path) {
-            Ok(()) => {
-                self.grab_cursor(false);
-                self.reset_camera();
-                self.grab_cursor(true);
-            }
-            Err(e) => log::error!("{e}"),
-        }
+        let opened = self.renderer.open_file(&self.gl_window, path);
+        self.start_scene(opened);
     }
 
-    /// Enter: the next scene, with the camera back at the start and the cursor as it wants it.
+    /// Enter: the next scene.
     fn next_scene(&mut self) {
         let next = crate::scenes::next(self.renderer.descriptor);
-        match self.renderer.switch_scene(&self.gl_window, next) {
+        let switched = self.renderer.switch_scene(&self.gl_window, next);
+        self.start_scene(switched);
+    }
+
+    /// After the renderer built another scene (or failed to): the camera at its start and the
+    /// cursor as it wants it, or the error logged.
+    fn start_scene(&mut self, built: Result<()>) {
+        match built {
             Ok(()) => {
                 self.grab_cursor(false);
                 self.reset_camera();

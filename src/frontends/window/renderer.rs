@@ -75,12 +75,7 @@ impl Renderer {
     /// [`crate::scenes::open_file`]). On an error the current scene stays.
     pub fn open_file(&mut self, gl_window: &GlWindow, path: &Path) -> Result<()> {
         let mut options = self.scene_options.clone();
-        let next = crate::scenes::open_file(path, &mut options).ok_or_else(|| {
-            Error::Window(format!(
-                "{}: no scene opens this kind of file (drop an .obj model)",
-                path.display()
-            ))
-        })?;
+        let next = crate::scenes::open_file(path, &mut options)?;
         self.install(gl_window, next, options)
     }
 
