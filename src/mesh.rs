@@ -58,14 +58,7 @@ pub fn grid_cylinder_obj_text(
     for r in 0..rings {
         for s in 0..segments {
             let corner = |s: u32, r: u32| format!("{}/{}/{}", v(s, r), vt(s, r), vn(s));
-            let (a, b, c, d) = (
-                corner(s, r),
-                corner(s + 1, r),
-                corner(s + 1, r + 1),
-                corner(s, r + 1),
-            );
-            // Angles grow from -z towards +x: seen from outside, (s, r) → (s, r+1) → (s+1, r+1) is CCW.
-            let _ = writeln!(text, "f {a} {d} {c}\nf {a} {c} {b}");
+            write_quad(&mut text, corner, s, r);
         }
     }
     text
@@ -114,13 +107,7 @@ pub fn charted_cylinder_obj_text(
         };
         for r in 0..h {
             for s in 0..w {
-                let (a, b, c, d) = (
-                    corner(s, r),
-                    corner(s + 1, r),
-                    corner(s + 1, r + 1),
-                    corner(s, r + 1),
-                );
-                let _ = writeln!(text, "f {a} {d} {c}\nf {a} {c} {b}");
+                write_quad(&mut text, corner, s, r);
             }
         }
         vt_count += (w + 1) * (h + 1);
@@ -129,6 +116,20 @@ pub fn charted_cylinder_obj_text(
 }
 
 /// The cylinder's `v` lines: `segments` around each of the `rings + 1` circles, bottom to top.
+/// The two triangles of the grid cell at (segment `s`, ring `r`), `corner` giving each corner's
+/// `v/vt/vn`. Angles grow from -z towards +x: seen from outside, (s, r) → (s, r+1) → (s+1, r+1) is
+/// counter-clockwise.
+fn write_quad(text: &mut String, corner: impl Fn(u32, u32) -> String, s: u32, r: u32) {
+    use std::fmt::Write;
+    let (a, b, c, d) = (
+        corner(s, r),
+        corner(s + 1, r),
+        corner(s + 1, r + 1),
+        corner(s, r + 1),
+    );
+    let _ = writeln!(text, "f {a} {d} {c}\nf {a} {c} {b}");
+}
+
 fn write_positions(text: &mut String, segments: u32, rings: u32, radius: f32, height: f32) {
     use std::fmt::Write;
     for ring in 0..=rings {

@@ -57,7 +57,8 @@ pub(crate) struct ObjRead {
     /// One per triangle: an index into `materials`, or `None` (no `usemtl`, or an unknown one).
     pub triangle_materials: Vec<Option<usize>>,
     pub materials: Vec<tobj::Material>,
-    /// For each corner of the soup, its position's index in the file (the key of a smooth normal).
+    /// Only when `normals_missing`: each corner's position index in the file (the key of a smooth
+    /// normal); empty otherwise, so that the tutorial's loads carry no extra array.
     pub position_indices: Vec<u32>,
     /// No corner has a normal index: `soup.normals` is empty, for the caller to compute.
     pub normals_missing: bool,
@@ -150,10 +151,12 @@ pub(crate) fn read_obj(
                 ObjMode::Tutorial => Vec2::new(uv.x, -uv.y),
                 ObjMode::Model => uv,
             });
-            if !normals_missing {
+            if normals_missing {
+                // The key of the smooth normal the caller computes.
+                read.position_indices.push(vi as u32);
+            } else {
                 soup.normals.push(normal);
             }
-            read.position_indices.push(vi as u32);
         }
         let triangles = mesh.indices.len() / 3;
         read.triangle_materials
