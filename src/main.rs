@@ -32,7 +32,8 @@ struct Cli {
     scene: &'static SceneDescriptor,
 
     /// Folder with the scenes' files (docs/scenes.md lists them; the tutorial's own cylinder.obj,
-    /// diffuse.DDS, normal.bmp and specular.DDS work unchanged) [default: the crate's assets/]
+    /// diffuse.DDS, normal.bmp and specular.DDS work unchanged). A file it lacks is taken from the
+    /// crate's assets/, and a notice names it [default: the crate's assets/]
     #[arg(long, value_name = "DIR")]
     assets: Option<PathBuf>,
 

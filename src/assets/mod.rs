@@ -76,6 +76,13 @@ pub struct MapFiles {
     pub normal: &'static str,
 }
 
+impl MapFiles {
+    /// The two paths, the diffuse map first (as `gl::Maps::load` takes them).
+    pub const fn names(&self) -> [&'static str; 2] {
+        [self.diffuse, self.normal]
+    }
+}
+
 /// Writes `files` (paths under the assets folder, and bytes) into `out_dir`, creating folders. The
 /// generators are deterministic: same bytes every run, on any machine.
 ///

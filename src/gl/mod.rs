@@ -202,11 +202,11 @@ pub struct Maps {
 }
 
 impl Maps {
-    /// Both maps of `files` from `dir` (the `--assets` folder), the diffuse map first.
-    pub fn load(gl: &Gl, dir: &std::path::Path, files: &crate::assets::MapFiles) -> Result<Self> {
+    /// Both maps, the diffuse map first (their files found by `SceneOptions::asset_files`).
+    pub fn load(gl: &Gl, [diffuse, normal]: &[std::path::PathBuf; 2]) -> Result<Self> {
         use crate::common::texture::load_bmp_custom;
-        let diffuse = load_bmp_custom(gl, &dir.join(files.diffuse))?;
-        let normal = load_bmp_custom(gl, &dir.join(files.normal))?;
+        let diffuse = load_bmp_custom(gl, diffuse)?;
+        let normal = load_bmp_custom(gl, normal)?;
         Ok(Maps { diffuse, normal })
     }
 

@@ -213,11 +213,13 @@ fn run_on_spoiled_assets(test: &str, file: &str, spoil: impl FnOnce(&Path)) -> S
     line
 }
 
-// Fails if a missing normal.bmp panics, prints more than one line, or does not say which file.
+// Fails if a truncated normal.bmp panics, prints more than one line, or does not say which file (a
+// missing one is taken from the crate's assets: tests/all/asset_fallback.rs).
 #[test]
-fn missing_normal_bmp_is_one_line_naming_it() {
-    run_on_spoiled_assets("missing_normal", "normal.bmp", |p| {
-        std::fs::remove_file(p).unwrap()
+fn truncated_normal_bmp_is_one_line_naming_it() {
+    run_on_spoiled_assets("truncated_normal", "normal.bmp", |p| {
+        let bytes = std::fs::read(p).unwrap();
+        std::fs::write(p, &bytes[..bytes.len() / 2]).unwrap();
     });
 }
 

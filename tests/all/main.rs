@@ -4,6 +4,7 @@
 
 mod common;
 
+mod asset_fallback;
 mod assets;
 mod cli;
 mod compare_view;

@@ -324,22 +324,6 @@ fn shoulders_facing_the_light_are_brighter() {
     assert!(mean(&towards) > mean(&away) + 15.0);
 }
 
-// Fails if a missing cube texture panics or gives an error that does not name the file.
-#[test]
-fn a_missing_texture_is_named() {
-    let dir = one_colour_assets("missing", [1, 2, 3]);
-    std::fs::remove_file(dir.join("cube/normal.bmp")).unwrap();
-    let error = match HeadlessRenderer::new(&cube_options(dir)) {
-        Ok(_) => panic!("built without its normal map"),
-        Err(e) => e.to_string(),
-    };
-    println!("{error}");
-    assert!(
-        error.contains("cube/normal.bmp") && !error.contains('\n'),
-        "{error}"
-    );
-}
-
 // Fails if the cube's shaders are not reloaded from the --shaders folder, or if a broken one is
 // accepted, not named, or changes the frame (the last good program must keep drawing).
 #[test]

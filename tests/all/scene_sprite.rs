@@ -518,31 +518,6 @@ fn the_light_follows_the_cursor_wheel_and_click() {
     );
 }
 
-// Fails if a missing texture panics or gives an error that does not name the file.
-#[test]
-fn a_missing_texture_is_an_error_naming_it() {
-    let empty = scratch("missing");
-    let error = HeadlessRenderer::new(&sprite_options(
-        Some(empty.clone()),
-        SpriteOptions::default(),
-        (64, 64),
-    ))
-    .err()
-    .expect("no textures, no scene");
-    let message = error.to_string();
-    println!("{message}");
-    assert!(
-        message.contains(
-            &Path::new("sprite")
-                .join("diffuse.bmp")
-                .display()
-                .to_string()
-        ),
-        "{message}"
-    );
-    assert_eq!(error.path(), Some(empty.join(DIFFUSE_FILE).as_path()));
-}
-
 // Fails if the committed normal map is not the rock's height field in the "green up" convention
 // the scene relies on: red must grow where the height falls to the right (n.x = −∂h/∂x) and green
 // where it falls up the picture (n.y = −∂h/∂y, y up), which shows as a strong correlation (measured

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use crate::common::{
     assert_matches_golden, drawn_pixels, flat_scene_assets, frame, frame_diff, own_assets,
-    pixel_diff, renderer, scratch, H, W,
+    pixel_diff, renderer, H, W,
 };
 use glam::{Vec3, Vec4};
 use image::RgbImage;
@@ -202,19 +202,4 @@ fn the_space_key_steps_through_the_programs() {
 fn wall_matches_golden() {
     let image = render(&own_assets(), LightingSpace::View);
     assert_matches_golden(&image, "wall-view", 0.995);
-}
-
-// Fails if a missing map is not one error naming the file.
-#[test]
-fn a_missing_map_names_the_file() {
-    let dir = scratch("missing");
-    let error = match tutorial13::frontends::headless::HeadlessRenderer::new(&options(
-        dir.clone(),
-        LightingSpace::View,
-    )) {
-        Ok(_) => panic!("a wall without its maps loaded"),
-        Err(e) => e.to_string(),
-    };
-    assert!(error.contains("wall/diffuse.bmp"), "{error}");
-    assert_eq!(error.lines().count(), 1, "{error}");
 }

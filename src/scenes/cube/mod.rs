@@ -224,10 +224,10 @@ impl SceneType for Cube {
     /// Loads `cube/diffuse.bmp` and `cube/normal.bmp` from `assets` and the shaders from
     /// `shader_dir` (or the crate's), and builds the cube.
     fn new(context: &SceneContext, files: &SceneOptions, options: CubeOptions) -> Result<Self> {
-        let (assets, shader_dir) = (&files.assets_dir(), files.shader_dir());
+        let shader_dir = files.shader_dir();
         let gl = context.gl;
         let program = CubeProgram::load(gl, shader_dir)?;
-        let maps = Maps::load(gl, assets, &FILES)?;
+        let maps = Maps::load(gl, &files.asset_files(FILES.names())?)?;
         let buffers = MeshBuffers::new(gl, &cube_mesh())?;
         Ok(Cube {
             program,

@@ -289,13 +289,15 @@ impl SceneType for Cylinder {
         files: &SceneOptions,
         cylinder: CylinderOptions,
     ) -> Result<Self> {
-        let (assets, shader_dir) = (&files.assets_dir(), files.shader_dir());
+        let shader_dir = files.shader_dir();
         let gl = context.gl;
         let (mut tutorial, soup_source) = match &cylinder.model {
             None => {
-                let mut tutorial = Tutorial13::new(gl, assets, shader_dir, cylinder.mesh)?;
+                let assets = files.asset_files(crate::assets::ASSET_FILES)?;
+                let mut tutorial = Tutorial13::new(gl, &assets, shader_dir, cylinder.mesh)?;
                 override_tutorial_maps(gl, &mut tutorial.texture_sets[0], &cylinder.maps)?;
-                (tutorial, SoupSource::Tutorial(assets.join("cylinder.obj")))
+                let [obj, ..] = assets;
+                (tutorial, SoupSource::Tutorial(obj))
             }
             Some(path) => {
                 let _progress = Progress::start(format!("loading {}", path.display()));

@@ -6,7 +6,7 @@
 //! lines. The window and the GLFW loop are the front ends' (`frontends/`); the learner's switches,
 //! colour views and keys are the cylinder scene's ([`super`]).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
 use glam::{Mat3, Mat4, Vec3};
@@ -98,14 +98,16 @@ pub struct Tutorial13 {
 }
 
 impl Tutorial13 {
-    /// The set-up before the loop. `assets` holds the tutorial's four files; `mesh_options` are the
-    /// CPU pipeline's switches (the tutorial's code = the default).
+    /// The set-up before the loop. `files` are the tutorial's four files (cylinder.obj, diffuse.DDS,
+    /// normal.bmp, specular.DDS: `assets::ASSET_FILES` found in the assets folder); `mesh_options`
+    /// are the CPU pipeline's switches (the tutorial's code = the default).
     pub fn new(
         gl: &Gl,
-        assets: &Path,
+        files: &[PathBuf; 4],
         shader_dir: Option<&Path>,
         mesh_options: MeshOptions,
     ) -> Result<Self> {
+        let [obj, diffuse, normal, specular] = files;
         init_gl_state(gl);
 
         // Create and compile our GLSL program from the shaders, and get the handles.
@@ -113,12 +115,12 @@ impl Tutorial13 {
         let program = NormalMappingProgram::load(gl, vertex_shader, fragment_shader, shader_dir)?;
 
         // Load the textures.
-        let diffuse_texture = load_dds(gl, &assets.join("diffuse.DDS"))?;
-        let normal_texture = load_bmp_custom(gl, &assets.join("normal.bmp"))?;
-        let specular_texture = load_dds(gl, &assets.join("specular.DDS"))?;
+        let diffuse_texture = load_dds(gl, diffuse)?;
+        let normal_texture = load_bmp_custom(gl, normal)?;
+        let specular_texture = load_dds(gl, specular)?;
 
         // Read our .obj file, compute the tangents, index the VBO.
-        let mesh = load_mesh(&assets.join("cylinder.obj"), mesh_options)?;
+        let mesh = load_mesh(obj, mesh_options)?;
 
         // Load it into VBOs (and the VAO that draws them).
         let buffers = MeshBuffers::new(gl, &mesh)?;

@@ -221,14 +221,14 @@ impl SceneType for Sprite {
     /// Loads `sprite/diffuse.bmp` and `sprite/normal.bmp` from `assets`, and the shaders from
     /// `shader_dir` (or the crate's).
     fn new(context: &SceneContext, files: &SceneOptions, options: SpriteOptions) -> Result<Self> {
-        let (assets, shader_dir) = (&files.assets_dir(), files.shader_dir());
+        let shader_dir = files.shader_dir();
         let gl = context.gl;
         let program = SpriteProgram::load(gl, shader_dir)?;
         // The tutorial's loadBMP_custom, as for every scene's BMP: mipmaps, trilinear filtering and
         // REPEAT, where the article's code samples with LINEAR and CLAMP_TO_EDGE. Kept on purpose (a
         // departure listed in the README): it changes pixels only when the window scales the sprite
         // below its 512 px (42 450 pixels at 400×300, by up to 16 levels).
-        let maps = Maps::load(gl, assets, &FILES)?;
+        let maps = Maps::load(gl, &files.asset_files(FILES.names())?)?;
         // Texture row 0 (t = 0) is the BMP's bottom row: at the bottom of the square, the picture
         // is upright.
         let square = IndexedMesh {

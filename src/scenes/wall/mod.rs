@@ -151,10 +151,10 @@ impl SceneType for Wall {
 
     /// Loads the stone wall's two maps from `assets`/wall/ and the three programs.
     fn new(context: &SceneContext, files: &SceneOptions, options: WallOptions) -> Result<Self> {
-        let (assets, shader_dir) = (&files.assets_dir(), files.shader_dir());
+        let shader_dir = files.shader_dir();
         let gl = context.gl;
         let programs = load_programs(gl, shader_dir)?;
-        let maps = Maps::load(gl, assets, &FILES)?;
+        let maps = Maps::load(gl, &files.asset_files(FILES.names())?)?;
         // The tutorial's CPU pipeline gives the square its tangents: T = +x (dP/du), B = +y (dP/dv).
         let mesh = build_mesh(&square(), MeshOptions::default());
         let buffers = MeshBuffers::new(gl, &mesh)?;
