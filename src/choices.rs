@@ -16,3 +16,8 @@ pub fn name<T: ValueEnum>(value: &T) -> String {
         .to_possible_value()
         .map_or_else(String::new, |v| v.get_name().to_string())
 }
+
+/// Every value's command-line name, in order (the choices a key steps through).
+pub fn names<T: ValueEnum>() -> Vec<String> {
+    T::value_variants().iter().map(name).collect()
+}

@@ -71,6 +71,11 @@ struct Cli {
     #[arg(long, value_name = "N", default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=32))]
     msaa: u8,
 
+    /// Headless: draw the window's panel (keys, switches, sliders) into the screenshot too; the
+    /// window shows it at start (F1 hides it), and never saves it with P or --screenshot
+    #[arg(long)]
+    panel: bool,
+
     /// Headless: use a GPU's EGL device where there is one instead of Mesa's llvmpipe
     #[arg(long)]
     prefer_hardware: bool,
@@ -383,6 +388,9 @@ fn run_headless(cli: &Cli, scene: SceneOptions) -> Result<()> {
         msaa: cli.msaa.into(),
     })?;
     log::info!("{}", renderer.context.info());
+    if cli.panel {
+        renderer.show_panel()?;
+    }
     if let Some(k) = cli.bench {
         let times = renderer.bench(k)?;
         let (min, median) = min_median(&times);

@@ -19,5 +19,6 @@ pub mod vboindexer;
 
 /// The GL function table the loaders take, shared by the objects they make (textures, programs) so
 /// that each deletes itself on drop. Defined at the bottom layer so the ports need nothing above
-/// them; [`crate::gl::Gl`] is the same type.
-pub type Gl = std::rc::Rc<glow::Context>;
+/// them; [`crate::gl::Gl`] is the same type. An `Arc` (not an `Rc`) because egui_glow's painter takes
+/// one: the panel draws with the same table.
+pub type Gl = std::sync::Arc<glow::Context>;

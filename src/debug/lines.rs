@@ -153,19 +153,19 @@ impl LegacyGl {
 /// The end of a debug line from `p` along `v`: `o = normalize(v); p += o*0.1f`.
 ///
 /// A zero vector gives a zero-length line instead of the tutorial's NaN vertex.
-fn line_end(p: Vec3, v: Vec3) -> Vec3 {
-    p + v.normalize_or_zero() * LINE_LENGTH
+fn line_end(p: Vec3, v: Vec3, length: f32) -> Vec3 {
+    p + v.normalize_or_zero() * length
 }
 
 /// The light's cross as the tutorial draws it, by moving `lightPos` back and forth: four vertices,
 /// two lines.
-fn light_cross(mut light_pos: Vec3) -> [Vec3; 4] {
+fn light_cross(mut light_pos: Vec3, length: f32) -> [Vec3; 4] {
     let a = light_pos;
-    light_pos += Vec3::X * LINE_LENGTH;
+    light_pos += Vec3::X * length;
     let b = light_pos;
-    light_pos -= Vec3::X * LINE_LENGTH;
+    light_pos -= Vec3::X * length;
     let c = light_pos;
-    light_pos += Vec3::Y * LINE_LENGTH;
+    light_pos += Vec3::Y * length;
     [a, b, c, light_pos]
 }
 
@@ -176,10 +176,12 @@ fn light_cross(mut light_pos: Vec3) -> [Vec3; 4] {
 struct TbnSource {
     mesh: Rc<IndexedMesh>,
     light_position_worldspace: Vec3,
+    /// Of every line ([`LINE_LENGTH`], the tutorial's, unless the panel moved it).
+    length: f32,
 }
 
 impl TbnSource {
-    fn new(mesh: &Rc<IndexedMesh>, light_position_worldspace: Vec3) -> Result<Self> {
+    fn new(mesh: &Rc<IndexedMesh>, light_position_worldspace: Vec3, length: f32) -> Result<Self> {
         let n = mesh.vertices.len();
         for (name, len) in [
             ("normals", mesh.normals.len()),
@@ -204,6 +206,7 @@ impl TbnSource {
         Ok(TbnSource {
             mesh: mesh.clone(),
             light_position_worldspace,
+            length,
         })
     }
 
@@ -236,10 +239,13 @@ impl TbnSource {
             for &index in &first_uses {
                 let p = mesh.vertices[index];
                 out.push(LineVertex::new(p, color));
-                out.push(LineVertex::new(line_end(p, directions[index]), color));
+                out.push(LineVertex::new(
+                    line_end(p, directions[index], self.length),
+                    color,
+                ));
             }
         }
-        let cross = light_cross(self.light_position_worldspace);
+        let cross = light_cross(self.light_position_worldspace, self.length);
         out.extend(cross.map(|p| LineVertex::new(p, LIGHT_COLOR)));
         out
     }
@@ -423,7 +429,7 @@ impl DebugLines {
     ) -> Result<Self> {
         let mut lines = DebugLines {
             gl: gl.clone(),
-            source: TbnSource::new(mesh, light_position_worldspace)?,
+            source: TbnSource::new(mesh, light_position_worldspace, LINE_LENGTH)?,
             legacy,
             shader: None,
             shader_dir: shader_dir.map(Path::to_path_buf),
@@ -483,7 +489,27 @@ impl DebugLines {
 
     /// Takes the lines from another mesh (e.g. after the scene re-ran its CPU pipeline).
     pub fn rebuild(&mut self, mesh: &Rc<IndexedMesh>) -> Result<()> {
-        let source = TbnSource::new(mesh, self.source.light_position_worldspace)?;
+        let source = &self.source;
+        self.set_source(TbnSource::new(
+            mesh,
+            source.light_position_worldspace,
+            source.length,
+        )?)
+    }
+
+    /// Moves the light's cross to `light_position_worldspace` and makes every line `length` long
+    /// (the panel's sliders; the tutorial's length is [`LINE_LENGTH`]).
+    pub fn reshape(&mut self, light_position_worldspace: Vec3, length: f32) -> Result<()> {
+        let mesh = self.source.mesh.clone();
+        self.set_source(TbnSource::new(&mesh, light_position_worldspace, length)?)
+    }
+
+    /// The light's position and the lines' length now.
+    pub fn shape(&self) -> (Vec3, f32) {
+        (self.source.light_position_worldspace, self.source.length)
+    }
+
+    fn set_source(&mut self, source: TbnSource) -> Result<()> {
         if let Some(shader) = &mut self.shader {
             shader.upload(&source)?;
         }
@@ -531,7 +557,7 @@ impl DebugLines {
                     let index = mesh.indices.get(i) as usize;
                     let p = mesh.vertices[index];
                     (legacy.vertex_3fv)(p.to_array().as_ptr());
-                    let p = line_end(p, directions[index]);
+                    let p = line_end(p, directions[index], self.source.length);
                     (legacy.vertex_3fv)(p.to_array().as_ptr());
                 }
                 (legacy.end)();
@@ -541,7 +567,7 @@ impl DebugLines {
             let [r, g, b] = LIGHT_COLOR;
             (legacy.color_3f)(r, g, b);
             (legacy.begin)(glow::LINES);
-            for p in light_cross(self.source.light_position_worldspace) {
+            for p in light_cross(self.source.light_position_worldspace, self.source.length) {
                 (legacy.vertex_3fv)(p.to_array().as_ptr());
             }
             (legacy.end)();

@@ -6,6 +6,7 @@ use std::time::Instant;
 use glam::Vec2;
 use glow::HasContext;
 
+use super::panel::{Panel, PanelInfo};
 use crate::common::controls::{Controls, Input};
 use crate::gl::context::HeadlessContext;
 use crate::gl::offscreen::OffscreenTarget;
@@ -53,6 +54,9 @@ pub struct HeadlessRenderer {
     pub controls: Controls,
     /// Where a window's cursor would be (x right, y down, pixels), for scenes that follow it.
     pub cursor: Option<Vec2>,
+    /// The window's panel, drawn over every frame (`--panel`), and the input it gets next frame.
+    pub panel: Option<Panel>,
+    pub panel_events: Vec<egui::Event>,
     pub context: HeadlessContext,
 }
 
@@ -78,6 +82,8 @@ impl HeadlessRenderer {
             target,
             controls,
             cursor: None,
+            panel: None,
+            panel_events: Vec::new(),
             context,
         })
     }
@@ -139,13 +145,35 @@ impl HeadlessRenderer {
         }
     }
 
-    /// One frame with time frozen at 0 and no input, as the original's screenshot test.
+    /// Draws the window's panel over every frame from now on (`--panel`).
+    pub fn show_panel(&mut self) -> Result<()> {
+        if self.panel.is_none() {
+            self.panel = Some(Panel::new(self.context.gl())?);
+        }
+        Ok(())
+    }
+
+    /// One frame with time frozen at 0 and no input, as the original's screenshot test; the panel
+    /// over it if it is shown (with [`HeadlessRenderer::panel_events`] as its input).
     pub fn render(&mut self) {
         self.controls
             .compute_matrices_from_inputs(&Input::default(), 0.0);
         self.target.bind();
         let input = self.frame_input();
         self.scene.draw(&input);
+        if let Some(panel) = &mut self.panel {
+            let mut panel_input = Panel::headless_input(input.size);
+            panel_input.events = std::mem::take(&mut self.panel_events);
+            let (output, _) = panel.run(
+                panel_input,
+                self.descriptor,
+                &mut *self.scene,
+                PanelInfo::default(),
+            );
+            // The scene's viewport (the target's size) is the panel's too.
+            self.target.bind();
+            panel.paint(input.size, output);
+        }
     }
 
     /// Renders `frames` frames (at least one) and returns the last, top row first. Fails if GL

@@ -4,6 +4,7 @@
 //! window's pixels.
 
 pub mod headless;
+pub mod panel;
 pub mod window;
 
 use std::path::PathBuf;
@@ -34,6 +35,7 @@ pub const WINDOW_KEYS: &[(&str, &str)] = &[
         "P",
         "save a screenshot (tutorial13-N.png in the current folder)",
     ),
+    ("F1", "show / hide the panel (keys, switches, sliders)"),
     ("Esc", "quit (closing the window quits too)"),
 ];
 
@@ -100,7 +102,7 @@ pub fn keys_markdown() -> String {
 }
 
 /// The rows of a scene's key list, in the order [`key_list`] and [`keys_markdown`] give them.
-fn key_rows(scene: &'static SceneDescriptor) -> Vec<(String, &'static str)> {
+pub(crate) fn key_rows(scene: &'static SceneDescriptor) -> Vec<(String, &'static str)> {
     let (before, after): (&[_], &[_]) = match scene.mouse_mode {
         MouseMode::Look => LOOK_KEYS.split_at(2),
         // The camera keys would steer a camera such a scene does not have.

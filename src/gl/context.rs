@@ -9,7 +9,6 @@
 
 use std::ffi::{c_void, CStr};
 use std::fmt;
-use std::rc::Rc;
 
 use glutin::api::egl::context::PossiblyCurrentContext;
 use glutin::api::egl::device::Device;
@@ -30,7 +29,8 @@ const INSTALL_HINT: &str = "install Debian's libegl1 libegl-mesa0 libgl1-mesa-dr
 
 /// An OpenGL context with no window, current on the thread that created it.
 ///
-/// Not `Send`: an EGL context is current on one thread, and [`Gl`] is an `Rc`. Objects made through
+/// Not `Send`: an EGL context is current on one thread (glutin's current context is not `Send`, nor is
+/// glow's function table). Objects made through
 /// [`HeadlessContext::gl`] (and offscreen targets) must be dropped before the context is.
 pub struct HeadlessContext {
     // Field order is drop order: the function table, then the context, then the display.
@@ -156,7 +156,7 @@ impl HeadlessContext {
             unsafe { glow::Context::from_loader_function_cstr(|s| display.get_proc_address(s)) };
         let info = context_info(&gl);
         let headless = HeadlessContext {
-            gl: Rc::new(gl),
+            gl: std::sync::Arc::new(gl),
             info,
             device: name,
             context,

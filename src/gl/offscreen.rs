@@ -3,7 +3,6 @@
 
 use std::ffi::{c_void, CStr};
 use std::fmt;
-use std::rc::Rc;
 
 use glow::HasContext;
 
@@ -102,7 +101,7 @@ impl OffscreenTarget {
         let (w, h) = (width as i32, height as i32);
         // Each object is owned as soon as it exists, so a failure below deletes what was made.
         let target = OffscreenTarget {
-            gl: Rc::clone(gl),
+            gl: Gl::clone(gl),
             framebuffer: Owned::create(gl, PART)?,
             depth: Owned::create(gl, PART)?,
             color: match color {

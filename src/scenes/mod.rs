@@ -20,8 +20,9 @@ use clap::parser::ValueSource;
 
 pub use scene::{
     action_for_key, crate_assets_dir, find_assets, handle_key, key_help, read_args,
-    taken_from_crate, AsAny, AssetFiles, Binding, FrameInput, KeyHelp, MouseMode, PerScene, Scene,
-    SceneArgs, SceneContext, SceneDescriptor, SceneOption, SceneOptions, SharedArgs,
+    taken_from_crate, AsAny, AssetFiles, Binding, CompareLabels, DrawingProgram, FrameInput,
+    KeyHelp, MouseMode, PerScene, Scene, SceneArgs, SceneContext, SceneDescriptor, SceneOption,
+    SceneOptions, SharedArgs, Slider, Switch, SwitchState,
 };
 
 /// Every scene, in the order the Enter key steps through them; the first is the default. Adding a

@@ -484,9 +484,82 @@ pub trait Scene: AsAny {
     /// uses it.
     fn scroll(&mut self, _notches: f32) {}
 
+    /// The scene's switches with their state, for the panel (each one is also a key of its list).
+    fn switches(&self) -> Vec<Switch> {
+        Vec::new()
+    }
+
+    /// The values the panel offers to move.
+    fn sliders(&self) -> Vec<Slider> {
+        Vec::new()
+    }
+
+    /// Moves the slider `name` (one of [`Scene::sliders`]) to `value`, clamped to its range.
+    fn set_slider(&mut self, _name: &str, _value: f32) {}
+
+    /// The programs drawing the frame now, and the files they read.
+    fn drawing_programs(&self) -> Vec<DrawingProgram> {
+        Vec::new()
+    }
+
+    /// What the two sides of the frame show while a compare view is on.
+    fn compare_labels(&self) -> Option<CompareLabels> {
+        None
+    }
+
     /// A left click in a scene with [`MouseMode::Cursor`] (with mouse look, a click grabs the cursor
     /// instead). Ignored unless the scene uses it.
     fn click(&mut self) {}
+}
+
+/// A switch of a scene as the panel shows it: the key that flips or steps it, and its state now.
+/// The panel changes it only by pressing that key ([`Scene::key`]), so the two cannot disagree.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Switch {
+    pub key: char,
+    /// A few words: what is switched.
+    pub label: &'static str,
+    pub state: SwitchState,
+}
+
+/// On or off (a checkbox), or one of several values the key steps through in order (a choice).
+#[derive(Debug, Clone, PartialEq)]
+pub enum SwitchState {
+    On(bool),
+    /// `choices` in the order the key steps through them; `current` is one of them.
+    Step {
+        current: String,
+        choices: Vec<String>,
+    },
+}
+
+/// A value a learner may want to move (the light, a strength, a length), with the tutorial's (or
+/// the article's) value it starts from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Slider {
+    /// Names it on the panel and in [`Scene::set_slider`].
+    pub name: &'static str,
+    pub value: f32,
+    /// The value the scene starts with.
+    pub start: f32,
+    pub range: (f32, f32),
+}
+
+/// A program drawing the frame: its name and the shader files it reads (empty: the copies built
+/// into the binary).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DrawingProgram {
+    pub name: String,
+    pub files: Vec<PathBuf>,
+}
+
+/// The two sides of a compare view: where the split is (a fraction of the width; `None` for one
+/// picture made from both) and what each side shows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CompareLabels {
+    pub split: Option<f32>,
+    pub left: String,
+    pub right: String,
 }
 
 /// For tests and tools that reach into a particular scene: every scene has it, none writes it.

@@ -79,7 +79,7 @@ impl GlWindow {
             .make_current(&surface)
             .map_err(|e| Error::Context(format!("cannot make it current: {e}")))?;
         // SAFETY: the loader returns entry points of the current context's display.
-        let gl: Gl = std::rc::Rc::new(unsafe {
+        let gl: Gl = std::sync::Arc::new(unsafe {
             glow::Context::from_loader_function(|name| {
                 let name = CString::new(name).expect("GL names have no NUL");
                 display.get_proc_address(&name)

@@ -44,6 +44,11 @@ impl InputState {
         }
     }
 
+    /// Whether the cursor is grabbed for mouse look.
+    pub fn grabbed(&self) -> bool {
+        self.grabbed
+    }
+
     /// The camera back at the start of `scene` (the tutorial's, or framing the scene's model) for
     /// the window's `size`.
     pub fn reset_camera(&mut self, scene: &dyn Scene, size: (u32, u32)) {

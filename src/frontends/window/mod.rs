@@ -24,6 +24,7 @@ use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::WindowId;
 
 use super::key_list;
+use super::panel::Panel;
 use crate::gl::Profile;
 use crate::scenes::{MouseMode, SceneDescriptor, SceneOptions};
 use crate::{Error, Result};
@@ -156,11 +157,16 @@ struct App {
     outcome: Result<()>,
 }
 
-/// Everything alive while the window is open. Field order is drop order: the scene's GL objects
-/// first, then the window with its surface and context.
+/// Everything alive while the window is open. Field order is drop order: the scene's and the
+/// panel's GL objects first, then the window with its surface and context.
 struct Running {
     renderer: Renderer,
     input: InputState,
+    /// The panel (`None` if its painter could not be built: the window runs without it) and
+    /// egui's winit glue, which turns the window's events into the panel's input.
+    panel: Option<(Panel, egui_winit::State)>,
+    /// F1 hides and shows the panel.
+    panel_shown: bool,
     gl_window: GlWindow,
 }
 
@@ -168,16 +174,93 @@ impl Running {
     fn new(event_loop: &ActiveEventLoop, options: &WindowOptions) -> Result<Self> {
         let gl_window = GlWindow::open(event_loop, options.size, options.profile, options.msaa)?;
         let renderer = Renderer::new(&gl_window, options.descriptor, &options.scene)?;
+        let panel = match Panel::new(&gl_window.gl) {
+            Ok(panel) => {
+                let window = &gl_window.window;
+                let state = egui_winit::State::new(
+                    panel.context().clone(),
+                    egui::ViewportId::ROOT,
+                    window,
+                    Some(window.scale_factor() as f32),
+                    None,
+                    None,
+                );
+                Some((panel, state))
+            }
+            Err(e) => {
+                log::error!("{e} (the window runs without its panel)");
+                None
+            }
+        };
         let mut running = Running {
             renderer,
             input: InputState::default(),
+            panel_shown: panel.is_some(),
+            panel,
             gl_window,
         };
         running.reset_camera();
-        if options.frames.is_none() {
+        // With the panel shown the cursor starts free, so that the panel can be clicked; a click on
+        // the frame grabs it for mouse look, as it does after Tab.
+        if options.frames.is_none() && !running.panel_shown {
             running.grab_cursor(true);
+        } else if options.frames.is_none()
+            && running.renderer.descriptor.mouse_mode == MouseMode::Look
+        {
+            log::info!("click the frame to look around (F1 hides the panel)");
         }
         Ok(running)
+    }
+
+    /// Lays out and paints the panel over the frame just drawn (before the swap), if it is shown.
+    fn paint_panel(&mut self) {
+        let Some((panel, state)) = self.panel.as_mut().filter(|_| self.panel_shown) else {
+            return;
+        };
+        let window = &self.gl_window.window;
+        let input = state.take_egui_input(window);
+        let info = self.renderer.panel_info();
+        let (output, actions) = panel.run(
+            input,
+            self.renderer.descriptor,
+            &mut *self.renderer.scene,
+            info,
+        );
+        if !actions.is_empty() {
+            log::debug!("panel: {actions:?}");
+        }
+        // The cursor's shape is egui's only while it is free (a grabbed cursor stays hidden).
+        if !self.input.grabbed() {
+            state.handle_platform_output(window, output.platform_output.clone());
+        }
+        let size = window.inner_size();
+        panel.paint((size.width, size.height), output);
+    }
+
+    /// Whether the panel takes this event (a click or a wheel over it), so that the frame does not.
+    fn panel_takes(&mut self, event: &WindowEvent) -> bool {
+        let Some((_, state)) = self.panel.as_mut().filter(|_| self.panel_shown) else {
+            return false;
+        };
+        // Keys stay the scene's and the window's; a grabbed cursor is mouse look, not a pointer.
+        if matches!(event, WindowEvent::KeyboardInput { .. }) || self.input.grabbed() {
+            return false;
+        }
+        state
+            .on_window_event(&self.gl_window.window, event)
+            .consumed
+    }
+
+    /// F1: the panel on or off.
+    fn toggle_panel(&mut self) {
+        if self.panel.is_none() {
+            return log::warn!("no panel in this window (see the error above)");
+        }
+        self.panel_shown = !self.panel_shown;
+        log::info!(
+            "panel {}",
+            if self.panel_shown { "shown" } else { "hidden" }
+        );
     }
 
     /// The camera at the current scene's start, for the window's size.
@@ -235,6 +318,7 @@ impl Running {
             KeyCode::Tab => self.grab_cursor(false),
             KeyCode::Enter => self.next_scene(),
             KeyCode::F5 => self.renderer.reload_shaders(),
+            KeyCode::F1 => self.toggle_panel(),
             KeyCode::KeyR => {
                 self.reset_camera();
                 log::info!("camera back at the start");
@@ -296,6 +380,7 @@ impl App {
             }
             return event_loop.exit();
         }
+        running.paint_panel();
         if let Err(e) = running.gl_window.swap_buffers() {
             return self.fail(event_loop, e);
         }
@@ -327,6 +412,9 @@ impl ApplicationHandler for App {
         let Some(running) = self.running.as_mut() else {
             return;
         };
+        if running.panel_takes(&event) {
+            return;
+        }
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::KeyboardInput {

@@ -8,6 +8,7 @@ use std::time::Instant;
 use super::gl_window::GlWindow;
 use super::input::InputState;
 use super::TITLE;
+use crate::frontends::panel::PanelInfo;
 use crate::frontends::{key_list, FrameTimer, ShaderWatch};
 use crate::gl::check_gl_errors;
 use crate::gl::image::write_screenshot;
@@ -95,6 +96,14 @@ impl Renderer {
         println!("{}", key_list(next));
         log::info!("scene {next}: {}", self.scene.status());
         Ok(())
+    }
+
+    /// What the panel shows of the window's own figures.
+    pub fn panel_info(&self) -> PanelInfo {
+        PanelInfo {
+            ms_per_frame: self.ms_per_frame,
+            shader_error: self.shader_error.clone(),
+        }
     }
 
     /// A key of the scene's list; the scene's status is logged when it was one.

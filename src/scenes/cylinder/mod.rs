@@ -18,8 +18,8 @@ use glow::HasContext;
 use crate::common::objloader::{load_obj, TriangleSoup};
 use crate::common::shader::shader_paths;
 use crate::debug::compare::{CompareMode, CompareView};
-use crate::debug::lines::{DebugLines, LegacyGl, LineMode, LINE_SHADERS};
-use crate::debug::views::ShaderSwitches;
+use crate::debug::lines::{DebugLines, LegacyGl, LineMode, LINE_LENGTH, LINE_SHADERS};
+use crate::debug::views::{ColorView, ShaderSwitches};
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::state::GlState;
 use crate::gl::Gl;
@@ -32,8 +32,8 @@ use crate::tangents::TangentSource;
 use crate::Result;
 
 use super::scene::{
-    handle_key, key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
-    SceneOptions, SceneType,
+    handle_key, key_help, Binding, CompareLabels, DrawingProgram, FrameInput, KeyHelp, Scene,
+    SceneContext, SceneDescriptor, SceneOptions, SceneType, Slider, Switch, SwitchState,
 };
 pub use args::CylinderArgs;
 use maps::{model_texture_sets, override_tutorial_maps};
@@ -239,6 +239,16 @@ pub struct Cylinder {
     debug_program: DebugProgram,
     /// `NormalMappingDerivative`: the per-pixel tangent frame, for [`TangentSource::Derivative`].
     derivative_program: NormalMappingProgram,
+    /// Its light power and normal strength.
+    derivative_knobs: KnobUniforms,
+    /// The panel's light power and normal strength (the tutorial's unless moved).
+    pub knobs: Knobs,
+    /// The compare view's split at the start (`--compare`'s, or the middle).
+    compare_start_split: f32,
+    /// The light where the scene started (`--light`, or the tutorial's), for the panel.
+    light_start: Vec3,
+    /// The TBN lines' length (the tutorial's [`LINE_LENGTH`] unless the panel moved it).
+    line_length: f32,
     /// Where the tangent frame comes from.
     pub tangent_source: TangentSource,
     /// The two sources compared, with their meshes uploaded, while the compare view is on.
@@ -330,7 +340,12 @@ impl SceneType for Cylinder {
         let mut scene = Cylinder {
             lines: None,
             debug_program,
+            derivative_knobs: KnobUniforms::locate(&derivative_program.program)?,
             derivative_program,
+            knobs: Knobs::TUTORIAL,
+            light_start: tutorial.light_position_worldspace,
+            line_length: LINE_LENGTH,
+            compare_start_split: cylinder.compare.map_or(0.5, |c| c.split.clamp(0.0, 1.0)),
             tangent_source: TangentSource::Tutorial,
             comparison: None,
             compare_sources: cylinder.compare.map(|c| c.sources),
@@ -458,6 +473,7 @@ impl Cylinder {
                 self.shader_dir.as_deref(),
             )?;
             self.lines = Some(lines);
+            self.set_line_length(self.line_length)?;
         }
         self.show_lines = show;
         Ok(())
@@ -540,45 +556,130 @@ impl Cylinder {
     }
 }
 
+/// Which program draws a tangent source's frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Drawing {
+    /// `NormalMapping.*`, the tutorial's, as it is.
+    Tutorial,
+    /// `NormalMappingDebug.*`: an experiment, a colour view or a panel slider is away from the
+    /// tutorial's.
+    Debug,
+    /// `NormalMappingDerivative.*`: the per-pixel frame.
+    Derivative,
+}
+
+impl Drawing {
+    /// The program's name and its two files.
+    fn shaders(self) -> (&'static str, [&'static str; 2]) {
+        match self {
+            Drawing::Tutorial => ("NormalMapping (the tutorial's)", SHADERS),
+            Drawing::Debug => ("NormalMappingDebug (the experiments)", DEBUG_SHADERS),
+            Drawing::Derivative => (
+                "NormalMappingDerivative (per-pixel frame)",
+                DERIVATIVE_SHADERS,
+            ),
+        }
+    }
+}
+
 /// What draws one tangent source's frame: the tutorial with the program that the source and the
 /// switches need. Borrowed from the scene's fields, apart from its compare view (which calls it).
 struct SourceDrawer<'a> {
     tutorial: &'a Tutorial13,
     debug_program: &'a DebugProgram,
     derivative_program: &'a NormalMappingProgram,
+    derivative_knobs: &'a KnobUniforms,
     switches: ShaderSwitches,
+    knobs: Knobs,
     use_debug_program: bool,
 }
 
 impl SourceDrawer<'_> {
+    /// The tutorial's own program unless an experiment, a colour view or a slider asks for the
+    /// debug one; the per-pixel frame has a program of its own (without the experiments).
+    fn drawing(&self, source: TangentSource) -> Drawing {
+        if source == TangentSource::Derivative {
+            Drawing::Derivative
+        } else if self.switches == ShaderSwitches::default()
+            && self.knobs == Knobs::TUTORIAL
+            && !self.use_debug_program
+        {
+            Drawing::Tutorial
+        } else {
+            Drawing::Debug
+        }
+    }
+
+    /// The program for `source`, current and with its switches set.
+    fn program(&self, source: TangentSource) -> &NormalMappingProgram {
+        match self.drawing(source) {
+            Drawing::Tutorial => &self.tutorial.program,
+            Drawing::Debug => {
+                self.debug_program.set_switches(self.switches, self.knobs);
+                &self.debug_program.program
+            }
+            Drawing::Derivative => {
+                let program = self.derivative_program;
+                self.knobs
+                    .set(&self.debug_program.gl, program, self.derivative_knobs);
+                program
+            }
+        }
+    }
+
     /// One frame of `source` from `buffers`.
     fn draw(&self, source: TangentSource, buffers: &MeshBuffers, frame: &FrameInput) {
         let (projection, view) = (frame.projection, frame.view);
-        let tutorial = self.tutorial;
-        if source == TangentSource::Derivative {
-            let program = self.derivative_program;
-            tutorial.draw_mesh_with(program, buffers, projection, view, None);
-        } else if self.switches == ShaderSwitches::default() && !self.use_debug_program {
-            tutorial.draw_mesh_with(&tutorial.program, buffers, projection, view, None);
-        } else {
-            self.debug_program.set_switches(self.switches);
-            let program = &self.debug_program.program;
-            tutorial.draw_mesh_with(program, buffers, projection, view, None);
+        let program = self.program(source);
+        self.tutorial
+            .draw_mesh_with(program, buffers, projection, view, None);
+    }
+}
+
+/// The scene's [`SourceDrawer`], borrowing only the fields it names (a macro, not a method, so
+/// that the compare view can be borrowed mutably beside it).
+macro_rules! drawer {
+    ($scene:expr) => {
+        SourceDrawer {
+            tutorial: &$scene.tutorial,
+            debug_program: &$scene.debug_program,
+            derivative_program: &$scene.derivative_program,
+            derivative_knobs: &$scene.derivative_knobs,
+            switches: $scene.switches,
+            knobs: $scene.knobs,
+            use_debug_program: $scene.use_debug_program,
         }
+    };
+}
+
+impl Cylinder {
+    /// Makes every TBN line `length` long (the tutorial's is [`LINE_LENGTH`]).
+    pub fn set_line_length(&mut self, length: f32) -> Result<()> {
+        self.line_length = length;
+        match &mut self.lines {
+            Some(lines) if lines.shape().1 != length => {
+                lines.reshape(self.tutorial.light_position_worldspace, length)
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Moves the light (world space): the lighting's and the debug lines' cross.
+    pub fn set_light(&mut self, light_position_worldspace: Vec3) -> Result<()> {
+        self.tutorial.light_position_worldspace = light_position_worldspace;
+        if let Some(lines) = &mut self.lines {
+            let (_, length) = lines.shape();
+            lines.reshape(light_position_worldspace, length)?;
+        }
+        Ok(())
     }
 }
 
 impl Scene for Cylinder {
     fn draw(&mut self, frame: &FrameInput) {
         GL_STATE.apply(&self.gl);
+        let drawer = drawer!(self);
         if let Some((sources, buffers)) = &self.comparison {
-            let drawer = SourceDrawer {
-                tutorial: &self.tutorial,
-                debug_program: &self.debug_program,
-                derivative_program: &self.derivative_program,
-                switches: self.switches,
-                use_debug_program: self.use_debug_program,
-            };
             let view = &mut self.compare_view;
             let before = view.difference;
             let drawn = view.draw(
@@ -600,21 +701,14 @@ impl Scene for Cylinder {
             }
             return;
         }
-        let lines = self.lines.as_ref().filter(|_| self.show_lines);
-        let (projection, view) = (frame.projection, frame.view);
-        // The tutorial's own program unless an experiment or a colour view asks for the debug one;
-        // the per-pixel frame has a program of its own (without the experiments).
-        if self.tangent_source == TangentSource::Derivative {
-            let program = &self.derivative_program;
-            self.tutorial.draw_with(program, projection, view, None);
-        } else if self.switches == ShaderSwitches::default() && !self.use_debug_program {
-            self.tutorial.draw(frame.projection, frame.view, lines);
-        } else {
-            let debug = &self.debug_program;
-            debug.set_switches(self.switches);
-            self.tutorial
-                .draw_with(&debug.program, projection, view, lines);
-        }
+        // The per-pixel frame has no vertex tangents to draw lines from.
+        let lines = self
+            .lines
+            .as_ref()
+            .filter(|_| self.show_lines && self.tangent_source != TangentSource::Derivative);
+        let program = drawer.program(self.tangent_source);
+        self.tutorial
+            .draw_with(program, frame.projection, frame.view, lines);
     }
 
     fn key(&mut self, key: char) -> Result<bool> {
@@ -644,13 +738,225 @@ impl Scene for Cylinder {
         let debug_program = DebugProgram::load(&self.gl, dir)?;
         let [vertex_shader, fragment_shader] = DERIVATIVE_SHADERS;
         let derivative = NormalMappingProgram::load(&self.gl, vertex_shader, fragment_shader, dir)?;
+        let derivative_knobs = KnobUniforms::locate(&derivative.program)?;
         if let Some(lines) = &mut self.lines {
             lines.reload_shaders()?;
         }
         self.tutorial.program = program;
         self.debug_program = debug_program;
         self.derivative_program = derivative;
+        self.derivative_knobs = derivative_knobs;
         Ok(())
+    }
+
+    fn switches(&self) -> Vec<Switch> {
+        let sw = self.switches;
+        let mesh = self.mesh_options;
+        let on = |key, label, on| Switch {
+            key,
+            label,
+            state: SwitchState::On(on),
+        };
+        let step = |key, label, current: String, choices: &[&str]| Switch {
+            key,
+            label,
+            state: SwitchState::Step {
+                current,
+                choices: choices.iter().map(|c| c.to_string()).collect(),
+            },
+        };
+        let line_mode = match self.line_mode().or(self.line_mode) {
+            Some(mode) => mode,
+            None if self.legacy.is_ok() => LineMode::Legacy,
+            None => LineMode::Shader,
+        };
+        let view_names: Vec<String> = ColorView::CYCLE
+            .iter()
+            .map(|&(vector, mapped)| ColorView::default().with_vector(vector, mapped).to_string())
+            .collect();
+        let view_names: Vec<&str> = view_names.iter().map(String::as_str).collect();
+        let view = ColorView {
+            component: None,
+            ..sw.view
+        };
+        let component = match sw.view.component {
+            None => "all",
+            Some(0) => "x",
+            Some(1) => "y",
+            Some(_) => "z",
+        };
+        let sources = crate::choices::names::<TangentSource>();
+        let sources: Vec<&str> = sources.iter().map(String::as_str).collect();
+        let compare = match (&self.comparison, self.compare_view.mode) {
+            (None, _) => "off",
+            (Some(_), CompareMode::Split) => "side by side",
+            (Some(_), CompareMode::Difference) => "difference",
+        };
+        vec![
+            on('L', "TBN debug lines", self.show_lines),
+            step(
+                'M',
+                "lines drawn with",
+                line_mode_name(line_mode).into(),
+                &[
+                    line_mode_name(LineMode::Legacy),
+                    line_mode_name(LineMode::Shader),
+                ],
+            ),
+            step('V', "colour view", view.to_string(), &view_names),
+            step('C', "component", component.into(), &["all", "x", "y", "z"]),
+            on(
+                'N',
+                "normalize before summing",
+                mesh.indexing.normalize_before_sum,
+            ),
+            on('G', "Gram-Schmidt", mesh.tangents.gram_schmidt),
+            on('H', "handedness fix", mesh.tangents.handedness),
+            on('S', "specular texture", sw.specular_texture),
+            on('T', "normalized TBN (article)", sw.normalize_tbn),
+            step(
+                'F',
+                "tangent frame",
+                self.tangent_source.to_string(),
+                &sources,
+            ),
+            step(
+                'K',
+                "compare view",
+                compare.into(),
+                &["off", "side by side", "difference"],
+            ),
+            on('Y', "green down (DirectX)", sw.convention.green_down),
+            on('E', "exact expansion", sw.convention.exact_expansion),
+            on('Z', "two channels", sw.convention.two_channel),
+        ]
+    }
+
+    /// The light (world space), its power, the normal map's strength, the TBN lines' length and
+    /// the compare view's split.
+    fn sliders(&self) -> Vec<Slider> {
+        let light = self.tutorial.light_position_worldspace;
+        let start = self.light_start;
+        // Room around the tutorial's cylinder (radius 1, height 2, light 4 away) or the model
+        // placed on its bounding sphere.
+        let reach = 10.0;
+        let axis = |name, value: f32, start: f32| Slider {
+            name,
+            value,
+            start,
+            range: (-reach, reach),
+        };
+        let split = self.compare_view.split;
+        vec![
+            axis("light x", light.x, start.x),
+            axis("light y", light.y, start.y),
+            axis("light z", light.z, start.z),
+            Slider {
+                name: "light power",
+                value: self.knobs.light_power,
+                start: Knobs::TUTORIAL.light_power,
+                range: (0.0, 200.0),
+            },
+            Slider {
+                name: "normal strength",
+                value: self.knobs.normal_strength,
+                start: Knobs::TUTORIAL.normal_strength,
+                range: (0.0, 4.0),
+            },
+            Slider {
+                name: "TBN line length",
+                value: self.line_length,
+                start: LINE_LENGTH,
+                range: (0.01, 1.0),
+            },
+            Slider {
+                name: "compare split",
+                value: split,
+                start: self.compare_start_split,
+                range: (0.0, 1.0),
+            },
+        ]
+    }
+
+    fn set_slider(&mut self, name: &str, value: f32) {
+        let Some(slider) = self.sliders().into_iter().find(|s| s.name == name) else {
+            return;
+        };
+        let value = value.clamp(slider.range.0, slider.range.1);
+        let mut light = self.tutorial.light_position_worldspace;
+        let done = match name {
+            "light x" | "light y" | "light z" => {
+                match name {
+                    "light x" => light.x = value,
+                    "light y" => light.y = value,
+                    _ => light.z = value,
+                }
+                self.set_light(light)
+            }
+            "light power" => {
+                self.knobs.light_power = value;
+                Ok(())
+            }
+            "normal strength" => {
+                self.knobs.normal_strength = value;
+                Ok(())
+            }
+            "TBN line length" => self.set_line_length(value),
+            _ => {
+                self.compare_view.split = value;
+                Ok(())
+            }
+        };
+        if let Err(e) = done {
+            log::error!("{e}");
+        }
+    }
+
+    /// The program each side draws with (and the lines' program when they are shown).
+    fn drawing_programs(&self) -> Vec<DrawingProgram> {
+        let drawer = drawer!(self);
+        let sources = match &self.comparison {
+            Some((sources, _)) => sources.to_vec(),
+            None => vec![self.tangent_source],
+        };
+        let mut drawings: Vec<Drawing> = sources.iter().map(|&s| drawer.drawing(s)).collect();
+        drawings.dedup();
+        let dir = self.shader_dir.as_deref();
+        let mut programs: Vec<DrawingProgram> = drawings
+            .into_iter()
+            .map(|d| {
+                let (name, files) = d.shaders();
+                DrawingProgram {
+                    name: name.into(),
+                    files: shader_paths(files, dir),
+                }
+            })
+            .collect();
+        let lines_drawn = self.show_lines
+            && self.comparison.is_none()
+            && self.tangent_source != TangentSource::Derivative;
+        match self.line_mode().filter(|_| lines_drawn) {
+            Some(LineMode::Legacy) => programs.push(DrawingProgram {
+                name: "TBN lines: immediate mode (glBegin/glEnd, no shader)".into(),
+                files: Vec::new(),
+            }),
+            Some(LineMode::Shader) => programs.push(DrawingProgram {
+                name: "TBN lines: DebugLines".into(),
+                files: shader_paths(LINE_SHADERS, dir),
+            }),
+            None => {}
+        }
+        programs
+    }
+
+    fn compare_labels(&self) -> Option<CompareLabels> {
+        let (sources, _) = self.comparison.as_ref()?;
+        Some(CompareLabels {
+            split: (self.compare_view.mode == CompareMode::Split)
+                .then_some(self.compare_view.split),
+            left: sources[0].to_string(),
+            right: sources[1].to_string(),
+        })
     }
 
     /// View, lines, and every experiment switch.
@@ -683,6 +989,14 @@ impl Scene for Cylinder {
     }
 }
 
+/// The line path's name on the panel.
+fn line_mode_name(mode: LineMode) -> &'static str {
+    match mode {
+        LineMode::Legacy => "immediate mode",
+        LineMode::Shader => "line shader",
+    }
+}
+
 /// The per-pixel tangent frame's program.
 pub const DERIVATIVE_SHADERS: [&str; 2] = [
     "NormalMappingDerivative.vertexshader",
@@ -709,11 +1023,48 @@ crate::uniforms! {
     }
 }
 
+crate::uniforms! {
+    /// The panel's light power and normal strength, in the debugging and per-pixel programs (the
+    /// tutorial's shader has them as constants).
+    pub struct KnobUniforms {
+        light_power: "LightPower",
+        normal_strength: "NormalStrength",
+    }
+}
+
+/// The panel's sliders that only the debugging programs read: with the tutorial's values the
+/// tutorial's own program draws.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Knobs {
+    /// `LightPower`, 40 in the tutorial's shader.
+    pub light_power: f32,
+    /// A factor on the normal map's x and y before normalizing (1: the map as it is).
+    pub normal_strength: f32,
+}
+
+impl Knobs {
+    pub const TUTORIAL: Knobs = Knobs {
+        light_power: 40.0,
+        normal_strength: 1.0,
+    };
+
+    /// Makes `program` current and sets its two uniforms.
+    fn set(&self, gl: &Gl, program: &NormalMappingProgram, uniforms: &KnobUniforms) {
+        // SAFETY: the program and its uniforms belong to this context.
+        unsafe {
+            gl.use_program(Some(program.program.id));
+            gl.uniform_1_f32(uniforms.light_power.as_ref(), self.light_power);
+            gl.uniform_1_f32(uniforms.normal_strength.as_ref(), self.normal_strength);
+        }
+    }
+}
+
 /// `NormalMappingDebug`: the tutorial's uniforms plus one per switch.
 pub struct DebugProgram {
     gl: Gl,
     pub program: NormalMappingProgram,
     switches: DebugUniforms,
+    knobs: KnobUniforms,
 }
 
 impl DebugProgram {
@@ -723,12 +1074,15 @@ impl DebugProgram {
         Ok(DebugProgram {
             gl: gl.clone(),
             switches: DebugUniforms::locate(&program.program)?,
+            knobs: KnobUniforms::locate(&program.program)?,
             program,
         })
     }
 
-    /// Makes the program current and sets its switches (the caller then draws with it).
-    pub fn set_switches(&self, switches: ShaderSwitches) {
+    /// Makes the program current and sets its switches and the panel's sliders (the caller then
+    /// draws with it).
+    pub fn set_switches(&self, switches: ShaderSwitches, knobs: Knobs) {
+        knobs.set(&self.gl, &self.program, &self.knobs);
         let gl = &self.gl;
         let view = switches.view;
         let u = &self.switches;

@@ -1,0 +1,451 @@
+//! The panel over the frame: the scene's keys with its switches as checkboxes and choices, sliders
+//! for what a learner wants to move, the program that draws (and its shader files), ms/frame, and
+//! labels on the two sides of a compare view. Drawn with egui on the scene's own context after the
+//! scene, over it (the scene's viewport is not shrunk), so every pixel outside the panel's
+//! rectangle is the scene's frame as it was. The window shows it (F1 hides it); `--panel` puts it
+//! into headless screenshots. It knows nothing of any one scene: it reads the descriptor's keys and
+//! the scene's [`Scene::switches`], [`Scene::sliders`], [`Scene::drawing_programs`] and
+//! [`Scene::compare_labels`], and changes a switch only by pressing its key.
+
+use glow::HasContext;
+
+use super::{key_rows, WINDOW_KEYS};
+use crate::gl::Gl;
+use crate::scenes::{Scene, SceneDescriptor, Slider, SwitchState};
+use crate::{Error, Result};
+
+/// Width of the panel, in points.
+pub const PANEL_WIDTH: f32 = 330.0;
+
+/// What the panel asks of the scene after a frame's layout: applied once the layout is done, so
+/// that the scene is not borrowed while egui runs.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PanelAction {
+    /// Press this key of the scene (a checkbox, or a button beside a key that is no switch).
+    Key(char),
+    /// Press this key until the switch shows this value (a choice).
+    Choose(char, String),
+    /// Move a slider.
+    Slide(&'static str, f32),
+    /// Every slider back to its start value.
+    StartValues,
+}
+
+/// Besides the scene, what the panel shows: the front end's own figures.
+#[derive(Debug, Clone, Default)]
+pub struct PanelInfo {
+    /// The last once-a-second ms/frame figure.
+    pub ms_per_frame: Option<f64>,
+    /// A shader that failed to reload (the last good one draws).
+    pub shader_error: Option<String>,
+}
+
+/// egui's context and its glow painter, on the scene's GL context.
+pub struct Panel {
+    ctx: egui::Context,
+    painter: egui_glow::Painter,
+    gl: Gl,
+    /// The panel's rectangle in the last frame, in pixels (x right, y down from the top-left).
+    rect: Option<egui::Rect>,
+    /// Whether a frame was laid out already (see [`Panel::run`]).
+    laid_out: bool,
+}
+
+impl Panel {
+    /// Builds the painter (a program and buffers) on the current context.
+    pub fn new(gl: &Gl) -> Result<Self> {
+        let painter =
+            egui_glow::Painter::new(gl.clone(), "", None, false).map_err(|e| Error::Gl {
+                part: "panel",
+                reason: e.to_string(),
+            })?;
+        let ctx = egui::Context::default();
+        // Nothing is saved between runs (no `persistence`), and the panel's look is egui's dark one
+        // whatever the desktop's theme, so that its pixels are the same everywhere.
+        ctx.set_theme(egui::Theme::Dark);
+        Ok(Panel {
+            ctx,
+            painter,
+            gl: gl.clone(),
+            rect: None,
+            laid_out: false,
+        })
+    }
+
+    /// egui's context (the window's egui-winit state is built on it).
+    pub fn context(&self) -> &egui::Context {
+        &self.ctx
+    }
+
+    /// The input of a headless frame of `size` pixels: no pointer, no keys, one pixel per point.
+    pub fn headless_input(size: (u32, u32)) -> egui::RawInput {
+        egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(
+                egui::Pos2::ZERO,
+                egui::vec2(size.0 as f32, size.1 as f32),
+            )),
+            ..Default::default()
+        }
+    }
+
+    /// `input`'s screen and scale without its events (a pass that must not click anything).
+    fn headless_input_like(input: &egui::RawInput) -> egui::RawInput {
+        egui::RawInput {
+            screen_rect: input.screen_rect,
+            viewports: input.viewports.clone(),
+            ..Default::default()
+        }
+    }
+
+    /// The panel's rectangle in the last frame, in pixels (x right, y down from the top-left).
+    pub fn rect(&self) -> Option<egui::Rect> {
+        self.rect
+    }
+
+    /// Lays the panel out for one frame of `input`, then applies what was clicked to `scene`.
+    /// Returns what to paint (see [`Panel::paint`]) and the actions applied.
+    pub fn run(
+        &mut self,
+        input: egui::RawInput,
+        descriptor: &'static SceneDescriptor,
+        scene: &mut dyn Scene,
+        info: PanelInfo,
+    ) -> (egui::FullOutput, Vec<PanelAction>) {
+        let view = SceneView::of(descriptor, &*scene);
+        let mut actions = Vec::new();
+        let mut panel_rect = None;
+        let mut layout = |ui: &mut egui::Ui| {
+            // A pass egui discards runs the closure again: only the last pass's clicks count.
+            actions.clear();
+            let response = egui::Panel::left("tutorial13-panel")
+                .exact_size(PANEL_WIDTH)
+                .resizable(false)
+                .show(ui, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| {
+                        view.show(ui, &info, &mut actions);
+                    });
+                });
+            panel_rect = Some(response.response.rect);
+            view.show_compare_labels(ui.ctx());
+        };
+        // egui sizes a grid's columns from the frame before: the very first frame is laid out
+        // twice (the first, with no input, not painted) so that a one-frame screenshot is not
+        // drawn from a guess. Its texture uploads (the font atlas) are kept.
+        let mut textures = egui::TexturesDelta::default();
+        if !self.laid_out {
+            let warm_up = Panel::headless_input_like(&input);
+            let first = self.ctx.run_ui(warm_up, &mut layout);
+            textures.append(first.textures_delta);
+            self.laid_out = true;
+        }
+        let mut output = self.ctx.run_ui(input, &mut layout);
+        textures.append(std::mem::take(&mut output.textures_delta));
+        output.textures_delta = textures;
+        let ppp = output.pixels_per_point;
+        self.rect = panel_rect.map(|r| r * ppp);
+        for action in &actions {
+            apply(scene, action);
+        }
+        (output, actions)
+    }
+
+    /// Paints `output` over the bound framebuffer of `size` pixels, then puts back the state egui
+    /// changed that a scene's frame could read (see [`crate::gl::state::GlState`] for the rest).
+    pub fn paint(&mut self, size: (u32, u32), output: egui::FullOutput) {
+        let mut textures = output.textures_delta;
+        let primitives = self.ctx.tessellate(output.shapes, output.pixels_per_point);
+        self.painter.paint_and_update_textures(
+            [size.0, size.1],
+            output.pixels_per_point,
+            &primitives,
+            &mut textures,
+        );
+        // SAFETY: state-setting calls on the current context.
+        unsafe {
+            let gl = &self.gl;
+            gl.disable(glow::BLEND);
+            gl.blend_func(glow::ONE, glow::ZERO);
+            gl.disable(glow::SCISSOR_TEST);
+            gl.use_program(None);
+            gl.bind_buffer(glow::ARRAY_BUFFER, None);
+            gl.active_texture(glow::TEXTURE0);
+            gl.bind_texture(glow::TEXTURE_2D, None);
+            gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 4);
+        }
+    }
+}
+
+impl Drop for Panel {
+    fn drop(&mut self) {
+        self.painter.destroy();
+    }
+}
+
+/// Presses keys of `scene` as the panel's action asks.
+fn apply(scene: &mut dyn Scene, action: &PanelAction) {
+    let press = |scene: &mut dyn Scene, key: char| {
+        if let Err(e) = scene.key(key) {
+            log::error!("{e}");
+        }
+    };
+    match action {
+        PanelAction::Key(key) => press(scene, *key),
+        PanelAction::Choose(key, wanted) => {
+            // The key steps through the choices in a cycle: at most one press per choice (fewer
+            // reach it, unless the scene cannot take that value here, which then is not forced).
+            let step = |scene: &dyn Scene| {
+                let now = scene.switches().into_iter().find(|s| s.key == *key);
+                match now.map(|s| s.state) {
+                    Some(SwitchState::Step { current, choices }) => Some((current, choices.len())),
+                    _ => None,
+                }
+            };
+            let presses = step(scene).map_or(0, |(_, n)| n);
+            for _ in 0..presses {
+                match step(scene) {
+                    Some((current, _)) if current != *wanted => press(scene, *key),
+                    _ => break,
+                }
+            }
+        }
+        PanelAction::Slide(name, value) => scene.set_slider(name, *value),
+        PanelAction::StartValues => {
+            for slider in scene.sliders() {
+                scene.set_slider(slider.name, slider.start);
+            }
+        }
+    }
+    if !matches!(action, PanelAction::Slide(..)) {
+        log::info!("{}", scene.status());
+    }
+}
+
+/// What the panel shows of a scene, read before the layout (so the scene is not borrowed in it).
+struct SceneView {
+    descriptor: &'static SceneDescriptor,
+    switches: Vec<crate::scenes::Switch>,
+    sliders: Vec<Slider>,
+    programs: Vec<crate::scenes::DrawingProgram>,
+    compare: Option<crate::scenes::CompareLabels>,
+}
+
+impl SceneView {
+    fn of(descriptor: &'static SceneDescriptor, scene: &dyn Scene) -> Self {
+        SceneView {
+            descriptor,
+            switches: scene.switches(),
+            sliders: scene.sliders(),
+            programs: scene.drawing_programs(),
+            compare: scene.compare_labels(),
+        }
+    }
+
+    fn show(&self, ui: &mut egui::Ui, info: &PanelInfo, actions: &mut Vec<PanelAction>) {
+        let d = self.descriptor;
+        ui.heading(format!("scene {}", d.name));
+        ui.small(d.description);
+        if let Some(ms) = info.ms_per_frame {
+            ui.label(format!("{ms:.3} ms/frame"));
+        }
+        if let Some(error) = &info.shader_error {
+            ui.colored_label(egui::Color32::LIGHT_RED, error);
+        }
+        ui.separator();
+        for program in &self.programs {
+            ui.label(format!("drawn by {}", program.name));
+            ui.small(files_line(&program.files));
+        }
+        if let Some(c) = &self.compare {
+            ui.label(format!("compare view: left {}, right {}", c.left, c.right));
+        }
+        ui.separator();
+        self.show_keys(ui, actions, true);
+        if !self.sliders.is_empty() {
+            ui.separator();
+            self.show_sliders(ui, actions);
+        }
+        ui.separator();
+        egui::CollapsingHeader::new("mouse and window keys")
+            .default_open(false)
+            .show(ui, |ui| self.show_keys(ui, actions, false));
+        ui.small("F1 hides this panel");
+    }
+
+    /// The key list (the rows `--help` prints): the scene's own keys, each with its switch or a
+    /// button, or the mouse's and the window's.
+    fn show_keys(&self, ui: &mut egui::Ui, actions: &mut Vec<PanelAction>, scene_keys: bool) {
+        egui::Grid::new(("keys", scene_keys))
+            .num_columns(2)
+            .striped(true)
+            .show(ui, |ui| {
+                let rows = panel_key_rows(self.descriptor).into_iter();
+                for row in rows.filter(|r| r.scene_key.is_some() == scene_keys) {
+                    let switch = row
+                        .scene_key
+                        .and_then(|k| self.switches.iter().find(|s| s.key == k));
+                    match (row.scene_key, switch) {
+                        (Some(key), Some(switch)) => match &switch.state {
+                            SwitchState::On(on) => {
+                                let mut checked = *on;
+                                if ui.checkbox(&mut checked, row.key.clone()).changed() {
+                                    actions.push(PanelAction::Key(key));
+                                }
+                            }
+                            SwitchState::Step { current, choices } => {
+                                egui::ComboBox::from_id_salt(("switch", key))
+                                    .selected_text(format!("{}: {current}", row.key))
+                                    .show_ui(ui, |ui| {
+                                        for choice in choices {
+                                            let chosen = choice == current;
+                                            if ui.selectable_label(chosen, choice).clicked()
+                                                && !chosen
+                                            {
+                                                actions
+                                                    .push(PanelAction::Choose(key, choice.clone()));
+                                            }
+                                        }
+                                    });
+                            }
+                        },
+                        (Some(key), None) => {
+                            if ui.button(row.key.clone()).clicked() {
+                                actions.push(PanelAction::Key(key));
+                            }
+                        }
+                        (None, _) => {
+                            ui.monospace(row.key.clone());
+                        }
+                    }
+                    let help = egui::RichText::new(row.help).small();
+                    ui.add(egui::Label::new(help).wrap());
+                    ui.end_row();
+                }
+            });
+    }
+
+    /// One slider per value, each saying when it is away from its start; a button puts all back.
+    fn show_sliders(&self, ui: &mut egui::Ui, actions: &mut Vec<PanelAction>) {
+        for slider in &self.sliders {
+            let mut value = slider.value;
+            let (lo, hi) = slider.range;
+            let moved = ui
+                .add(egui::Slider::new(&mut value, lo..=hi).text(slider.name))
+                .changed();
+            if moved && value != slider.value {
+                actions.push(PanelAction::Slide(slider.name, value));
+            }
+            if slider.value != slider.start {
+                ui.colored_label(
+                    egui::Color32::YELLOW,
+                    format!("  moved from the start value {}", slider.start),
+                );
+            }
+        }
+        let any_moved = self.sliders.iter().any(|s| s.value != s.start);
+        if ui
+            .add_enabled(any_moved, egui::Button::new("tutorial's values"))
+            .clicked()
+        {
+            actions.push(PanelAction::StartValues);
+        }
+    }
+
+    /// Labels at the top of each side of a compare view (outside the panel, over the frame): one
+    /// each side of the split line, or one over the heat map.
+    fn show_compare_labels(&self, ctx: &egui::Context) {
+        let Some(c) = &self.compare else { return };
+        let width = ctx.content_rect().width();
+        let label = |id: &str, pos: egui::Pos2, align: egui::Align2, text: String| {
+            egui::Area::new(egui::Id::unique(id))
+                .pivot(align)
+                .fixed_pos(pos)
+                .interactable(false)
+                .fade_in(false)
+                .show(ctx, |ui| {
+                    egui::Frame::popup(ui.style()).show(ui, |ui| ui.label(text));
+                });
+        };
+        match c.split {
+            Some(split) => {
+                let x = split * width;
+                let (left, right) = (format!("left: {}", c.left), format!("right: {}", c.right));
+                let top = egui::Align2::RIGHT_TOP;
+                label("compare-left", egui::pos2(x - 6.0, 6.0), top, left);
+                let top = egui::Align2::LEFT_TOP;
+                label("compare-right", egui::pos2(x + 6.0, 6.0), top, right);
+            }
+            None => {
+                let x = (PANEL_WIDTH + width) / 2.0;
+                let text = format!("difference: {} vs {}", c.left, c.right);
+                label(
+                    "compare-difference",
+                    egui::pos2(x, 6.0),
+                    egui::Align2::CENTER_TOP,
+                    text,
+                );
+            }
+        }
+    }
+}
+
+/// "A, B (in DIR)" for files of one folder, or "shaders built into the binary".
+fn files_line(files: &[std::path::PathBuf]) -> String {
+    let Some(first) = files.first() else {
+        return "  shaders built into the binary".into();
+    };
+    let names: Vec<String> = files
+        .iter()
+        .map(|f| {
+            f.file_name()
+                .unwrap_or(f.as_os_str())
+                .to_string_lossy()
+                .into_owned()
+        })
+        .collect();
+    match first.parent() {
+        Some(dir) if files.iter().all(|f| f.parent() == Some(dir)) => {
+            format!("  {} (in {})", names.join(", "), dir.display())
+        }
+        _ => format!(
+            "  {}",
+            files
+                .iter()
+                .map(|f| f.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
+}
+
+/// One row of the panel's key list.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PanelKeyRow {
+    /// The key as listed ("L", "arrow keys").
+    pub key: String,
+    pub help: &'static str,
+    /// The scene's key, where the row is one (the panel presses it).
+    pub scene_key: Option<char>,
+}
+
+/// The panel's key list: the rows `--help` and the window print for the scene, the scene's own keys
+/// marked as such (F1 is the panel's own and comes last).
+pub fn panel_key_rows(descriptor: &'static SceneDescriptor) -> Vec<PanelKeyRow> {
+    let scene_keys: Vec<String> = descriptor.keys.iter().map(|k| k.key.to_string()).collect();
+    let is_window_key = |key: &str| WINDOW_KEYS.iter().any(|&(k, _)| k == key);
+    key_rows(descriptor)
+        .into_iter()
+        .map(|(key, help)| {
+            let scene_key = descriptor
+                .keys
+                .iter()
+                .find(|k| k.key.to_string() == key && k.help == help)
+                .map(|k| k.key)
+                .filter(|_| scene_keys.contains(&key) && !is_window_key(&key));
+            PanelKeyRow {
+                key,
+                help,
+                scene_key,
+            }
+        })
+        .collect()
+}
