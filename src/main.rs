@@ -71,8 +71,8 @@ struct Cli {
     #[arg(long, value_name = "N", default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=32))]
     msaa: u8,
 
-    /// Headless: draw the window's panel (keys, switches, sliders) into the screenshot too; the
-    /// window shows it at start (F1 hides it), and never saves it with P or --screenshot
+    /// Draw the window's panel (keys, switches, sliders) into the --screenshot too. The window shows
+    /// it at start (F1 hides it); its P saves the frame alone, Ctrl+P the window as shown
     #[arg(long)]
     panel: bool,
 
@@ -371,6 +371,7 @@ fn run(cli: Cli, scene: SceneOptions) -> Result<()> {
             frames: cli.frames,
             screenshot: cli.screenshot.clone(),
             msaa: cli.msaa,
+            panel: cli.panel,
         })
         .map_err(anyhow::Error::from)
     }

@@ -33,7 +33,7 @@ pub const WINDOW_KEYS: &[(&str, &str)] = &[
     ),
     (
         "P",
-        "save a screenshot (tutorial13-N.png in the current folder)",
+        "save a screenshot (tutorial13-N.png in the current folder); Ctrl+P: with the panel",
     ),
     ("F1", "show / hide the panel (keys, switches, sliders)"),
     ("Esc", "quit (closing the window quits too)"),

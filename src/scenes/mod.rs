@@ -24,6 +24,7 @@ pub use scene::{
     KeyHelp, MouseMode, PerScene, Scene, SceneArgs, SceneContext, SceneDescriptor, SceneOption,
     SceneOptions, SharedArgs, Slider, Switch, SwitchState,
 };
+pub use scene::{clamp_to_slider, drawing_program, light_sliders, slide_light, LIGHT_AXES};
 
 /// Every scene, in the order the Enter key steps through them; the first is the default. Adding a
 /// scene is its folder, one line here, and its tests.

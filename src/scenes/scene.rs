@@ -448,8 +448,13 @@ pub trait Scene: AsAny {
     /// A key of the scene's list was pressed (letters upper-case). `Ok(false)`: not one of its keys.
     fn key(&mut self, key: char) -> Result<bool>;
 
-    /// One line for the title bar and the log: the scene's current switches.
+    /// One line for the log: the scene's current switches.
     fn status(&self) -> String;
+
+    /// The two or three most important of them, for the title bar (the panel shows the rest).
+    fn short_status(&self) -> String {
+        self.status()
+    }
 
     /// The sphere (centre, radius; world space) the camera starts by framing, and goes back to
     /// with R; `None` = the tutorial's start camera.
@@ -543,6 +548,47 @@ pub struct Slider {
     /// The value the scene starts with.
     pub start: f32,
     pub range: (f32, f32),
+}
+
+/// The three sliders of a light's position (world space), each within `reach` of the origin.
+pub fn light_sliders(light: glam::Vec3, start: glam::Vec3, reach: f32) -> [Slider; 3] {
+    let axis = |name, value, start| Slider {
+        name,
+        value,
+        start,
+        range: (-reach, reach),
+    };
+    [
+        axis(LIGHT_AXES[0], light.x, start.x),
+        axis(LIGHT_AXES[1], light.y, start.y),
+        axis(LIGHT_AXES[2], light.z, start.z),
+    ]
+}
+
+/// The names of [`light_sliders`].
+pub const LIGHT_AXES: [&str; 3] = ["light x", "light y", "light z"];
+
+/// `light` with the axis that slider `name` moves set to `value`; `None` if `name` is no light axis.
+pub fn slide_light(light: glam::Vec3, name: &str, value: f32) -> Option<glam::Vec3> {
+    let axis = LIGHT_AXES.iter().position(|&a| a == name)?;
+    let mut light = light;
+    light[axis] = value;
+    Some(light)
+}
+
+/// The slider `name` of `sliders`, with `value` clamped to its range.
+pub fn clamp_to_slider(sliders: &[Slider], name: &str, value: f32) -> Option<f32> {
+    let slider = sliders.iter().find(|s| s.name == name)?;
+    Some(value.clamp(slider.range.0, slider.range.1))
+}
+
+/// The program of `names` (vertex and fragment shader) as the panel names it, its files found as
+/// the scene reads them.
+pub fn drawing_program(name: &str, names: [&str; 2], dir: Option<&Path>) -> DrawingProgram {
+    DrawingProgram {
+        name: name.into(),
+        files: crate::common::shader::shader_paths(names, dir),
+    }
 }
 
 /// A program drawing the frame: its name and the shader files it reads (empty: the copies built

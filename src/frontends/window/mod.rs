@@ -33,7 +33,10 @@ pub use input::key_char;
 use input::InputState;
 use renderer::Renderer;
 
+/// The original's window title, until the first frame names the scene.
 pub const TITLE: &str = "Tutorial 13 - Normal Mapping";
+/// The end of every title after that (what a search for the window finds).
+pub const TITLE_SHORT: &str = "Tutorial 13";
 
 /// The command line's window-mode settings.
 #[derive(Debug, Clone)]
@@ -48,6 +51,8 @@ pub struct WindowOptions {
     pub screenshot: Option<PathBuf>,
     /// Samples per pixel of the window's config (`--msaa`; 0 = none).
     pub msaa: u8,
+    /// `--panel`: screenshots of `--frames N` include the panel.
+    pub panel: bool,
 }
 
 /// The message for a machine without a display, with the command that works there, as the user
@@ -167,6 +172,8 @@ struct Running {
     panel: Option<(Panel, egui_winit::State)>,
     /// F1 hides and shows the panel.
     panel_shown: bool,
+    /// Ctrl is held (Ctrl+P saves the window as shown, the panel with it).
+    ctrl_held: bool,
     gl_window: GlWindow,
 }
 
@@ -197,6 +204,7 @@ impl Running {
             input: InputState::default(),
             panel_shown: panel.is_some(),
             panel,
+            ctrl_held: false,
             gl_window,
         };
         running.reset_camera();
@@ -324,10 +332,15 @@ impl Running {
                 log::info!("camera back at the start");
             }
             KeyCode::KeyP => {
-                // The frame on screen is the front buffer: draw it again and read it back.
-                let saved = self
-                    .frame(true)
-                    .and_then(|()| self.renderer.save_numbered(&self.gl_window));
+                // The frame on screen is the front buffer: draw it again and read it back, before
+                // the panel is painted over it (P), or after (Ctrl+P: the window as shown).
+                let with_panel = self.ctrl_held;
+                let saved = self.frame(true).and_then(|()| {
+                    if with_panel {
+                        self.paint_panel();
+                    }
+                    self.renderer.save_numbered(&self.gl_window)
+                });
                 if let Err(e) = saved {
                     log::error!("{e}");
                 }
@@ -373,6 +386,10 @@ impl App {
             .frames
             .is_some_and(|n| running.renderer.frames_drawn >= n.max(1));
         if done {
+            // `--panel` saves the window as shown; without it, the scene's frame alone.
+            if self.options.panel {
+                running.paint_panel();
+            }
             if let Some(path) = &self.options.screenshot {
                 if let Err(e) = renderer::save(&running.gl_window, path) {
                     return self.fail(event_loop, e);
@@ -417,6 +434,9 @@ impl ApplicationHandler for App {
         }
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::ModifiersChanged(modifiers) => {
+                running.ctrl_held = modifiers.state().control_key();
+            }
             WindowEvent::KeyboardInput {
                 event:
                     KeyEvent {
@@ -467,9 +487,13 @@ impl ApplicationHandler for App {
             self.options.screenshot.clone(),
             self.options.frames,
         ) {
-            let saved = running
-                .frame(false)
-                .and_then(|()| renderer::save(&running.gl_window, &path));
+            let with_panel = self.options.panel;
+            let saved = running.frame(false).and_then(|()| {
+                if with_panel {
+                    running.paint_panel();
+                }
+                renderer::save(&running.gl_window, &path)
+            });
             if let Err(e) = saved {
                 self.outcome = Err(e);
             }

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use super::gl_window::GlWindow;
 use super::input::InputState;
-use super::TITLE;
+use super::TITLE_SHORT;
 use crate::frontends::panel::PanelInfo;
 use crate::frontends::{key_list, FrameTimer, ShaderWatch};
 use crate::gl::check_gl_errors;
@@ -168,19 +168,24 @@ impl Renderer {
         Ok(())
     }
 
-    /// "Tutorial 13 - Normal Mapping - 3.2 ms/frame - view lit | lines off | ...": the figure and
-    /// the scene's switches together, so that neither hides the other; a shader that failed to
-    /// reload comes first. Called after every frame, so that whatever changed the scene (a key, the
-    /// mouse moving a light, the wheel) shows at once; the window is told only of a change.
+    /// "cylinder: view lit, lines off, tangents tutorial | 3.2 ms/frame | Tutorial 13": the scene
+    /// and its most important switches first (a title bar cuts the end off), the figure, then the
+    /// program; a shader that failed to reload comes before all of them. The panel shows the rest.
+    /// Called after every frame, so that whatever changed the scene (a key, the panel, the mouse
+    /// moving a light, the wheel) shows at once; the window is told only of a change.
     fn update_title(&mut self, gl_window: &GlWindow) {
         let ms = self
             .ms_per_frame
-            .map_or(String::new(), |ms| format!(" - {ms:.3} ms/frame"));
+            .map_or(String::new(), |ms| format!(" | {ms:.1} ms/frame"));
         let error = self
             .shader_error
             .as_ref()
-            .map_or(String::new(), |e| format!(" - {e}"));
-        let title = format!("{TITLE}{error}{ms} - {}", self.scene.status());
+            .map_or(String::new(), |e| format!("{e} | "));
+        let title = format!(
+            "{error}{}: {}{ms} | {TITLE_SHORT}",
+            self.descriptor.name,
+            self.scene.short_status()
+        );
         if title != self.shown_title {
             gl_window.window.set_title(&title);
             self.shown_title = title;

@@ -29,8 +29,9 @@ use crate::Result;
 use assets::FILES;
 
 use super::scene::{
-    action_for_key, key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
-    SceneOptions, SceneType,
+    action_for_key, clamp_to_slider, drawing_program, key_help, light_sliders, slide_light,
+    Binding, DrawingProgram, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
+    SceneOptions, SceneType, Slider, Switch, SwitchState,
 };
 pub use args::CubeOptions;
 
@@ -183,6 +184,7 @@ crate::uniforms! {
         view: "V",
         model: "M",
         light: "LightPosition_worldspace",
+        light_power: "LightPower",
         normal_mapping: "NormalMapping",
         diffuse_sampler: "DiffuseTextureSampler",
         normal_sampler: "NormalTextureSampler",
@@ -213,8 +215,10 @@ pub struct Cube {
     pub normal_mapping: bool,
     /// [`model_matrix`] unless a test moves the cube.
     pub model_matrix: Mat4,
-    /// [`LIGHT_POSITION_WORLDSPACE`] unless a test moves the light.
+    /// [`LIGHT_POSITION_WORLDSPACE`] unless a test or the panel moves the light.
     pub light_position_worldspace: Vec3,
+    /// A factor on the diffuse and specular light (the article's 1, the panel moves it).
+    pub light_power: f32,
     shader_dir: Option<PathBuf>,
 }
 
@@ -237,6 +241,7 @@ impl SceneType for Cube {
             normal_mapping: options.normal_mapping,
             model_matrix: model_matrix(),
             light_position_worldspace: LIGHT_POSITION_WORLDSPACE,
+            light_power: 1.0,
             shader_dir: shader_dir.map(Path::to_path_buf),
         })
     }
@@ -271,6 +276,7 @@ impl Scene for Cube {
                 gl.uniform_matrix_4_f32_slice(uniform.as_ref(), false, &matrix.to_cols_array());
             }
             gl.uniform_3_f32(p.light.as_ref(), light.x, light.y, light.z);
+            gl.uniform_1_f32(p.light_power.as_ref(), self.light_power);
             gl.uniform_1_i32(p.normal_mapping.as_ref(), i32::from(self.normal_mapping));
             self.maps.bind(gl, &p.diffuse_sampler, &p.normal_sampler);
         }
@@ -290,6 +296,46 @@ impl Scene for Cube {
 
     fn shader_files(&self) -> Vec<PathBuf> {
         shader_paths(SHADERS, self.shader_dir.as_deref())
+    }
+
+    fn switches(&self) -> Vec<Switch> {
+        vec![Switch {
+            key: 'N',
+            label: "normal mapping",
+            state: SwitchState::On(self.normal_mapping),
+        }]
+    }
+
+    /// The light's position and power.
+    fn sliders(&self) -> Vec<Slider> {
+        let light = self.light_position_worldspace;
+        let mut sliders = light_sliders(light, LIGHT_POSITION_WORLDSPACE, 10.0).to_vec();
+        sliders.push(Slider {
+            name: "light power",
+            value: self.light_power,
+            start: 1.0,
+            range: (0.0, 4.0),
+        });
+        sliders
+    }
+
+    fn set_slider(&mut self, name: &str, value: f32) {
+        let Some(value) = clamp_to_slider(&self.sliders(), name, value) else {
+            return;
+        };
+        match slide_light(self.light_position_worldspace, name, value) {
+            Some(light) => self.light_position_worldspace = light,
+            None => self.light_power = value,
+        }
+    }
+
+    fn drawing_programs(&self) -> Vec<DrawingProgram> {
+        let dir = self.shader_dir.as_deref();
+        vec![drawing_program(
+            "CubeBlinnPhong (article 003's)",
+            SHADERS,
+            dir,
+        )]
     }
 
     /// The scene's one program: replaced only once the new one has linked.

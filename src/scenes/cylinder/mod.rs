@@ -32,8 +32,9 @@ use crate::tangents::TangentSource;
 use crate::Result;
 
 use super::scene::{
-    handle_key, key_help, Binding, CompareLabels, DrawingProgram, FrameInput, KeyHelp, Scene,
-    SceneContext, SceneDescriptor, SceneOptions, SceneType, Slider, Switch, SwitchState,
+    clamp_to_slider, drawing_program, handle_key, key_help, light_sliders, slide_light, Binding,
+    CompareLabels, DrawingProgram, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
+    SceneOptions, SceneType, Slider, Switch, SwitchState,
 };
 pub use args::CylinderArgs;
 use maps::{model_texture_sets, override_tutorial_maps};
@@ -836,21 +837,11 @@ impl Scene for Cylinder {
     /// the compare view's split.
     fn sliders(&self) -> Vec<Slider> {
         let light = self.tutorial.light_position_worldspace;
-        let start = self.light_start;
         // Room around the tutorial's cylinder (radius 1, height 2, light 4 away) or the model
         // placed on its bounding sphere.
-        let reach = 10.0;
-        let axis = |name, value: f32, start: f32| Slider {
-            name,
-            value,
-            start,
-            range: (-reach, reach),
-        };
+        let mut sliders = light_sliders(light, self.light_start, 10.0).to_vec();
         let split = self.compare_view.split;
-        vec![
-            axis("light x", light.x, start.x),
-            axis("light y", light.y, start.y),
-            axis("light z", light.z, start.z),
+        sliders.extend([
             Slider {
                 name: "light power",
                 value: self.knobs.light_power,
@@ -875,34 +866,27 @@ impl Scene for Cylinder {
                 start: self.compare_start_split,
                 range: (0.0, 1.0),
             },
-        ]
+        ]);
+        sliders
     }
 
     fn set_slider(&mut self, name: &str, value: f32) {
-        let Some(slider) = self.sliders().into_iter().find(|s| s.name == name) else {
+        let Some(value) = clamp_to_slider(&self.sliders(), name, value) else {
             return;
         };
-        let value = value.clamp(slider.range.0, slider.range.1);
-        let mut light = self.tutorial.light_position_worldspace;
-        let done = match name {
-            "light x" | "light y" | "light z" => {
-                match name {
-                    "light x" => light.x = value,
-                    "light y" => light.y = value,
-                    _ => light.z = value,
-                }
-                self.set_light(light)
-            }
-            "light power" => {
+        let light = slide_light(self.tutorial.light_position_worldspace, name, value);
+        let done = match (light, name) {
+            (Some(light), _) => self.set_light(light),
+            (None, "light power") => {
                 self.knobs.light_power = value;
                 Ok(())
             }
-            "normal strength" => {
+            (None, "normal strength") => {
                 self.knobs.normal_strength = value;
                 Ok(())
             }
-            "TBN line length" => self.set_line_length(value),
-            _ => {
+            (None, "TBN line length") => self.set_line_length(value),
+            (None, _) => {
                 self.compare_view.split = value;
                 Ok(())
             }
@@ -926,10 +910,7 @@ impl Scene for Cylinder {
             .into_iter()
             .map(|d| {
                 let (name, files) = d.shaders();
-                DrawingProgram {
-                    name: name.into(),
-                    files: shader_paths(files, dir),
-                }
+                drawing_program(name, files, dir)
             })
             .collect();
         let lines_drawn = self.show_lines
@@ -940,10 +921,9 @@ impl Scene for Cylinder {
                 name: "TBN lines: immediate mode (glBegin/glEnd, no shader)".into(),
                 files: Vec::new(),
             }),
-            Some(LineMode::Shader) => programs.push(DrawingProgram {
-                name: "TBN lines: DebugLines".into(),
-                files: shader_paths(LINE_SHADERS, dir),
-            }),
+            Some(LineMode::Shader) => {
+                programs.push(drawing_program("TBN lines: DebugLines", LINE_SHADERS, dir))
+            }
             None => {}
         }
         programs
@@ -957,6 +937,23 @@ impl Scene for Cylinder {
             left: sources[0].to_string(),
             right: sources[1].to_string(),
         })
+    }
+
+    /// The colour view, the lines and the tangent frame (and the compare view or model if on).
+    fn short_status(&self) -> String {
+        let lines = if self.show_lines { "on" } else { "off" };
+        let mut text = format!(
+            "view {}, lines {lines}, tangents {}",
+            self.switches.view, self.tangent_source
+        );
+        if let Some((sources, _)) = &self.comparison {
+            text += &format!(", compare {} | {}", sources[0], sources[1]);
+        }
+        if let SoupSource::Model(model) = &self.soup_source {
+            let name = model.path.file_name().unwrap_or(model.path.as_os_str());
+            text += &format!(", model {}", name.to_string_lossy());
+        }
+        text
     }
 
     /// View, lines, and every experiment switch.

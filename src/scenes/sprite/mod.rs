@@ -39,8 +39,9 @@ use crate::gl::{Gl, Maps};
 use crate::Result;
 
 use super::scene::{
-    handle_key, key_help, Binding, FrameInput, KeyHelp, MouseMode, Scene, SceneContext,
-    SceneDescriptor, SceneOptions, SceneType,
+    clamp_to_slider, drawing_program, handle_key, key_help, Binding, DrawingProgram, FrameInput,
+    KeyHelp, MouseMode, Scene, SceneContext, SceneDescriptor, SceneOptions, SceneType, Slider,
+    Switch, SwitchState,
 };
 pub use args::SpriteArgs;
 
@@ -211,6 +212,8 @@ pub struct Sprite {
     pub independent_falloff: bool,
     /// Whether the light follows the cursor (once it has moved over the window).
     following: bool,
+    /// The light's height at the start (`--light`'s, or the article's), for the panel.
+    start_height: f32,
     /// The cursor at the last frame, to notice that it moved.
     last_cursor: Option<Vec2>,
 }
@@ -257,6 +260,7 @@ impl SceneType for Sprite {
             gl: gl.clone(),
             shader_dir: shader_dir.map(Path::to_path_buf),
             light: options.light,
+            start_height: options.light.z,
             flip_green: options.flip_green,
             independent_falloff: options.independent_falloff,
             following: false,
@@ -341,6 +345,17 @@ impl Scene for Sprite {
         })
     }
 
+    /// Both switches (the light is on screen).
+    fn short_status(&self) -> String {
+        let green = if self.flip_green { "down" } else { "up" };
+        let falloff = if self.independent_falloff {
+            "independent"
+        } else {
+            "article"
+        };
+        format!("green {green}, falloff {falloff}")
+    }
+
     /// The light and both switches.
     fn status(&self) -> String {
         let l = self.light;
@@ -371,6 +386,42 @@ impl Scene for Sprite {
     fn reload_shaders(&mut self) -> Result<()> {
         self.program = SpriteProgram::load(&self.gl, self.shader_dir.as_deref())?;
         Ok(())
+    }
+
+    fn switches(&self) -> Vec<Switch> {
+        vec![
+            Switch {
+                key: 'Y',
+                label: "green flipped",
+                state: SwitchState::On(self.flip_green),
+            },
+            Switch {
+                key: 'I',
+                label: "resolution-independent falloff",
+                state: SwitchState::On(self.independent_falloff),
+            },
+        ]
+    }
+
+    /// The light's height (its x and y follow the mouse).
+    fn sliders(&self) -> Vec<Slider> {
+        vec![Slider {
+            name: "light height",
+            value: self.light.z,
+            start: self.start_height,
+            range: (Z_MIN, Z_MAX),
+        }]
+    }
+
+    fn set_slider(&mut self, name: &str, value: f32) {
+        if let Some(z) = clamp_to_slider(&self.sliders(), name, value) {
+            self.light.z = z;
+        }
+    }
+
+    fn drawing_programs(&self) -> Vec<DrawingProgram> {
+        let dir = self.shader_dir.as_deref();
+        vec![drawing_program("Sprite (article 001's)", SHADERS, dir)]
     }
 
     /// The wheel raises (away from the user) or lowers the light.

@@ -28,8 +28,9 @@ use crate::Result;
 use assets::FILES;
 
 use super::scene::{
-    action_for_key, key_help, Binding, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
-    SceneOptions, SceneType,
+    action_for_key, clamp_to_slider, drawing_program, key_help, light_sliders, slide_light,
+    Binding, DrawingProgram, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
+    SceneOptions, SceneType, Slider, Switch, SwitchState,
 };
 pub use args::WallOptions;
 
@@ -144,6 +145,9 @@ pub struct Wall {
     buffers: MeshBuffers,
     model_matrix: Mat4,
     shader_dir: Option<PathBuf>,
+    /// The article's light unless the panel moves it.
+    pub light_position_worldspace: Vec3,
+    pub light_intensity: f32,
 }
 
 impl SceneType for Wall {
@@ -166,6 +170,8 @@ impl SceneType for Wall {
             buffers,
             model_matrix: Mat4::IDENTITY,
             shader_dir: shader_dir.map(Path::to_path_buf),
+            light_position_worldspace: LIGHT_POSITION_WORLDSPACE,
+            light_intensity: LIGHT_INTENSITY,
         })
     }
 }
@@ -201,7 +207,7 @@ impl Scene for Wall {
     fn draw(&mut self, frame: &FrameInput) {
         let gl = &self.gl;
         let p = &self.programs[self.space as usize];
-        let light = LIGHT_POSITION_WORLDSPACE;
+        let light = self.light_position_worldspace;
         GL_STATE.apply(gl);
         // SAFETY: the program, uniforms and textures all belong to this context.
         unsafe {
@@ -216,7 +222,7 @@ impl Scene for Wall {
             gl.uniform_3_f32(p.light_position.as_ref(), light.x, light.y, light.z);
             let c = LIGHT_COLOR;
             gl.uniform_3_f32(p.light_color.as_ref(), c.x, c.y, c.z);
-            gl.uniform_1_f32(p.light_intensity.as_ref(), LIGHT_INTENSITY);
+            gl.uniform_1_f32(p.light_intensity.as_ref(), self.light_intensity);
             let reflectivity = p.specular_reflectivity.as_ref();
             gl.uniform_1_f32(reflectivity, SPECULAR_REFLECTIVITY);
             gl.uniform_1_f32(p.specular_lobe_factor.as_ref(), SPECULAR_LOBE_FACTOR);
@@ -233,6 +239,52 @@ impl Scene for Wall {
             }
             None => false,
         })
+    }
+
+    fn switches(&self) -> Vec<Switch> {
+        vec![Switch {
+            key: 'S',
+            label: "lighting space",
+            state: SwitchState::Step {
+                current: self.space.name(),
+                choices: crate::choices::names::<LightingSpace>(),
+            },
+        }]
+    }
+
+    /// The light's position and intensity.
+    fn sliders(&self) -> Vec<Slider> {
+        let light = self.light_position_worldspace;
+        let mut sliders = light_sliders(light, LIGHT_POSITION_WORLDSPACE, 10.0).to_vec();
+        sliders.push(Slider {
+            name: "light power",
+            value: self.light_intensity,
+            start: LIGHT_INTENSITY,
+            range: (0.0, 200.0),
+        });
+        sliders
+    }
+
+    fn set_slider(&mut self, name: &str, value: f32) {
+        let Some(value) = clamp_to_slider(&self.sliders(), name, value) else {
+            return;
+        };
+        match slide_light(self.light_position_worldspace, name, value) {
+            Some(light) => self.light_position_worldspace = light,
+            None => self.light_intensity = value,
+        }
+    }
+
+    fn drawing_programs(&self) -> Vec<DrawingProgram> {
+        let name = format!(
+            "{} (article 004's)",
+            self.space.shaders()[0].trim_end_matches(".vertexshader")
+        );
+        vec![drawing_program(
+            &name,
+            self.space.shaders(),
+            self.shader_dir.as_deref(),
+        )]
     }
 
     fn status(&self) -> String {
