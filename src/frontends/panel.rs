@@ -31,6 +31,18 @@ pub enum PanelAction {
     StartValues,
 }
 
+/// A widget of the panel, for finding where it is (tests, and a learner's scripts driving the
+/// window).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PanelWidget {
+    /// The checkbox, choice or button of a scene key.
+    Key(char),
+    /// A slider, by name.
+    Slider(&'static str),
+    /// The "tutorial's values" button.
+    StartValues,
+}
+
 /// Besides the scene, what the panel shows: the front end's own figures.
 #[derive(Debug, Clone, Default)]
 pub struct PanelInfo {
@@ -49,6 +61,8 @@ pub struct Panel {
     rect: Option<egui::Rect>,
     /// Whether a frame was laid out already (see [`Panel::run`]).
     laid_out: bool,
+    /// Where each widget was in the last frame, in pixels.
+    widgets: Vec<(PanelWidget, egui::Rect)>,
 }
 
 impl Panel {
@@ -69,6 +83,7 @@ impl Panel {
             gl: gl.clone(),
             rect: None,
             laid_out: false,
+            widgets: Vec::new(),
         })
     }
 
@@ -102,6 +117,15 @@ impl Panel {
         self.rect
     }
 
+    /// Where `widget` was in the last frame, in pixels (x right, y down from the top-left); `None`
+    /// if the panel did not show it.
+    pub fn widget_rect(&self, widget: &PanelWidget) -> Option<egui::Rect> {
+        self.widgets
+            .iter()
+            .find(|(w, _)| w == widget)
+            .map(|&(_, rect)| rect)
+    }
+
     /// Lays the panel out for one frame of `input`, then applies what was clicked to `scene`.
     /// Returns what to paint (see [`Panel::paint`]) and the actions applied.
     pub fn run(
@@ -113,16 +137,25 @@ impl Panel {
     ) -> (egui::FullOutput, Vec<PanelAction>) {
         let view = SceneView::of(descriptor, &*scene);
         let mut actions = Vec::new();
+        let mut widgets = Vec::new();
         let mut panel_rect = None;
         let mut layout = |ui: &mut egui::Ui| {
             // A pass egui discards runs the closure again: only the last pass's clicks count.
             actions.clear();
+            widgets.clear();
             let response = egui::Panel::left("tutorial13-panel")
                 .exact_size(PANEL_WIDTH)
                 .resizable(false)
                 .show(ui, |ui| {
                     egui::ScrollArea::vertical().show(ui, |ui| {
-                        view.show(ui, &info, &mut actions);
+                        view.show(
+                            ui,
+                            &info,
+                            &mut Record {
+                                actions: &mut actions,
+                                widgets: &mut widgets,
+                            },
+                        );
                     });
                 });
             panel_rect = Some(response.response.rect);
@@ -143,6 +176,7 @@ impl Panel {
         output.textures_delta = textures;
         let ppp = output.pixels_per_point;
         self.rect = panel_rect.map(|r| r * ppp);
+        self.widgets = widgets.into_iter().map(|(w, r)| (w, r * ppp)).collect();
         for action in &actions {
             apply(scene, action);
         }
@@ -220,6 +254,20 @@ fn apply(scene: &mut dyn Scene, action: &PanelAction) {
     }
 }
 
+/// What a frame's layout gives: the actions clicked, and where each widget is (points).
+struct Record<'a> {
+    actions: &'a mut Vec<PanelAction>,
+    widgets: &'a mut Vec<(PanelWidget, egui::Rect)>,
+}
+
+impl Record<'_> {
+    /// Notes where `widget` is, and returns whether it was clicked (or changed).
+    fn widget(&mut self, widget: PanelWidget, response: &egui::Response) -> bool {
+        self.widgets.push((widget, response.rect));
+        response.clicked() || response.changed()
+    }
+}
+
 /// What the panel shows of a scene, read before the layout (so the scene is not borrowed in it).
 struct SceneView {
     descriptor: &'static SceneDescriptor,
@@ -240,17 +288,27 @@ impl SceneView {
         }
     }
 
-    fn show(&self, ui: &mut egui::Ui, info: &PanelInfo, actions: &mut Vec<PanelAction>) {
+    fn show(&self, ui: &mut egui::Ui, info: &PanelInfo, record: &mut Record) {
         let d = self.descriptor;
         ui.heading(format!("scene {}", d.name));
         ui.small(d.description);
-        if let Some(ms) = info.ms_per_frame {
-            ui.label(format!("{ms:.3} ms/frame"));
+        // Always one line, so that the layout is the same before the first figure and headless.
+        match info.ms_per_frame {
+            Some(ms) => ui.label(format!("{ms:.3} ms/frame")),
+            None => ui.label("– ms/frame"),
+        };
+        // The keys and sliders first, at rows that never move (what changes length comes after
+        // them), so that a click on one never shifts the next one a learner aims at.
+        ui.separator();
+        self.show_keys(ui, record, true);
+        if !self.sliders.is_empty() {
+            ui.separator();
+            self.show_sliders(ui, record);
         }
+        ui.separator();
         if let Some(error) = &info.shader_error {
             ui.colored_label(egui::Color32::LIGHT_RED, error);
         }
-        ui.separator();
         for program in &self.programs {
             ui.label(format!("drawn by {}", program.name));
             ui.small(files_line(&program.files));
@@ -259,21 +317,15 @@ impl SceneView {
             ui.label(format!("compare view: left {}, right {}", c.left, c.right));
         }
         ui.separator();
-        self.show_keys(ui, actions, true);
-        if !self.sliders.is_empty() {
-            ui.separator();
-            self.show_sliders(ui, actions);
-        }
-        ui.separator();
         egui::CollapsingHeader::new("mouse and window keys")
             .default_open(false)
-            .show(ui, |ui| self.show_keys(ui, actions, false));
+            .show(ui, |ui| self.show_keys(ui, record, false));
         ui.small("F1 hides this panel");
     }
 
     /// The key list (the rows `--help` prints): the scene's own keys, each with its switch or a
     /// button, or the mouse's and the window's.
-    fn show_keys(&self, ui: &mut egui::Ui, actions: &mut Vec<PanelAction>, scene_keys: bool) {
+    fn show_keys(&self, ui: &mut egui::Ui, record: &mut Record, scene_keys: bool) {
         egui::Grid::new(("keys", scene_keys))
             .num_columns(2)
             .striped(true)
@@ -287,12 +339,13 @@ impl SceneView {
                         (Some(key), Some(switch)) => match &switch.state {
                             SwitchState::On(on) => {
                                 let mut checked = *on;
-                                if ui.checkbox(&mut checked, row.key.clone()).changed() {
-                                    actions.push(PanelAction::Key(key));
+                                let response = ui.checkbox(&mut checked, row.key.clone());
+                                if record.widget(PanelWidget::Key(key), &response) {
+                                    record.actions.push(PanelAction::Key(key));
                                 }
                             }
                             SwitchState::Step { current, choices } => {
-                                egui::ComboBox::from_id_salt(("switch", key))
+                                let combo = egui::ComboBox::from_id_salt(("switch", key))
                                     .selected_text(format!("{}: {current}", row.key))
                                     .show_ui(ui, |ui| {
                                         for choice in choices {
@@ -300,16 +353,21 @@ impl SceneView {
                                             if ui.selectable_label(chosen, choice).clicked()
                                                 && !chosen
                                             {
-                                                actions
+                                                record
+                                                    .actions
                                                     .push(PanelAction::Choose(key, choice.clone()));
                                             }
                                         }
                                     });
+                                record
+                                    .widgets
+                                    .push((PanelWidget::Key(key), combo.response.rect));
                             }
                         },
                         (Some(key), None) => {
-                            if ui.button(row.key.clone()).clicked() {
-                                actions.push(PanelAction::Key(key));
+                            let response = ui.button(row.key.clone());
+                            if record.widget(PanelWidget::Key(key), &response) {
+                                record.actions.push(PanelAction::Key(key));
                             }
                         }
                         (None, _) => {
@@ -324,29 +382,27 @@ impl SceneView {
     }
 
     /// One slider per value, each saying when it is away from its start; a button puts all back.
-    fn show_sliders(&self, ui: &mut egui::Ui, actions: &mut Vec<PanelAction>) {
+    fn show_sliders(&self, ui: &mut egui::Ui, record: &mut Record) {
         for slider in &self.sliders {
             let mut value = slider.value;
             let (lo, hi) = slider.range;
-            let moved = ui
-                .add(egui::Slider::new(&mut value, lo..=hi).text(slider.name))
-                .changed();
+            // Away from its start the name says so, on the same row (the layout stays put).
+            let text = if slider.value != slider.start {
+                let text = format!("{} (was {})", slider.name, slider.start);
+                egui::RichText::new(text).color(egui::Color32::YELLOW)
+            } else {
+                egui::RichText::new(slider.name)
+            };
+            let response = ui.add(egui::Slider::new(&mut value, lo..=hi).text(text));
+            let moved = record.widget(PanelWidget::Slider(slider.name), &response);
             if moved && value != slider.value {
-                actions.push(PanelAction::Slide(slider.name, value));
-            }
-            if slider.value != slider.start {
-                ui.colored_label(
-                    egui::Color32::YELLOW,
-                    format!("  moved from the start value {}", slider.start),
-                );
+                record.actions.push(PanelAction::Slide(slider.name, value));
             }
         }
         let any_moved = self.sliders.iter().any(|s| s.value != s.start);
-        if ui
-            .add_enabled(any_moved, egui::Button::new("tutorial's values"))
-            .clicked()
-        {
-            actions.push(PanelAction::StartValues);
+        let response = ui.add_enabled(any_moved, egui::Button::new("tutorial's values"));
+        if record.widget(PanelWidget::StartValues, &response) {
+            record.actions.push(PanelAction::StartValues);
         }
     }
 

@@ -20,6 +20,7 @@ mod normal_map_conventions;
 mod normalmap;
 mod obj_input;
 mod one_cell;
+mod panel;
 mod photometric;
 mod pipeline;
 mod render;

@@ -6,6 +6,9 @@
 use std::path::Path;
 use std::time::Duration;
 
+use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
+use tutorial13::frontends::panel::PanelWidget;
+
 use crate::common::xvfb::{wait_exit, wait_for, Xvfb};
 
 use crate::common;
@@ -184,4 +187,111 @@ fn saving_a_shader_reloads_it_in_the_window() {
             && stderr.contains("error"),
         "no driver log on stderr: {stderr}"
     );
+}
+
+/// Where the panel draws what the test clicks, in window pixels: the headless panel of the same
+/// size is laid out the same (one pixel per point, the same fonts and rows).
+struct PanelLayout {
+    rect: egui::Rect,
+    lines_checkbox: egui::Pos2,
+    light_x_rail: egui::Pos2,
+    start_values: egui::Pos2,
+}
+
+fn panel_layout() -> PanelLayout {
+    let mut layout = HeadlessRenderer::new(&HeadlessOptions::default()).unwrap();
+    layout.show_panel().unwrap();
+    layout.render_frames(1).unwrap();
+    let panel = layout.panel.as_ref().unwrap();
+    let at = |w: PanelWidget| panel.widget_rect(&w).unwrap();
+    PanelLayout {
+        rect: panel.rect().unwrap(),
+        lines_checkbox: at(PanelWidget::Key('L')).center(),
+        // Near the left end of the slider's rail.
+        light_x_rail: at(PanelWidget::Slider("light x")).left_center() + egui::vec2(12.0, 0.0),
+        start_values: at(PanelWidget::StartValues).center(),
+    }
+}
+
+// Fails if the panel is not on screen at start (Ctrl+P, the window as shown, must differ from the
+// headless frame inside the panel's rectangle and equal it outside), if F1 does not hide it (the
+// window must then be the headless frame bit for bit), if clicking the L checkbox does not do what
+// L does (title and frame as with --debug-lines), if moving the light slider leaves the frame alone,
+// if "tutorial's values" does not bring the frame back bit for bit, or if any click on the panel
+// turns the camera (every frame compared is at the tutorial's start).
+#[test]
+fn the_panel_in_the_window() {
+    let dir = common::scratch("panel-window");
+    let start = headless_first_frame(&dir);
+    let with_lines = common::headless_screenshot(&dir, "lines.png", &["--debug-lines"]);
+    let layout = panel_layout();
+    let xvfb = Xvfb::start();
+    let mut app = xvfb.start_program::<&str>(&dir, &[]);
+    let window = xvfb.wait_for_window(&mut app);
+    xvfb.xdotool(&["windowfocus", "--sync", &window]);
+    let settle = || std::thread::sleep(Duration::from_millis(400));
+    let click = |at: egui::Pos2| {
+        let (x, y) = (at.x.round().to_string(), at.y.round().to_string());
+        xvfb.xdotool(&["mousemove", "--window", &window, &x, &y]);
+        settle();
+        // Down and up a few frames apart, as a hand clicks: egui's slider takes its value while
+        // the button is down, which a press and release within one frame never is.
+        xvfb.xdotool(&["mousedown", "1"]);
+        settle();
+        xvfb.xdotool(&["mouseup", "1"]);
+        settle();
+    };
+    settle();
+
+    let shown = xvfb.screenshot_with(&dir, 1, "ctrl+p");
+    let (mut inside, mut outside) = (0, 0);
+    for (x, y, p) in shown.enumerate_pixels() {
+        if start.get_pixel(x, y) != p {
+            let pos = egui::pos2(x as f32 + 0.5, y as f32 + 0.5);
+            *(if layout.rect.contains(pos) {
+                &mut inside
+            } else {
+                &mut outside
+            }) += 1;
+        }
+    }
+    assert!(
+        inside > 10_000,
+        "the panel is not shown at start ({inside} pixels)"
+    );
+    assert_eq!(
+        outside, 0,
+        "pixels outside the panel differ from the headless frame"
+    );
+
+    xvfb.xdotool(&["key", "F1"]);
+    settle();
+    assert!(
+        xvfb.screenshot_with(&dir, 2, "ctrl+p") == start,
+        "with the panel hidden the window is not the headless frame"
+    );
+    xvfb.xdotool(&["key", "F1"]);
+    settle();
+
+    click(layout.lines_checkbox);
+    wait_for_title(&xvfb, &window, "lines on", |t| t.contains("lines on"));
+    assert!(
+        xvfb.screenshot(&dir, 3) == with_lines,
+        "the checkbox did not draw L's frame"
+    );
+
+    click(layout.light_x_rail);
+    assert!(
+        xvfb.screenshot(&dir, 4) != with_lines,
+        "the light slider changed nothing"
+    );
+    click(layout.start_values);
+    assert!(
+        xvfb.screenshot(&dir, 5) == with_lines,
+        "the tutorial's values did not bring the frame back"
+    );
+
+    xvfb.xdotool(&["key", "Escape"]);
+    let (status, stderr) = wait_exit(&mut app);
+    assert!(status.success(), "{stderr}");
 }

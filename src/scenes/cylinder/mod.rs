@@ -767,9 +767,8 @@ impl Scene for Cylinder {
             },
         };
         let line_mode = match self.line_mode().or(self.line_mode) {
-            Some(mode) => mode,
-            None if self.legacy.is_ok() => LineMode::Legacy,
-            None => LineMode::Shader,
+            Some(LineMode::Legacy) | None if self.legacy.is_ok() => LineMode::Legacy,
+            _ => LineMode::Shader,
         };
         let view_names: Vec<String> = ColorView::CYCLE
             .iter()
@@ -799,10 +798,11 @@ impl Scene for Cylinder {
                 'M',
                 "lines drawn with",
                 line_mode_name(line_mode).into(),
-                &[
-                    line_mode_name(LineMode::Legacy),
-                    line_mode_name(LineMode::Shader),
-                ],
+                // A core context has no immediate mode to choose (M falls back with a notice).
+                match self.legacy {
+                    Ok(_) => &LINE_MODE_NAMES,
+                    Err(_) => &LINE_MODE_NAMES[1..],
+                },
             ),
             step('V', "colour view", view.to_string(), &view_names),
             step('C', "component", component.into(), &["all", "x", "y", "z"]),
@@ -986,11 +986,13 @@ impl Scene for Cylinder {
     }
 }
 
-/// The line path's name on the panel.
+/// The line paths' names on the panel: [`LineMode::Legacy`], [`LineMode::Shader`].
+const LINE_MODE_NAMES: [&str; 2] = ["immediate mode", "line shader"];
+
 fn line_mode_name(mode: LineMode) -> &'static str {
     match mode {
-        LineMode::Legacy => "immediate mode",
-        LineMode::Shader => "line shader",
+        LineMode::Legacy => LINE_MODE_NAMES[0],
+        LineMode::Shader => LINE_MODE_NAMES[1],
     }
 }
 

@@ -345,18 +345,7 @@ impl Scene for Sprite {
         })
     }
 
-    /// Both switches (the light is on screen).
-    fn short_status(&self) -> String {
-        let green = if self.flip_green { "down" } else { "up" };
-        let falloff = if self.independent_falloff {
-            "independent"
-        } else {
-            "article"
-        };
-        format!("green {green}, falloff {falloff}")
-    }
-
-    /// The light and both switches.
+    /// The light and both switches (short enough for the title as it is).
     fn status(&self) -> String {
         let l = self.light;
         format!(

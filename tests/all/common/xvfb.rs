@@ -132,7 +132,13 @@ impl Xvfb {
 
     /// Presses P and waits for the numbered screenshot the window writes into `dir`.
     pub fn screenshot(&self, dir: &Path, n: u32) -> image::RgbImage {
-        self.xdotool(&["key", "p"]);
+        self.screenshot_with(dir, n, "p")
+    }
+
+    /// Presses `keys` (P, or Ctrl+P: the window with its panel) and waits for the numbered
+    /// screenshot the window writes into `dir`.
+    pub fn screenshot_with(&self, dir: &Path, n: u32, keys: &str) -> image::RgbImage {
+        self.xdotool(&["key", keys]);
         let path = dir.join(format!("tutorial13-{n}.png"));
         // The file appears by rename, so it is whole once it exists.
         wait_for(&format!("{}", path.display()), || image::open(&path).ok()).into_rgb8()

@@ -1,0 +1,278 @@
+//! The panel (issue 19) headless: drawn over the frame without touching a pixel outside its
+//! rectangle, listing exactly the scene's keys, and changing the scene only as its keys and sliders
+//! say. Clicks are real pointer events given to egui (the same input the window's egui-winit glue
+//! produces), aimed at where the panel drew each widget.
+
+use image::RgbImage;
+use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
+use tutorial13::frontends::panel::{panel_key_rows, PanelWidget};
+use tutorial13::scenes::{SceneDescriptor, SwitchState, SCENES};
+
+use crate::common::{self, rgb};
+
+fn renderer_for(scene: &'static SceneDescriptor) -> HeadlessRenderer {
+    HeadlessRenderer::new(&HeadlessOptions {
+        descriptor: scene,
+        ..Default::default()
+    })
+    .unwrap()
+}
+
+fn frame(renderer: &mut HeadlessRenderer) -> RgbImage {
+    rgb(renderer.render_frames(1).unwrap())
+}
+
+/// A left click at the centre of `widget`: the pointer moves there in one frame, the button goes
+/// down in the next and up in the one after, as a hand's click spans frames.
+fn click(renderer: &mut HeadlessRenderer, widget: PanelWidget) {
+    let rect = panel_rect_of(renderer, &widget);
+    click_at(renderer, rect.center());
+}
+
+fn click_at(renderer: &mut HeadlessRenderer, pos: egui::Pos2) {
+    renderer.panel_events = vec![egui::Event::PointerMoved(pos)];
+    renderer.render();
+    let button = |pressed| egui::Event::PointerButton {
+        pos,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: Default::default(),
+    };
+    for pressed in [true, false] {
+        renderer.panel_events = vec![button(pressed)];
+        renderer.render();
+    }
+}
+
+fn panel_rect_of(renderer: &HeadlessRenderer, widget: &PanelWidget) -> egui::Rect {
+    let panel = renderer.panel.as_ref().expect("the panel is shown");
+    panel
+        .widget_rect(widget)
+        .unwrap_or_else(|| panic!("the panel shows no {widget:?}"))
+}
+
+// Fails if the panel draws nothing, or changes any pixel outside its rectangle (the scene's frame
+// must stay the scene's, bit for bit), or raises a GL error, in any scene.
+#[test]
+fn the_panel_changes_only_its_own_rectangle() {
+    for scene in SCENES {
+        let mut renderer = renderer_for(scene);
+        let plain = frame(&mut renderer);
+        renderer.show_panel().unwrap();
+        let with_panel = frame(&mut renderer);
+        let rect = renderer.panel.as_ref().unwrap().rect().expect("laid out");
+        assert!(
+            rect.width() > 200.0 && rect.height() >= 767.0,
+            "{scene}: {rect:?}"
+        );
+        let (mut inside_changed, mut outside_changed) = (0, 0);
+        for (x, y, p) in with_panel.enumerate_pixels() {
+            let inside = rect.contains(egui::pos2(x as f32 + 0.5, y as f32 + 0.5));
+            let changed = plain.get_pixel(x, y) != p;
+            match (inside, changed) {
+                (true, true) => inside_changed += 1,
+                (false, true) => outside_changed += 1,
+                _ => {}
+            }
+        }
+        assert_eq!(
+            outside_changed, 0,
+            "{scene}: pixels outside the panel changed"
+        );
+        assert!(
+            inside_changed > 10_000,
+            "{scene}: the panel drew {inside_changed} pixels"
+        );
+        // Painting the panel leaves no state that changes the next frame of the scene.
+        renderer.panel = None;
+        assert!(
+            frame(&mut renderer) == plain,
+            "{scene}: the frame after the panel differs"
+        );
+    }
+}
+
+// Fails if the panel's list of scene keys is not the scene's bindings (same keys, same words, same
+// order), if a switch the scene shows on the panel has no key, or if pressing that key does not
+// change the state the panel shows (the panel would show a state the key does not follow).
+#[test]
+fn the_panel_lists_the_scene_keys_and_their_switches_follow_them() {
+    for scene in SCENES {
+        let rows: Vec<(char, &str)> = panel_key_rows(scene)
+            .into_iter()
+            .filter_map(|r| r.scene_key.map(|k| (k, r.help)))
+            .collect();
+        let bindings: Vec<(char, &str)> = scene.keys.iter().map(|k| (k.key, k.help)).collect();
+        assert_eq!(rows, bindings, "{scene}");
+
+        let mut renderer = renderer_for(scene);
+        let switches = renderer.scene.switches();
+        assert!(!switches.is_empty(), "{scene} shows no switch");
+        for switch in switches {
+            assert!(
+                scene.keys.iter().any(|k| k.key == switch.key),
+                "{scene}: switch {} has no key",
+                switch.key
+            );
+            if let SwitchState::Step { current, choices } = &switch.state {
+                assert!(
+                    choices.contains(current),
+                    "{scene}: {current} not in {choices:?}"
+                );
+                if choices.len() == 1 {
+                    continue; // nothing to step to in this context
+                }
+            }
+            assert!(renderer.scene.key(switch.key).unwrap());
+            let after = renderer.scene.switches();
+            let now = after.iter().find(|s| s.key == switch.key).unwrap();
+            assert_ne!(
+                now.state, switch.state,
+                "{scene}: key {} changed nothing",
+                switch.key
+            );
+            renderer.render_frames(1).unwrap();
+        }
+    }
+}
+
+// Fails if clicking a switch's checkbox does something else than pressing its key: the status and
+// the frame after the click must equal those of a renderer whose key was pressed (L: the TBN lines).
+#[test]
+fn clicking_a_checkbox_does_what_its_key_does() {
+    let scene = tutorial13::scenes::default_scene();
+    let mut pressed = renderer_for(scene);
+    pressed.scene.key('L').unwrap();
+    let expected = frame(&mut pressed);
+
+    let mut clicked = renderer_for(scene);
+    let start = frame(&mut clicked);
+    clicked.show_panel().unwrap();
+    frame(&mut clicked);
+    click(&mut clicked, PanelWidget::Key('L'));
+    assert_eq!(clicked.scene.status(), pressed.scene.status());
+    clicked.panel = None;
+    let after = frame(&mut clicked);
+    assert!(after == expected, "the click did not draw the key's frame");
+    assert!(after != start, "the lines did not appear");
+}
+
+// Fails if a choice on the panel does not step the key until the chosen value (V: the colour view
+// "normal01"), or names another program than the one drawing (the tutorial's until an experiment,
+// then NormalMappingDebug with its files).
+#[test]
+fn a_choice_steps_its_key_and_the_panel_names_the_program() {
+    let mut renderer = renderer_for(tutorial13::scenes::default_scene());
+    let program = |r: &HeadlessRenderer| r.scene.drawing_programs()[0].name.clone();
+    assert!(
+        program(&renderer).starts_with("NormalMapping "),
+        "{}",
+        program(&renderer)
+    );
+    renderer.show_panel().unwrap();
+    frame(&mut renderer);
+    // The combo box opens on a click; its choices are then listed below it, one row each.
+    let combo = panel_rect_of(&renderer, &PanelWidget::Key('V'));
+    let mut chosen = false;
+    for dy in (8..240).step_by(8) {
+        click(&mut renderer, PanelWidget::Key('V'));
+        let below = combo.center_bottom() + egui::vec2(0.0, dy as f32);
+        click_at(&mut renderer, below);
+        if renderer.scene.status().contains("view normal01") {
+            chosen = true;
+            break;
+        }
+    }
+    assert!(
+        chosen,
+        "no click chose normal01: {}",
+        renderer.scene.status()
+    );
+    let drawing = &renderer.scene.drawing_programs()[0];
+    assert!(
+        drawing.name.starts_with("NormalMappingDebug"),
+        "{}",
+        drawing.name
+    );
+    assert!(drawing
+        .files
+        .iter()
+        .any(|f| f.ends_with("NormalMappingDebug.fragmentshader")));
+}
+
+// Fails if a light slider does not move the light (the frame must change), if the panel does not
+// then offer the tutorial's values, or if that button does not bring back the first frame bit for
+// bit (and the tutorial's own program with it).
+#[test]
+fn a_slider_moves_the_light_and_the_tutorials_values_bring_the_first_frame_back() {
+    for scene in SCENES {
+        let mut renderer = renderer_for(scene);
+        let first = frame(&mut renderer);
+        let first_programs = renderer.scene.drawing_programs();
+        renderer.show_panel().unwrap();
+        frame(&mut renderer);
+        let name = renderer.scene.sliders()[0].name;
+        let slider = panel_rect_of(&renderer, &PanelWidget::Slider(name));
+        // Near the left end of the rail (the widget's first 100 points).
+        click_at(&mut renderer, slider.left_center() + egui::vec2(12.0, 0.0));
+        let moved = renderer.scene.sliders()[0].clone();
+        assert_ne!(
+            moved.value, moved.start,
+            "{scene}: the {name} slider did not move"
+        );
+        let panel = renderer.panel.take();
+        assert!(
+            frame(&mut renderer) != first,
+            "{scene}: moving {name} changed nothing"
+        );
+        renderer.panel = panel;
+        frame(&mut renderer);
+        click(&mut renderer, PanelWidget::StartValues);
+        for slider in renderer.scene.sliders() {
+            assert_eq!(slider.value, slider.start, "{scene}: {}", slider.name);
+        }
+        renderer.panel = None;
+        assert!(
+            frame(&mut renderer) == first,
+            "{scene}: not the first frame again"
+        );
+        assert_eq!(renderer.scene.drawing_programs(), first_programs, "{scene}");
+    }
+}
+
+// Fails if the cylinder's light power, normal strength or line length sliders change nothing, or
+// if moving one away does not switch to the debugging program (the tutorial's shader has them as
+// constants) and say so on the panel's list of programs.
+#[test]
+fn the_cylinders_sliders_each_change_the_frame() {
+    let options = HeadlessOptions::default();
+    let mut renderer = common::renderer(&options);
+    renderer.scene.key('L').unwrap();
+    let first = frame(&mut renderer);
+    for (name, value) in [
+        ("light power", 80.0),
+        ("normal strength", 0.0),
+        ("TBN line length", 0.3),
+    ] {
+        renderer.scene.set_slider(name, value);
+        let moved = frame(&mut renderer);
+        assert!(common::differing_pixels(&moved, &first) > 1000, "{name}");
+        let names: Vec<String> = renderer
+            .scene
+            .drawing_programs()
+            .into_iter()
+            .map(|p| p.name)
+            .collect();
+        let debug = names[0].starts_with("NormalMappingDebug");
+        assert_eq!(debug, name != "TBN line length", "{name}: {names:?}");
+        let start = renderer
+            .scene
+            .sliders()
+            .into_iter()
+            .find(|s| s.name == name)
+            .unwrap()
+            .start;
+        renderer.scene.set_slider(name, start);
+        assert!(frame(&mut renderer) == first, "{name}: back at {start}");
+    }
+}
