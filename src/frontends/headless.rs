@@ -148,7 +148,9 @@ impl HeadlessRenderer {
     /// Draws the window's panel over every frame from now on (`--panel`).
     pub fn show_panel(&mut self) -> Result<()> {
         if self.panel.is_none() {
-            self.panel = Some(Panel::new(self.context.gl())?);
+            let context = &self.context;
+            let loader = |name: &std::ffi::CStr| context.get_proc_address(name);
+            self.panel = Some(Panel::new(context.gl(), context.info(), &loader)?);
         }
         Ok(())
     }

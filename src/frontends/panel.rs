@@ -7,10 +7,13 @@
 //! the scene's [`Scene::switches`], [`Scene::sliders`], [`Scene::drawing_programs`] and
 //! [`Scene::compare_labels`], and changes a switch only by pressing its key.
 
+use std::ffi::{c_void, CStr};
+
 use glow::HasContext;
 
 use super::{key_rows, WINDOW_KEYS};
-use crate::gl::Gl;
+use crate::gl::offscreen::{ColorBuffer, OffscreenTarget};
+use crate::gl::{ContextInfo, Gl};
 use crate::scenes::{Scene, SceneDescriptor, Slider, SwitchState};
 use crate::{Error, Result};
 
@@ -44,7 +47,7 @@ pub enum PanelWidget {
 }
 
 /// Besides the scene, what the panel shows: the front end's own figures.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct PanelInfo {
     /// The last once-a-second ms/frame figure.
     pub ms_per_frame: Option<f64>,
@@ -63,11 +66,36 @@ pub struct Panel {
     laid_out: bool,
     /// Where each widget was in the last frame, in pixels.
     widgets: Vec<(PanelWidget, egui::Rect)>,
+    /// What the last layout showed, and whether egui asked for another frame (an animation).
+    shown: Option<(SceneView, PanelInfo, egui::Rect)>,
+    repaint: bool,
+    /// The panel as last painted, kept to be copied over each frame until it changes (painting it
+    /// again costs llvmpipe as much as the tutorial's whole frame). `None` until first painted.
+    cache: Option<OffscreenTarget>,
+    /// Paint with egui every frame instead (what the cache saves, measured; and the test that the
+    /// copy is the painting).
+    pub paint_every_frame: bool,
+    /// For storing the cache like a window (see [`OffscreenTarget::set_window_orientation`]).
+    info: ContextInfo,
+    framebuffer_parameter: *const c_void,
+}
+
+/// What [`Panel::run`] gives [`Panel::paint`].
+pub enum PanelFrame {
+    /// A new layout to paint.
+    Laid(Box<egui::FullOutput>),
+    /// Nothing changed: the cached panel is copied over the frame.
+    Unchanged,
 }
 
 impl Panel {
-    /// Builds the painter (a program and buffers) on the current context.
-    pub fn new(gl: &Gl) -> Result<Self> {
+    /// Builds the painter (a program and buffers) on the current context; `loader` finds the one
+    /// entry point glow lacks (`glFramebufferParameteri`, to store the cache like a window).
+    pub fn new(
+        gl: &Gl,
+        info: &ContextInfo,
+        loader: &dyn Fn(&CStr) -> *const c_void,
+    ) -> Result<Self> {
         let painter =
             egui_glow::Painter::new(gl.clone(), "", None, false).map_err(|e| Error::Gl {
                 part: "panel",
@@ -84,6 +112,12 @@ impl Panel {
             rect: None,
             laid_out: false,
             widgets: Vec::new(),
+            shown: None,
+            repaint: false,
+            cache: None,
+            paint_every_frame: false,
+            info: info.clone(),
+            framebuffer_parameter: loader(c"glFramebufferParameteri"),
         })
     }
 
@@ -127,15 +161,26 @@ impl Panel {
     }
 
     /// Lays the panel out for one frame of `input`, then applies what was clicked to `scene`.
-    /// Returns what to paint (see [`Panel::paint`]) and the actions applied.
+    /// Returns what to paint (see [`Panel::paint`]) and the actions applied. With no input, nothing
+    /// new to show and no animation running, the last layout stands and nothing is laid out.
     pub fn run(
         &mut self,
         input: egui::RawInput,
         descriptor: &'static SceneDescriptor,
         scene: &mut dyn Scene,
         info: PanelInfo,
-    ) -> (egui::FullOutput, Vec<PanelAction>) {
+    ) -> (PanelFrame, Vec<PanelAction>) {
         let view = SceneView::of(descriptor, &*scene);
+        let screen = input.screen_rect.unwrap_or(egui::Rect::NOTHING);
+        let same = self
+            .shown
+            .as_ref()
+            .is_some_and(|(v, i, r)| *v == view && *i == info && *r == screen);
+        let idle = input.events.is_empty() && !self.repaint && !self.paint_every_frame;
+        if same && idle && self.cache.is_some() {
+            return (PanelFrame::Unchanged, Vec::new());
+        }
+        let shown = (view.clone(), info.clone(), screen);
         let mut actions = Vec::new();
         let mut widgets = Vec::new();
         let mut panel_rect = None;
@@ -177,15 +222,90 @@ impl Panel {
         let ppp = output.pixels_per_point;
         self.rect = panel_rect.map(|r| r * ppp);
         self.widgets = widgets.into_iter().map(|(w, r)| (w, r * ppp)).collect();
+        self.repaint = output
+            .viewport_output
+            .values()
+            .any(|v| v.repaint_delay.is_zero());
+        self.shown = Some(shown);
         for action in &actions {
             apply(scene, action);
         }
-        (output, actions)
+        (PanelFrame::Laid(Box::new(output)), actions)
     }
 
-    /// Paints `output` over the bound framebuffer of `size` pixels, then puts back the state egui
-    /// changed that a scene's frame could read (see [`crate::gl::state::GlState`] for the rest).
-    pub fn paint(&mut self, size: (u32, u32), output: egui::FullOutput) {
+    /// Paints the panel over the bound framebuffer of `size` pixels. A new layout is painted into
+    /// the cache and the panel's columns copied from there; an unchanged one is only copied. Where a
+    /// copy cannot stand for painting (a multisampled framebuffer, which a blit cannot write, or
+    /// labels over the frame outside the panel), egui paints straight over the frame.
+    pub fn paint(&mut self, size: (u32, u32), frame: PanelFrame) {
+        let gl = self.gl.clone();
+        // SAFETY: queries on the current context.
+        let (destination, samples) = unsafe {
+            (
+                gl.get_parameter_framebuffer(glow::DRAW_FRAMEBUFFER_BINDING),
+                gl.get_parameter_i32(glow::SAMPLES),
+            )
+        };
+        let overlays = self
+            .shown
+            .as_ref()
+            .is_some_and(|(view, _, _)| view.compare.is_some());
+        let direct = samples > 0 || overlays || self.paint_every_frame;
+        let columns = self.rect.map_or(0, |r| r.right().ceil().max(0.0) as u32);
+        match frame {
+            PanelFrame::Laid(output) if direct => {
+                self.cache = None;
+                self.paint_egui(size, *output);
+            }
+            PanelFrame::Laid(output) => match self.cache_for(size) {
+                Ok(()) => {
+                    let cache = self.cache.as_ref().expect("made above");
+                    cache.bind();
+                    // SAFETY: clearing the cache's colour to transparent.
+                    unsafe {
+                        gl.clear_color(0.0, 0.0, 0.0, 0.0);
+                        gl.clear(glow::COLOR_BUFFER_BIT);
+                    }
+                    self.paint_egui(size, *output);
+                    // SAFETY: the front end's framebuffer again.
+                    unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, destination) };
+                    let cache = self.cache.as_ref().expect("made above");
+                    cache.blit_columns_to(destination, 0, columns);
+                }
+                Err(e) => {
+                    log::warn!("{e} (the panel is painted every frame)");
+                    self.paint_egui(size, *output);
+                }
+            },
+            PanelFrame::Unchanged => match &self.cache {
+                Some(cache) if !direct => cache.blit_columns_to(destination, 0, columns),
+                // Nothing cached to copy: the next frame lays out again.
+                _ => self.shown = None,
+            },
+        }
+        // SAFETY: the front end's viewport again.
+        unsafe { gl.viewport(0, 0, size.0 as i32, size.1 as i32) };
+    }
+
+    /// A cache target of `size`, stored as the frame is.
+    fn cache_for(&mut self, (width, height): (u32, u32)) -> Result<()> {
+        let fits = self
+            .cache
+            .as_ref()
+            .is_some_and(|c| (c.width(), c.height()) == (width, height));
+        if !fits {
+            let color = ColorBuffer::Renderbuffer;
+            let mut target = OffscreenTarget::with_color(&self.gl, width, height, color)?;
+            let address = self.framebuffer_parameter;
+            target.set_window_orientation(&self.info, |_| address)?;
+            self.cache = Some(target);
+        }
+        Ok(())
+    }
+
+    /// egui's meshes for `output`, painted over the bound framebuffer; then the state egui changed
+    /// that a scene's frame could read is put back (see [`crate::gl::state::GlState`] for the rest).
+    fn paint_egui(&mut self, size: (u32, u32), output: egui::FullOutput) {
         let mut textures = output.textures_delta;
         let primitives = self.ctx.tessellate(output.shapes, output.pixels_per_point);
         self.painter.paint_and_update_textures(
@@ -269,6 +389,7 @@ impl Record<'_> {
 }
 
 /// What the panel shows of a scene, read before the layout (so the scene is not borrowed in it).
+#[derive(Debug, Clone, PartialEq)]
 struct SceneView {
     descriptor: &'static SceneDescriptor,
     switches: Vec<crate::scenes::Switch>,

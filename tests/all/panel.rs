@@ -52,7 +52,8 @@ fn panel_rect_of(renderer: &HeadlessRenderer, widget: &PanelWidget) -> egui::Rec
 }
 
 // Fails if the panel draws nothing, or changes any pixel outside its rectangle (the scene's frame
-// must stay the scene's, bit for bit), or raises a GL error, in any scene.
+// must stay the scene's, bit for bit), or raises a GL error, in any scene; or if the copy kept of
+// an unchanged panel differs from painting it.
 #[test]
 fn the_panel_changes_only_its_own_rectangle() {
     for scene in SCENES {
@@ -82,6 +83,16 @@ fn the_panel_changes_only_its_own_rectangle() {
         assert!(
             inside_changed > 10_000,
             "{scene}: the panel drew {inside_changed} pixels"
+        );
+        // The next frames copy the panel from its cache: the same pixels as painting it again.
+        assert!(
+            frame(&mut renderer) == with_panel,
+            "{scene}: the cached panel differs"
+        );
+        renderer.panel.as_mut().unwrap().paint_every_frame = true;
+        assert!(
+            frame(&mut renderer) == with_panel,
+            "{scene}: painted again, it differs"
         );
         // Painting the panel leaves no state that changes the next frame of the scene.
         renderer.panel = None;

@@ -24,7 +24,7 @@ use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::WindowId;
 
 use super::key_list;
-use super::panel::Panel;
+use super::panel::{Panel, PanelFrame};
 use crate::gl::Profile;
 use crate::scenes::{MouseMode, SceneDescriptor, SceneOptions};
 use crate::{Error, Result};
@@ -181,7 +181,7 @@ impl Running {
     fn new(event_loop: &ActiveEventLoop, options: &WindowOptions) -> Result<Self> {
         let gl_window = GlWindow::open(event_loop, options.size, options.profile, options.msaa)?;
         let renderer = Renderer::new(&gl_window, options.descriptor, &options.scene)?;
-        let panel = match Panel::new(&gl_window.gl) {
+        let panel = match gl_window.with_scene_context(|c| Panel::new(c.gl, c.info, c.loader)) {
             Ok(panel) => {
                 let window = &gl_window.window;
                 let state = egui_winit::State::new(
@@ -238,7 +238,7 @@ impl Running {
             log::debug!("panel: {actions:?}");
         }
         // The cursor's shape is egui's only while it is free (a grabbed cursor stays hidden).
-        if !self.input.grabbed() {
+        if let (PanelFrame::Laid(output), false) = (&output, self.input.grabbed()) {
             state.handle_platform_output(window, output.platform_output.clone());
         }
         let size = window.inner_size();
