@@ -295,3 +295,33 @@ fn the_panel_in_the_window() {
     let (status, stderr) = wait_exit(&mut app);
     assert!(status.success(), "{stderr}");
 }
+
+// Fails if the sprite's light follows the cursor onto the panel (moving to the panel to click a
+// switch would drag the light under it): there the light must stay where the cursor left it.
+#[test]
+fn over_the_panel_the_sprite_light_stays() {
+    let dir = common::scratch("panel-sprite");
+    let xvfb = Xvfb::start();
+    let mut app = xvfb.start_program(&dir, &["--scene", "sprite"]);
+    let window = xvfb.wait_for_window(&mut app);
+    xvfb.xdotool(&["windowfocus", "--sync", &window]);
+    let light = |title: &str| {
+        title
+            .split("light (")
+            .nth(1)
+            .map(|t| t.split(')').next().unwrap_or("").to_string())
+    };
+    // After the first frames (a cursor that moves before them is not yet the light's).
+    std::thread::sleep(Duration::from_millis(500));
+    xvfb.xdotool(&["mousemove", "--window", &window, "600", "300"]);
+    let on_frame = wait_for_title(&xvfb, &window, "the light on the mouse", |t| {
+        t.contains("on the mouse")
+    });
+    xvfb.xdotool(&["mousemove", "--window", &window, "100", "400"]);
+    std::thread::sleep(Duration::from_millis(500));
+    let on_panel = xvfb.xdotool(&["getwindowname", &window]);
+    assert_eq!(light(&on_panel), light(&on_frame), "{on_panel}");
+    xvfb.xdotool(&["key", "Escape"]);
+    let (status, stderr) = wait_exit(&mut app);
+    assert!(status.success(), "{stderr}");
+}

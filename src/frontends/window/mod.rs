@@ -259,6 +259,13 @@ impl Running {
             .consumed
     }
 
+    /// Whether `at` (window pixels) is on the panel as it was last drawn.
+    fn over_panel(&self, at: Vec2) -> bool {
+        let rect = self.panel.as_ref().filter(|_| self.panel_shown);
+        rect.and_then(|(panel, _)| panel.rect())
+            .is_some_and(|r| r.contains(egui::pos2(at.x, at.y)))
+    }
+
     /// F1: the panel on or off.
     fn toggle_panel(&mut self) {
         if self.panel.is_none() {
@@ -447,7 +454,10 @@ impl ApplicationHandler for App {
                 ..
             } => running.key(event_loop, code, state == ElementState::Pressed),
             WindowEvent::CursorMoved { position, .. } => {
-                running.input.cursor = Some(Vec2::new(position.x as f32, position.y as f32));
+                let at = Vec2::new(position.x as f32, position.y as f32);
+                // Over the panel the cursor is the panel's: to the scene it has left the frame (a
+                // light that follows it stays where it was).
+                running.input.cursor = Some(at).filter(|&at| !running.over_panel(at));
             }
             WindowEvent::CursorLeft { .. } => running.input.cursor = None,
             WindowEvent::Focused(false) => running.grab_cursor(false),
