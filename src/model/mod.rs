@@ -504,6 +504,28 @@ mod tests {
         assert_eq!(ranges.len(), 2);
     }
 
+    // Fails if the smooth normals of a model without `vn` are keyed by anything but the file's
+    // position index: tobj numbers positions per object (and per material), so the first corner of
+    // the second object shared its sums with the first object's, and the two walls' normals came
+    // out diagonal.
+    #[test]
+    fn smooth_normals_of_objects_stay_apart() {
+        let text = "o Floor\nv 0 0 0\nv 1 0 0\nv 1 0 -1\nv 0 0 -1\nvt 0 0\nf 1/1 2/1 3/1 4/1\n\
+                    o Wall\nv 3 0 0\nv 3 0 -1\nv 3 1 -1\nv 3 1 0\nf 5/1 6/1 7/1 8/1\n";
+        let no_mtl = |_: &Path| Err(std::io::ErrorKind::NotFound.into());
+        let model = load_model_bytes(
+            text.as_bytes(),
+            Path::new("two.obj"),
+            &MapOverrides::default(),
+            no_mtl,
+        )
+        .unwrap();
+        assert!(model.normals_computed);
+        let (floor, wall) = model.soup.normals.split_at(6);
+        assert!(floor.iter().all(|&n| n == Vec3::Y), "{floor:?}");
+        assert!(wall.iter().all(|&n| n == Vec3::X), "{wall:?}");
+    }
+
     // Fails if a corner's normal is not the angle-weighted mean of its faces' normals.
     #[test]
     fn smooth_normals_weight_faces_by_angle() {
