@@ -44,6 +44,15 @@ pub fn load_obj_bytes(bytes: &[u8], path: &Path) -> Result<TriangleSoup> {
     Ok(read_obj(bytes, path, ObjMode::Tutorial, no_materials)?.soup)
 }
 
+/// [`load_obj_bytes`] through tobj's parse and the checks, the way every file was read before the
+/// project's parse: for the benches' same-run comparison; not part of the tutorial.
+#[doc(hidden)]
+pub fn load_obj_bytes_with_tobj(bytes: &[u8], path: &Path) -> Result<TriangleSoup> {
+    let no_materials = |_: &Path| Ok((Vec::new(), Default::default()));
+    let text = utf8(bytes, path)?;
+    Ok(read_obj_with_tobj(text, path, ObjMode::Tutorial, no_materials)?.soup)
+}
+
 /// How [`read_obj`] reads a file: as the tutorial's `loadOBJ`, or as a learner's model (the
 /// project's addition, `crate::model`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -90,7 +99,7 @@ fn read_obj_in_pieces(
     pieces: Option<usize>,
 ) -> Result<ObjRead> {
     let text = utf8(bytes, path)?;
-    match parse::read(text, mode, &materials, pieces) {
+    match parse::read(text, path, mode, &materials, pieces) {
         Outcome::Read(read) => Ok(read),
         Outcome::LoaderPanicked => Err(obj_error(path, "tobj's parser panicked".into())),
         Outcome::ReadIfTobjAgrees(mut read) => {

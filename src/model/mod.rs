@@ -20,6 +20,7 @@ pub mod mtl;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use glam::{DVec3, Vec3};
 
@@ -160,7 +161,14 @@ pub struct Model {
 
 /// Reads `path` and the `.mtl` files it names (relative to its folder).
 pub fn load_model(path: &Path, overrides: &MapOverrides) -> Result<Model> {
+    let start = Instant::now();
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    log::debug!(
+        "{}: {:.1} MB read in {:.1} ms",
+        path.display(),
+        bytes.len() as f64 / 1e6,
+        start.elapsed().as_secs_f64() * 1e3
+    );
     load_model_bytes(&bytes, path, overrides, |p| std::fs::read(p))
 }
 
@@ -202,6 +210,7 @@ pub fn load_model_bytes(
         }
     };
     let read = read_obj(bytes, path, ObjMode::Model, load_mtl)?;
+    let start = Instant::now();
     let mut notices = notices.into_inner();
     let material_files = material_files.into_inner();
 
@@ -257,6 +266,11 @@ pub fn load_model_bytes(
     for p in &mut soup.vertices {
         *p = placement.to_world(*p);
     }
+    log::debug!(
+        "{}: normals, materials, grouping and placement in {:.1} ms",
+        path.display(),
+        start.elapsed().as_secs_f64() * 1e3
+    );
     Ok(Model {
         path: path.to_path_buf(),
         soup,

@@ -259,6 +259,14 @@ fn the_obj_reader_reads_as_tobj_does() {
             assert_same_as_tobj(&format!("{from:?} → {to:?} at {at}"), text.as_bytes());
         }
     }
+    // Vertex colours on every `v` line, and on the used ones only (which tobj reads too).
+    let coloured = "mtllib m.mtl\nv 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nvt 0 0\nvn 0 0 1\n\
+                    usemtl Paint\nf 1/1/1 2/1/1 3/1/1\n";
+    let partly = format!("{coloured}v 5 5 5\nf 1/1/1 2/1/1 3/1/1\n");
+    let past = format!("{coloured}v 5 5 5\nf 1/1/1 2/1/1 4/1/1\n");
+    for text in [coloured, &partly, &past] {
+        assert_same_as_tobj(text, text.as_bytes());
+    }
     for text in [
         "",
         "\n",

@@ -16,6 +16,7 @@
 use std::collections::HashMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
+use std::time::Instant;
 
 use glam::{Vec2, Vec3};
 
@@ -87,6 +88,7 @@ struct Piece<'a> {
 /// small file; the differential tests cut small files too).
 pub(crate) fn read(
     text: &str,
+    path: &Path,
     mode: ObjMode,
     materials: &dyn Fn(&Path) -> tobj::MTLLoadResult,
     pieces: Option<usize>,
@@ -94,6 +96,7 @@ pub(crate) fn read(
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let count = pieces.unwrap_or(cores.min(text.len() / MIN_PIECE));
     let texts = cut(text, count.max(1));
+    let start = Instant::now();
     // The first piece starts at the file's start: its relative indices resolve as they are read.
     // The others stop at their first one and are read again below, once the elements before them
     // are counted (rare: exporters write absolute indices).
@@ -121,9 +124,17 @@ pub(crate) fn read(
     }
     let normals_missing = mode == ObjMode::Model && with_normal == 0;
 
+    let parsed = start.elapsed();
     let Some((soup, position_indices)) = deindex(&pieces, mode, normals_missing) else {
         return Outcome::Refused; // a used number that is not finite
     };
+    log::debug!(
+        "{}: parsed in {} piece(s) in {:.1} ms, triangle soup written in {:.1} ms",
+        path.display(),
+        texts.len(),
+        parsed.as_secs_f64() * 1e3,
+        (start.elapsed() - parsed).as_secs_f64() * 1e3
+    );
     let mut read = ObjRead {
         soup,
         position_indices,
