@@ -4,8 +4,9 @@
 //! * `indexing`: `index_vbo`, `index_vbo_tbn` and meshoptimizer's remap (`generate_vertex_remap`,
 //!   `remap_vertex_buffer`, `remap_index_buffer`, on the same corners interleaved, as meshoptimizer
 //!   reads them) on the same soups. Before timing, all three must give the same vertex count.
-//! * `first-frame-1M`: the split of a 1M-triangle cylinder's first frame: OBJ text to soup (tobj and
-//!   the loader's checks), `compute_tangent_basis`, `index_vbo_tbn`.
+//! * `first-frame-1M`: the split of a 1M-triangle cylinder's first frame: OBJ text to soup (the
+//!   project's parse on every core, and tobj's with the checks beside it), `compute_tangent_basis`,
+//!   `index_vbo_tbn`.
 //!
 //! Criterion runs one benchmark's samples after another, so a neighbour on a shared machine can
 //! land on one of them only. With `TUTORIAL13_ROUNDS=N` in the environment the bench instead times
@@ -20,7 +21,7 @@ use std::time::{Duration, Instant};
 use common::{charted_cylinder, cylinder, spread_soup};
 use criterion::{Criterion, SamplingMode};
 use glam::Vec3;
-use tutorial13::common::objloader::{load_obj_bytes, TriangleSoup};
+use tutorial13::common::objloader::{load_obj_bytes, load_obj_bytes_with_tobj, TriangleSoup};
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
 use tutorial13::common::vboindexer::{index_vbo, index_vbo_tbn, IndexOptions};
 
@@ -150,6 +151,10 @@ fn first_frame(c: &mut Criterion) {
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(8));
     group.bench_function("obj", |b| b.iter(|| soup_of(&text)));
+    let path = Path::new("generated.obj");
+    group.bench_function("obj-tobj", |b| {
+        b.iter(|| load_obj_bytes_with_tobj(text.as_bytes(), path).unwrap())
+    });
     group.bench_function("tangents", |b| {
         b.iter(|| compute_tangent_basis(&soup, TangentOptions::default()))
     });

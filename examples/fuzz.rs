@@ -3,7 +3,8 @@
 //!     cargo run --profile fuzz --example fuzz -- --seconds 1800
 //!
 //! Options: `--seconds N` (total, shared equally by the targets; default 60), `--target NAME`
-//! (obj, dds, bmp, pipeline, heightmap, model or photo; repeatable; default all), `--seed N` (default: from the clock,
+//! (obj, dds, bmp, pipeline, heightmap, model, photo or obj-tobj; repeatable; default
+//! all), `--seed N` (default: from the clock,
 //! printed), `--slow-ms N` (a case slower than this fails; default 2000), `--replay FILE` (run one
 //! input on the target named before it, else the one its folder is named after, and print the
 //! outcome), `--make-corpus` (rewrite the seed
@@ -119,7 +120,7 @@ fn parse(s: &str) -> u64 {
 
 fn usage(problem: &str) -> ! {
     eprintln!(
-        "fuzz: {problem}\nusage: fuzz [--seconds N] [--target obj|dds|bmp|pipeline|heightmap|photo]... [--seed N] [--slow-ms N] [--replay FILE] [--make-corpus]"
+        "fuzz: {problem}\nusage: fuzz [--seconds N] [--target obj|dds|bmp|pipeline|heightmap|model|photo|obj-tobj]... [--seed N] [--slow-ms N] [--replay FILE] [--make-corpus]"
     );
     std::process::exit(2);
 }

@@ -18,7 +18,7 @@ use std::time::{Duration, Instant};
 
 use glam::Vec3;
 
-use tutorial13::common::objloader::{load_obj_bytes, TriangleSoup};
+use tutorial13::common::objloader::{differ_from_tobj, load_obj_bytes, TriangleSoup};
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::common::texture::{dxt_level_size, read_bmp_bytes, read_dds_bytes};
 use tutorial13::common::vboindexer::{
@@ -54,12 +54,16 @@ pub enum Target {
     /// `height_from_photo` and `photometric::recover` (three copies under three lights, albedo on):
     /// an error naming the file, or one height, normal and albedo per texel, heights finite.
     Photo,
+    /// The project's OBJ reader against tobj's parse (an input as the model target's: the OBJ, then
+    /// the MTL every `mtllib` reads), in both modes, in one piece and cut into several: the same
+    /// soup to the bit, the same materials, or the same error (`differ_from_tobj`).
+    ObjTobj,
 }
 
 /// Where a `model` input's MTL text starts (the OBJ's `mtllib` should name `fuzz.mtl`).
 pub const MTL_SEPARATOR: &str = "#--- fuzz.mtl ---\n";
 
-pub const TARGETS: [Target; 7] = [
+pub const TARGETS: [Target; 8] = [
     Target::Obj,
     Target::Dds,
     Target::Bmp,
@@ -67,6 +71,7 @@ pub const TARGETS: [Target; 7] = [
     Target::Heightmap,
     Target::Model,
     Target::Photo,
+    Target::ObjTobj,
 ];
 
 /// Meshes up to this many corners are also indexed by the quadratic reference.
@@ -84,6 +89,7 @@ impl Target {
             Target::Heightmap => "heightmap",
             Target::Model => "model",
             Target::Photo => "photo",
+            Target::ObjTobj => "obj-tobj",
         }
     }
 
@@ -93,7 +99,7 @@ impl Target {
 
     fn file_name(self) -> &'static str {
         match self {
-            Target::Obj | Target::Pipeline => "fuzz.obj",
+            Target::Obj | Target::Pipeline | Target::ObjTobj => "fuzz.obj",
             Target::Dds => "fuzz.DDS",
             Target::Bmp => "fuzz.bmp",
             Target::Heightmap => "fuzz-height.png",
@@ -103,7 +109,10 @@ impl Target {
     }
 
     fn is_text(self) -> bool {
-        matches!(self, Target::Obj | Target::Pipeline | Target::Model)
+        matches!(
+            self,
+            Target::Obj | Target::Pipeline | Target::Model | Target::ObjTobj
+        )
     }
 }
 
@@ -120,6 +129,14 @@ pub fn corpus_dir(target: Target) -> PathBuf {
         target.name()
     };
     fuzz_dir().join("corpus").join(name)
+}
+
+/// Where `target`'s seeds are: its corpus, and for `obj-tobj` the OBJ and model targets'.
+pub fn seed_dirs(target: Target) -> Vec<PathBuf> {
+    match target {
+        Target::ObjTobj => vec![corpus_dir(Target::Obj), corpus_dir(Target::Model)],
+        _ => vec![corpus_dir(target)],
+    }
 }
 
 pub fn regressions_dir(target: Target) -> PathBuf {
@@ -257,13 +274,16 @@ fn check(target: Target, input: &[u8]) -> Result<Outcome, String> {
                 Ok(Outcome::Loaded)
             }
         },
+        Target::ObjTobj => {
+            let (obj, mtl) = split_model_input(input);
+            differ_from_tobj(&obj, &mtl)?;
+            match load_obj_bytes(&obj, path) {
+                Err(e) => rejected(e),
+                Ok(_) => Ok(Outcome::Loaded),
+            }
+        }
         Target::Model => {
-            // The input split into the OBJ and the MTL its `mtllib fuzz.mtl` reads.
-            let text = String::from_utf8_lossy(input);
-            let (obj, mtl) = match text.split_once(MTL_SEPARATOR) {
-                Some((obj, mtl)) => (obj.as_bytes().to_vec(), mtl.as_bytes().to_vec()),
-                None => (input.to_vec(), Vec::new()),
-            };
+            let (obj, mtl) = split_model_input(input);
             let read_mtl = |p: &Path| {
                 if p.file_name() == Some("fuzz.mtl".as_ref()) {
                     Ok(mtl.clone())
@@ -296,6 +316,15 @@ fn check(target: Target, input: &[u8]) -> Result<Outcome, String> {
                 Ok(Outcome::Loaded)
             }
         },
+    }
+}
+
+/// A model input split into the OBJ and the MTL its `mtllib fuzz.mtl` reads.
+fn split_model_input(input: &[u8]) -> (Vec<u8>, Vec<u8>) {
+    let text = String::from_utf8_lossy(input);
+    match text.split_once(MTL_SEPARATOR) {
+        Some((obj, mtl)) => (obj.as_bytes().to_vec(), mtl.as_bytes().to_vec()),
+        None => (input.to_vec(), Vec::new()),
     }
 }
 
@@ -962,8 +991,11 @@ pub fn fuzz(
     // rejected in a new way (they explore the error paths). Three bases in four are loading ones.
     let mut loading: Vec<Vec<u8>> = Vec::new();
     let mut rejected: Vec<Vec<u8>> = vec![Vec::new()];
-    for (_, bytes) in read_dir_files(&corpus_dir(target))
+    let seeds = seed_dirs(target)
         .into_iter()
+        .map(|dir| read_dir_files(&dir));
+    for (_, bytes) in seeds
+        .flatten()
         .chain(read_dir_files(&regressions_dir(target)))
     {
         match run_case(target, &bytes, slow) {

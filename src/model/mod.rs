@@ -20,6 +20,7 @@ pub mod mtl;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use glam::{DVec3, Vec3};
 
@@ -160,7 +161,14 @@ pub struct Model {
 
 /// Reads `path` and the `.mtl` files it names (relative to its folder).
 pub fn load_model(path: &Path, overrides: &MapOverrides) -> Result<Model> {
+    let start = Instant::now();
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    log::debug!(
+        "{}: {:.1} MB read in {:.1} ms",
+        path.display(),
+        bytes.len() as f64 / 1e6,
+        start.elapsed().as_secs_f64() * 1e3
+    );
     load_model_bytes(&bytes, path, overrides, |p| std::fs::read(p))
 }
 
@@ -202,6 +210,7 @@ pub fn load_model_bytes(
         }
     };
     let read = read_obj(bytes, path, ObjMode::Model, load_mtl)?;
+    let start = Instant::now();
     let mut notices = notices.into_inner();
     let material_files = material_files.into_inner();
 
@@ -257,6 +266,11 @@ pub fn load_model_bytes(
     for p in &mut soup.vertices {
         *p = placement.to_world(*p);
     }
+    log::debug!(
+        "{}: normals, materials, grouping and placement in {:.1} ms",
+        path.display(),
+        start.elapsed().as_secs_f64() * 1e3
+    );
     Ok(Model {
         path: path.to_path_buf(),
         soup,
@@ -502,6 +516,28 @@ mod tests {
         let (same, ranges) = group_by_material(soup.clone(), &[1, 1, 0, 0, 0]);
         assert_eq!(same, soup);
         assert_eq!(ranges.len(), 2);
+    }
+
+    // Fails if the smooth normals of a model without `vn` are keyed by anything but the file's
+    // position index: tobj numbers positions per object (and per material), so the first corner of
+    // the second object shared its sums with the first object's, and the two walls' normals came
+    // out diagonal.
+    #[test]
+    fn smooth_normals_of_objects_stay_apart() {
+        let text = "o Floor\nv 0 0 0\nv 1 0 0\nv 1 0 -1\nv 0 0 -1\nvt 0 0\nf 1/1 2/1 3/1 4/1\n\
+                    o Wall\nv 3 0 0\nv 3 0 -1\nv 3 1 -1\nv 3 1 0\nf 5/1 6/1 7/1 8/1\n";
+        let no_mtl = |_: &Path| Err(std::io::ErrorKind::NotFound.into());
+        let model = load_model_bytes(
+            text.as_bytes(),
+            Path::new("two.obj"),
+            &MapOverrides::default(),
+            no_mtl,
+        )
+        .unwrap();
+        assert!(model.normals_computed);
+        let (floor, wall) = model.soup.normals.split_at(6);
+        assert!(floor.iter().all(|&n| n == Vec3::Y), "{floor:?}");
+        assert!(wall.iter().all(|&n| n == Vec3::X), "{wall:?}");
     }
 
     // Fails if a corner's normal is not the angle-weighted mean of its faces' normals.

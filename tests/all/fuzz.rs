@@ -16,10 +16,8 @@ const SLOW: Duration = Duration::from_secs(60);
 fn regressions_and_seeds_replay_cleanly() {
     let mut replayed = 0;
     for target in TARGETS {
-        for dir in [
-            harness::regressions_dir(target),
-            harness::corpus_dir(target),
-        ] {
+        let seeds = harness::seed_dirs(target);
+        for dir in seeds.into_iter().chain([harness::regressions_dir(target)]) {
             for (path, bytes) in read_dir_files(&dir) {
                 if let Outcome::Failed(message) = run_case(target, &bytes, SLOW) {
                     panic!(
