@@ -239,8 +239,10 @@ impl Panel {
     /// labels over the frame outside the panel), egui paints straight over the frame.
     pub fn paint(&mut self, size: (u32, u32), frame: PanelFrame) {
         let gl = self.gl.clone();
-        // SAFETY: queries on the current context.
+        // SAFETY: queries on the current context, and no scissor left on by the frame (it would clip
+        // the copy).
         let (destination, samples) = unsafe {
+            gl.disable(glow::SCISSOR_TEST);
             (
                 gl.get_parameter_framebuffer(glow::DRAW_FRAMEBUFFER_BINDING),
                 gl.get_parameter_i32(glow::SAMPLES),
