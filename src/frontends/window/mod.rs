@@ -2,11 +2,13 @@
 //!
 //! 1024×768, "Tutorial 13 - Normal Mapping", a GL 3.3 context of the asked profile, a config without
 //! multisampling (the original's screenshot test turns MSAA off, and MSAA blurs the debug lines).
-//! For a scene with mouse look the cursor is grabbed and hidden; raw mouse motion turns the camera,
-//! the arrow keys move it; Tab or losing focus releases the cursor and a click grabs it again; R puts
-//! the camera back at the tutorial's start; Esc or closing the window quits. Letter keys go to the
-//! scene. The projection's aspect and the viewport follow the window's size. Once a second
-//! "<x> ms/frame" is printed and shown in the title, beside the scene's status.
+//! The panel ([`super::panel`]) is painted over the frame, F1 hides it; while it shows, the cursor
+//! starts free and clicks on the panel are its own. For a scene with mouse look a click on the frame
+//! grabs and hides the cursor; raw mouse motion turns the camera, the arrow keys move it; Tab or
+//! losing focus releases the cursor; R puts the camera back at the start; Esc or closing the window
+//! quits. Letter keys go to the scene. The projection's aspect and the viewport follow the window's
+//! size. Once a second "<x> ms/frame" is printed and shown in the title, after the scene's name and
+//! main switches.
 
 mod gl_window;
 mod input;
