@@ -434,7 +434,9 @@ impl SceneView {
         }
         for program in &self.programs {
             ui.label(format!("drawn by {}", program.name));
-            ui.small(files_line(&program.files));
+            if !program.shaders.is_empty() {
+                ui.small(files_line(&program.files()));
+            }
         }
         if let Some(c) = &self.compare {
             ui.label(format!("compare view: left {}, right {}", c.left, c.right));

@@ -565,6 +565,46 @@ pub fn light_sliders(light: glam::Vec3, start: glam::Vec3, reach: f32) -> [Slide
     ]
 }
 
+/// A point light's sliders: its position ([`light_sliders`]) and its power, up to `power_max`.
+pub fn point_light_sliders(
+    light: glam::Vec3,
+    start: glam::Vec3,
+    power: f32,
+    power_start: f32,
+    power_max: f32,
+) -> Vec<Slider> {
+    let mut sliders = light_sliders(light, start, 10.0).to_vec();
+    sliders.push(Slider {
+        name: LIGHT_POWER,
+        value: power,
+        start: power_start,
+        range: (0.0, power_max),
+    });
+    sliders
+}
+
+/// The name of the power slider of [`point_light_sliders`].
+pub const LIGHT_POWER: &str = "light power";
+
+/// Moves slider `name` of `sliders` (made by [`point_light_sliders`]) to `value`, clamped to its
+/// range: an axis of `light`, or `power`. Any other name changes nothing.
+pub fn slide_point_light(
+    sliders: &[Slider],
+    name: &str,
+    value: f32,
+    light: &mut glam::Vec3,
+    power: &mut f32,
+) {
+    let Some(value) = clamp_to_slider(sliders, name, value) else {
+        return;
+    };
+    match slide_light(*light, name, value) {
+        Some(moved) => *light = moved,
+        None if name == LIGHT_POWER => *power = value,
+        None => {}
+    }
+}
+
 /// The names of [`light_sliders`].
 pub const LIGHT_AXES: [&str; 3] = ["light x", "light y", "light z"];
 
@@ -582,21 +622,33 @@ pub fn clamp_to_slider(sliders: &[Slider], name: &str, value: f32) -> Option<f32
     Some(value.clamp(slider.range.0, slider.range.1))
 }
 
-/// The program of `names` (vertex and fragment shader) as the panel names it, its files found as
-/// the scene reads them.
-pub fn drawing_program(name: &str, names: [&str; 2], dir: Option<&Path>) -> DrawingProgram {
+/// The program of `names` (vertex and fragment shader, read from `dir` as the scene reads them) as
+/// the panel names it.
+pub fn drawing_program(name: &str, names: [&'static str; 2], dir: Option<&Path>) -> DrawingProgram {
     DrawingProgram {
         name: name.into(),
-        files: crate::common::shader::shader_paths(names, dir),
+        shaders: names.to_vec(),
+        dir: dir.map(Path::to_path_buf),
     }
 }
 
-/// A program drawing the frame: its name and the shader files it reads (empty: the copies built
-/// into the binary).
+/// A program drawing the frame: its name and the shaders it reads by name (none: no shader, as the
+/// immediate mode). Only names, so that the panel can ask for it every frame without a look at the
+/// disk; [`DrawingProgram::files`] finds the files when they are shown.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct DrawingProgram {
     pub name: String,
-    pub files: Vec<PathBuf>,
+    pub shaders: Vec<&'static str>,
+    /// `--shaders DIR`, where they are looked for first.
+    pub dir: Option<PathBuf>,
+}
+
+impl DrawingProgram {
+    /// The files the shaders are read from (empty where the copies built into the binary are used).
+    pub fn files(&self) -> Vec<PathBuf> {
+        let names = self.shaders.iter().copied();
+        crate::common::shader::shader_paths(names, self.dir.as_deref())
+    }
 }
 
 /// The two sides of a compare view: where the split is (a fraction of the width; `None` for one

@@ -216,7 +216,7 @@ fn a_choice_steps_its_key_and_the_panel_names_the_program() {
         drawing.name
     );
     assert!(drawing
-        .files
+        .files()
         .iter()
         .any(|f| f.ends_with("NormalMappingDebug.fragmentshader")));
 }

@@ -32,9 +32,9 @@ use crate::tangents::TangentSource;
 use crate::Result;
 
 use super::scene::{
-    clamp_to_slider, drawing_program, handle_key, key_help, light_sliders, slide_light, Binding,
-    CompareLabels, DrawingProgram, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
-    SceneOptions, SceneType, Slider, Switch, SwitchState,
+    clamp_to_slider, drawing_program, handle_key, key_help, point_light_sliders, slide_light,
+    Binding, CompareLabels, DrawingProgram, FrameInput, KeyHelp, Scene, SceneContext,
+    SceneDescriptor, SceneOptions, SceneType, Slider, Switch, SwitchState, LIGHT_POWER,
 };
 pub use args::CylinderArgs;
 use maps::{model_texture_sets, override_tutorial_maps};
@@ -839,15 +839,11 @@ impl Scene for Cylinder {
         let light = self.tutorial.light_position_worldspace;
         // Room around the tutorial's cylinder (radius 1, height 2, light 4 away) or the model
         // placed on its bounding sphere.
-        let mut sliders = light_sliders(light, self.light_start, 10.0).to_vec();
+        let power = self.knobs.light_power;
+        let tutorial = Knobs::TUTORIAL.light_power;
+        let mut sliders = point_light_sliders(light, self.light_start, power, tutorial, 200.0);
         let split = self.compare_view.split;
         sliders.extend([
-            Slider {
-                name: "light power",
-                value: self.knobs.light_power,
-                start: Knobs::TUTORIAL.light_power,
-                range: (0.0, 200.0),
-            },
             Slider {
                 name: "normal strength",
                 value: self.knobs.normal_strength,
@@ -877,7 +873,7 @@ impl Scene for Cylinder {
         let light = slide_light(self.tutorial.light_position_worldspace, name, value);
         let done = match (light, name) {
             (Some(light), _) => self.set_light(light),
-            (None, "light power") => {
+            (None, LIGHT_POWER) => {
                 self.knobs.light_power = value;
                 Ok(())
             }
@@ -919,7 +915,8 @@ impl Scene for Cylinder {
         match self.line_mode().filter(|_| lines_drawn) {
             Some(LineMode::Legacy) => programs.push(DrawingProgram {
                 name: "TBN lines: immediate mode (glBegin/glEnd, no shader)".into(),
-                files: Vec::new(),
+                shaders: Vec::new(),
+                dir: None,
             }),
             Some(LineMode::Shader) => {
                 programs.push(drawing_program("TBN lines: DebugLines", LINE_SHADERS, dir))

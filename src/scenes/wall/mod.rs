@@ -28,9 +28,9 @@ use crate::Result;
 use assets::FILES;
 
 use super::scene::{
-    action_for_key, clamp_to_slider, drawing_program, key_help, light_sliders, slide_light,
-    Binding, DrawingProgram, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor,
-    SceneOptions, SceneType, Slider, Switch, SwitchState,
+    action_for_key, drawing_program, key_help, point_light_sliders, slide_point_light, Binding,
+    DrawingProgram, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor, SceneOptions,
+    SceneType, Slider, Switch, SwitchState,
 };
 pub use args::WallOptions;
 
@@ -254,25 +254,23 @@ impl Scene for Wall {
 
     /// The light's position and intensity.
     fn sliders(&self) -> Vec<Slider> {
-        let light = self.light_position_worldspace;
-        let mut sliders = light_sliders(light, LIGHT_POSITION_WORLDSPACE, 10.0).to_vec();
-        sliders.push(Slider {
-            name: "light power",
-            value: self.light_intensity,
-            start: LIGHT_INTENSITY,
-            range: (0.0, 200.0),
-        });
-        sliders
+        let (light, power) = (self.light_position_worldspace, self.light_intensity);
+        point_light_sliders(
+            light,
+            LIGHT_POSITION_WORLDSPACE,
+            power,
+            LIGHT_INTENSITY,
+            200.0,
+        )
     }
 
     fn set_slider(&mut self, name: &str, value: f32) {
-        let Some(value) = clamp_to_slider(&self.sliders(), name, value) else {
-            return;
-        };
-        match slide_light(self.light_position_worldspace, name, value) {
-            Some(light) => self.light_position_worldspace = light,
-            None => self.light_intensity = value,
-        }
+        let sliders = self.sliders();
+        let (light, power) = (
+            &mut self.light_position_worldspace,
+            &mut self.light_intensity,
+        );
+        slide_point_light(&sliders, name, value, light, power);
     }
 
     fn drawing_programs(&self) -> Vec<DrawingProgram> {
