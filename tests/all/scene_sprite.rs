@@ -17,7 +17,7 @@ use tutorial13::scenes::sprite::{
 use tutorial13::scenes::SceneOptions;
 
 use crate::common;
-use crate::common::xvfb::{wait_exit, wait_for, Xvfb};
+use crate::common::xvfb::{wait_for, Xvfb};
 use crate::common::{assert_matches_golden, frame, own_assets, pixel_diff, scratch};
 
 /// Side of the sprite's textures.
@@ -610,9 +610,7 @@ fn light_arg(light: Vec3) -> String {
 fn the_window_light_follows_the_mouse() {
     let dir = scratch("window");
     let xvfb = Xvfb::start();
-    let mut app = xvfb.start_program(&dir, &["--scene", "sprite"]);
-    let window = xvfb.wait_for_window(&mut app);
-    xvfb.xdotool(&["windowfocus", "--sync", &window]);
+    let (mut app, window) = xvfb.open_window(&dir, &["--scene", "sprite"]);
     let mut shots = 0;
     let mut shot = || {
         shots += 1;
@@ -675,7 +673,5 @@ fn the_window_light_follows_the_mouse() {
     );
     assert!(flipped == expected, "Y in the window is not --green down");
 
-    xvfb.xdotool(&["key", "Escape"]);
-    let (status, stderr) = wait_exit(&mut app);
-    assert!(status.success(), "{stderr}");
+    xvfb.quit(&mut app);
 }

@@ -26,9 +26,7 @@ fn mouse_look_reset_release_and_grab() {
     let dir = common::scratch("keys");
     let start_frame = headless_first_frame(&dir);
     let xvfb = Xvfb::start();
-    let mut app = xvfb.start_program::<&str>(&dir, &[]);
-    let window = xvfb.wait_for_window(&mut app);
-    xvfb.xdotool(&["windowfocus", "--sync", &window]);
+    let (mut app, window) = xvfb.open_window::<&str>(&dir, &[]);
     // Each step: what to do, whether to move the mouse after it, and whether the frame must then be
     // the start frame (the camera reset or left alone) or not (the camera turned).
     let steps: [(&[&str], bool, bool, &str); 4] = [
@@ -84,9 +82,7 @@ fn mouse_look_reset_release_and_grab() {
         );
     }
 
-    xvfb.xdotool(&["key", "Escape"]);
-    let (status, stderr) = wait_exit(&mut app);
-    assert!(status.success(), "{stderr}");
+    xvfb.quit(&mut app);
 }
 
 // Fails if a window destroyed by another program (XDestroyWindow, not a close request) makes the
@@ -138,9 +134,7 @@ fn saving_a_shader_reloads_it_in_the_window() {
     let start_frame = headless_first_frame(&dir);
     let xvfb = Xvfb::start();
     let args = ["--shaders".as_ref(), shaders.as_os_str()];
-    let mut app = xvfb.start_program(&dir, &args);
-    let window = xvfb.wait_for_window(&mut app);
-    xvfb.xdotool(&["windowfocus", "--sync", &window]);
+    let (mut app, window) = xvfb.open_window(&dir, &args);
     let mut shots = 0;
     let mut shot = || {
         shots += 1;
@@ -179,9 +173,7 @@ fn saving_a_shader_reloads_it_in_the_window() {
         "the original shader does not give the first frame back"
     );
 
-    xvfb.xdotool(&["key", "Escape"]);
-    let (status, stderr) = wait_exit(&mut app);
-    assert!(status.success(), "{stderr}");
+    let stderr = xvfb.quit(&mut app);
     assert!(
         stderr.contains("NormalMapping.fragmentshader: compilation failed: ")
             && stderr.contains("error"),
@@ -226,9 +218,7 @@ fn the_panel_in_the_window() {
     let with_lines = common::headless_screenshot(&dir, "lines.png", &["--debug-lines"]);
     let layout = panel_layout();
     let xvfb = Xvfb::start();
-    let mut app = xvfb.start_program::<&str>(&dir, &[]);
-    let window = xvfb.wait_for_window(&mut app);
-    xvfb.xdotool(&["windowfocus", "--sync", &window]);
+    let (mut app, window) = xvfb.open_window::<&str>(&dir, &[]);
     let settle = || std::thread::sleep(Duration::from_millis(400));
     let click = |at: egui::Pos2| {
         let (x, y) = (at.x.round().to_string(), at.y.round().to_string());
@@ -291,9 +281,7 @@ fn the_panel_in_the_window() {
         "the tutorial's values did not bring the frame back"
     );
 
-    xvfb.xdotool(&["key", "Escape"]);
-    let (status, stderr) = wait_exit(&mut app);
-    assert!(status.success(), "{stderr}");
+    xvfb.quit(&mut app);
 }
 
 // Fails if the sprite's light follows the cursor onto the panel (moving to the panel to click a
@@ -302,9 +290,7 @@ fn the_panel_in_the_window() {
 fn over_the_panel_the_sprite_light_stays() {
     let dir = common::scratch("panel-sprite");
     let xvfb = Xvfb::start();
-    let mut app = xvfb.start_program(&dir, &["--scene", "sprite"]);
-    let window = xvfb.wait_for_window(&mut app);
-    xvfb.xdotool(&["windowfocus", "--sync", &window]);
+    let (mut app, window) = xvfb.open_window(&dir, &["--scene", "sprite"]);
     let light = |title: &str| {
         title
             .split("light (")
@@ -321,7 +307,5 @@ fn over_the_panel_the_sprite_light_stays() {
     std::thread::sleep(Duration::from_millis(500));
     let on_panel = xvfb.xdotool(&["getwindowname", &window]);
     assert_eq!(light(&on_panel), light(&on_frame), "{on_panel}");
-    xvfb.xdotool(&["key", "Escape"]);
-    let (status, stderr) = wait_exit(&mut app);
-    assert!(status.success(), "{stderr}");
+    xvfb.quit(&mut app);
 }

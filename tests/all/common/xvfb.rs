@@ -130,6 +130,23 @@ impl Xvfb {
         })
     }
 
+    /// [`Xvfb::start_program`], then waits for its window and gives it the focus; returns the
+    /// program and its window's id.
+    pub fn open_window<S: AsRef<OsStr>>(&self, dir: &Path, args: &[S]) -> (Child, String) {
+        let mut app = self.start_program(dir, args);
+        let window = self.wait_for_window(&mut app);
+        self.xdotool(&["windowfocus", "--sync", &window]);
+        (app, window)
+    }
+
+    /// Presses Esc and checks that the program quits cleanly; returns its stderr.
+    pub fn quit(&self, app: &mut Child) -> String {
+        self.xdotool(&["key", "Escape"]);
+        let (status, stderr) = wait_exit(app);
+        assert!(status.success(), "{stderr}");
+        stderr
+    }
+
     /// Presses P and waits for the numbered screenshot the window writes into `dir`.
     pub fn screenshot(&self, dir: &Path, n: u32) -> image::RgbImage {
         self.screenshot_with(dir, n, "p")
