@@ -18,6 +18,11 @@ pub enum ColorBuffer {
     Renderbuffer,
     /// A texture a later pass can sample (e.g. one half of a comparison view).
     Texture,
+    /// A texture stored blue, green, red, alpha in memory, as X11 and Wayland keep a window's
+    /// buffers on little-endian machines: Mesa blits from it into a window with a plain memory
+    /// copy, where a blit from RGBA into one is a draw (on llvmpipe about 1 ms for the panel's
+    /// columns of a 1024×768 window).
+    WindowOrderTexture,
 }
 
 #[derive(Debug)]
@@ -26,7 +31,7 @@ enum Color {
     Texture(Owned<glow::Texture>),
 }
 
-/// An offscreen framebuffer: RGBA8 colour (a renderbuffer or a texture) and a 24-bit depth
+/// An offscreen framebuffer: 8-bit RGBA colour (a renderbuffer or a texture) and a 24-bit depth
 /// renderbuffer of `width × height`.
 ///
 /// This is where headless frames go (the surfaceless context has no default framebuffer). Drop it
@@ -106,7 +111,9 @@ impl OffscreenTarget {
             depth: Owned::create(gl, PART)?,
             color: match color {
                 ColorBuffer::Renderbuffer => Color::Renderbuffer(Owned::create(gl, PART)?),
-                ColorBuffer::Texture => Color::Texture(Owned::create(gl, PART)?),
+                ColorBuffer::Texture | ColorBuffer::WindowOrderTexture => {
+                    Color::Texture(Owned::create(gl, PART)?)
+                }
             },
             width,
             height,
@@ -142,10 +149,14 @@ impl OffscreenTarget {
                     let texture = texture.name();
                     let previous = gl.get_parameter_texture(glow::TEXTURE_BINDING_2D);
                     gl.bind_texture(glow::TEXTURE_2D, Some(texture));
-                    let format = glow::RGBA8 as i32;
+                    // Mesa stores an unsized RGBA texture in the order of the data it is given.
+                    let (format, order) = match color {
+                        ColorBuffer::WindowOrderTexture => (glow::RGBA, glow::BGRA),
+                        _ => (glow::RGBA8, glow::RGBA),
+                    };
                     let data = glow::PixelUnpackData::Slice(None);
-                    let (rgba, byte) = (glow::RGBA, glow::UNSIGNED_BYTE);
-                    gl.tex_image_2d(glow::TEXTURE_2D, 0, format, w, h, 0, rgba, byte, data);
+                    let (format, byte) = (format as i32, glow::UNSIGNED_BYTE);
+                    gl.tex_image_2d(glow::TEXTURE_2D, 0, format, w, h, 0, order, byte, data);
                     // One level, sampled 1:1: no mipmaps, nearest texels.
                     let nearest = glow::NEAREST as i32;
                     gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, nearest);

@@ -53,7 +53,8 @@ fn panel_rect_of(renderer: &HeadlessRenderer, widget: &PanelWidget) -> egui::Rec
 
 // Fails if the panel draws nothing, or changes any pixel outside its rectangle (the scene's frame
 // must stay the scene's, bit for bit), or raises a GL error, in any scene; or if the copy kept of
-// an unchanged panel differs from painting it, in any of the frames that copy it.
+// an unchanged panel differs from painting it, in any of the frames that copy it, with the copy
+// stored in the frame's byte order or in a window's.
 #[test]
 fn the_panel_changes_only_its_own_rectangle() {
     for scene in SCENES {
@@ -86,18 +87,27 @@ fn the_panel_changes_only_its_own_rectangle() {
         );
         // The next frames copy the panel from its cache (laid out again only when something
         // changed): the same pixels as painting it again, and nothing of an earlier frame left
-        // over (the target is magenta before each frame).
-        for n in 2..5 {
-            renderer.target.bind();
-            // SAFETY: clearing the bound target of the current context.
-            unsafe {
-                use glow::HasContext;
-                let gl = renderer.context.gl();
-                gl.clear_color(1.0, 0.0, 1.0, 1.0);
-                gl.clear(glow::COLOR_BUFFER_BIT);
+        // over (the target is magenta before each frame). Then again from a cache stored in a
+        // window's byte order, as the window keeps it (a swapped channel would show here).
+        for order in ["as the frame", "as a window"] {
+            if order == "as a window" {
+                renderer.panel.as_mut().unwrap().store_cache_like_a_window();
             }
-            let again = frame(&mut renderer);
-            assert!(again == with_panel, "{scene}: frame {n} differs");
+            for n in 2..5 {
+                renderer.target.bind();
+                // SAFETY: clearing the bound target of the current context.
+                unsafe {
+                    use glow::HasContext;
+                    let gl = renderer.context.gl();
+                    gl.clear_color(1.0, 0.0, 1.0, 1.0);
+                    gl.clear(glow::COLOR_BUFFER_BIT);
+                }
+                let again = frame(&mut renderer);
+                assert!(
+                    again == with_panel,
+                    "{scene}: frame {n} differs (cache stored {order})"
+                );
+            }
         }
         renderer.panel.as_mut().unwrap().paint_every_frame = true;
         assert!(

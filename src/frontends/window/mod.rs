@@ -184,7 +184,8 @@ impl Running {
         let gl_window = GlWindow::open(event_loop, options.size, options.profile, options.msaa)?;
         let renderer = Renderer::new(&gl_window, options.descriptor, &options.scene)?;
         let panel = match gl_window.with_scene_context(|c| Panel::new(c.gl, c.info, c.loader)) {
-            Ok(panel) => {
+            Ok(mut panel) => {
+                panel.store_cache_like_a_window();
                 let window = &gl_window.window;
                 let state = egui_winit::State::new(
                     panel.context().clone(),
