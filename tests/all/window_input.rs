@@ -309,3 +309,25 @@ fn over_the_panel_the_sprite_light_stays() {
     assert_eq!(light(&on_panel), light(&on_frame), "{on_panel}");
     xvfb.quit(&mut app);
 }
+
+// Fails if the window's frame does not follow a resize: the window keeps the size its last Resized
+// event gave (asking the X server every frame cost a round trip), so a missed event would leave the
+// viewport and the projection at 1024×768 on an 800×600 window. The frame must then be the headless
+// frame of that size, bit for bit.
+#[test]
+fn a_resized_window_draws_the_frame_of_its_new_size() {
+    let dir = common::scratch("resize");
+    let small = common::headless_screenshot(&dir, "small.png", &["--size", "800x600"]);
+    let xvfb = Xvfb::start();
+    let (mut app, window) = xvfb.open_window::<&str>(&dir, &[]);
+    xvfb.xdotool(&["windowsize", "--sync", &window, "800", "600"]);
+    std::thread::sleep(Duration::from_millis(400));
+    let shot = xvfb.screenshot(&dir, 1);
+    assert_eq!(shot.dimensions(), (800, 600), "the frame kept its old size");
+    assert!(
+        shot == small,
+        "{} pixels differ from the headless 800×600 frame",
+        common::differing_pixels(&shot, &small)
+    );
+    xvfb.quit(&mut app);
+}

@@ -133,18 +133,16 @@ impl Renderer {
             self.reload_shaders();
         }
         let frame_input = input.take_frame_input(frozen);
-        let size = gl_window.window.inner_size();
+        let size = gl_window.size();
         // The viewport and the projection's aspect follow the window (1024×768 is the tutorial's 4:3).
-        input.controls.set_viewport(size.width, size.height);
+        input.controls.set_viewport(size.0, size.1);
         input
             .controls
             .compute_matrices_from_inputs(&frame_input, delta_time);
         // SAFETY: a viewport of the window's size on the current context.
         unsafe {
             use glow::HasContext;
-            gl_window
-                .gl
-                .viewport(0, 0, size.width as i32, size.height as i32)
+            gl_window.gl.viewport(0, 0, size.0 as i32, size.1 as i32)
         };
         let time = if frozen {
             0.0
@@ -155,7 +153,7 @@ impl Renderer {
             projection: input.controls.projection_matrix(),
             view: input.controls.view_matrix(),
             cursor: input.cursor,
-            size: (size.width, size.height),
+            size,
             time,
         });
         check_gl_errors(&gl_window.gl, "frame")?;
