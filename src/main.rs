@@ -76,6 +76,12 @@ struct Cli {
     #[arg(long)]
     panel: bool,
 
+    /// In the window: time K frames with the panel shown and K with it hidden, alternating every 50,
+    /// and print min/median ms/frame of each and their ratio (what the panel costs)
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u32).range(1..),
+          conflicts_with_all = ["headless", "bench", "frames", "screenshot"])]
+    bench_panel: Option<u32>,
+
     /// Headless: use a GPU's EGL device where there is one instead of Mesa's llvmpipe
     #[arg(long)]
     prefer_hardware: bool,
@@ -372,6 +378,7 @@ fn run(cli: Cli, scene: SceneOptions) -> Result<()> {
             screenshot: cli.screenshot.clone(),
             msaa: cli.msaa,
             panel: cli.panel,
+            bench_panel: cli.bench_panel,
         })
         .map_err(anyhow::Error::from)
     }

@@ -127,8 +127,8 @@ impl Panel {
     }
 
     /// Stores the cache in a window's byte order (blue, green, red, alpha), for a panel painted over
-    /// a window: llvmpipe then copies it over each frame with a memory copy instead of a draw, which
-    /// took the panel's cost in the window from 1.13–1.30× a hidden panel's ms/frame to 1.03–1.08×.
+    /// a window: llvmpipe then copies it over each frame with a memory copy instead of a draw, and
+    /// that draw was most of what the panel cost the window (BENCHMARKS.md, "The panel's cost").
     pub fn store_cache_like_a_window(&mut self) {
         self.cache_color = ColorBuffer::WindowOrderTexture;
         // The next frame lays out and paints into a new cache.

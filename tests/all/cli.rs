@@ -444,6 +444,31 @@ fn msaa_beyond_the_driver_is_one_line() {
     assert_eq!(out.status.code(), Some(2), "usage error expected");
 }
 
+// Fails if `--bench-panel K` does not time K frames in each state in a real window and print both
+// figures and their ratio, or if it runs headless (it measures the window; headless has --bench).
+#[test]
+fn bench_panel_times_the_window_with_and_without_the_panel() {
+    let xvfb = Xvfb::start();
+    let out = run(tutorial13()
+        .env("DISPLAY", &xvfb.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .args(["--bench-panel", "60"]));
+    drop(xvfb);
+    assert_success(&out, "--bench-panel 60 under Xvfb");
+    let stdout = text(&out.stdout);
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("60 frames each"))
+        .unwrap_or_else(|| panic!("no result line in {stdout}"));
+    let ratio: f64 = line
+        .rsplit_once("shown/hidden ")
+        .and_then(|(_, r)| r.split(' ').next()?.parse().ok())
+        .unwrap_or_else(|| panic!("no ratio in {line}"));
+    assert!(ratio.is_finite() && ratio > 0.0, "{line}");
+    let out = run(tutorial13().args(["--bench-panel", "5", "--headless"]));
+    assert_eq!(out.status.code(), Some(2), "usage error expected");
+}
+
 /// 3 frames in a real window under a private Xvfb with `extra` flags: the last frame (checked to
 /// look like the scene) and the program's stderr.
 fn window_frame(scratch: &Path, extra: &[&str]) -> (RgbImage, Vec<u8>) {

@@ -10,6 +10,7 @@
 //! size. Once a second "<x> ms/frame" is printed and shown in the title, after the scene's name and
 //! main switches.
 
+mod bench;
 mod gl_window;
 mod input;
 mod renderer;
@@ -31,6 +32,7 @@ use super::panel::{Panel, PanelFrame};
 use crate::gl::Profile;
 use crate::scenes::{MouseMode, SceneDescriptor, SceneOptions};
 use crate::{Error, Result};
+use bench::{Next, PanelBench};
 use gl_window::GlWindow;
 pub use input::key_char;
 use input::InputState;
@@ -56,6 +58,8 @@ pub struct WindowOptions {
     pub msaa: u8,
     /// `--panel`: screenshots of `--frames N` include the panel.
     pub panel: bool,
+    /// `--bench-panel K`: time K frames with the panel shown and K hidden, print, close.
+    pub bench_panel: Option<u32>,
 }
 
 /// The message for a machine without a display, with the command that works there, as the user
@@ -96,6 +100,7 @@ pub fn run_window(options: WindowOptions) -> Result<()> {
     let event_loop =
         EventLoop::new().map_err(|e| Error::Window(no_display_message(&e.to_string())))?;
     let mut app = App {
+        bench: options.bench_panel.map(PanelBench::new),
         options,
         running: None,
         outcome: Ok(()),
@@ -163,6 +168,7 @@ struct App {
     options: WindowOptions,
     running: Option<Running>,
     outcome: Result<()>,
+    bench: Option<PanelBench>,
 }
 
 /// Everything alive while the window is open. Field order is drop order: the scene's and the
@@ -413,6 +419,20 @@ impl App {
         let Some(running) = self.running.as_mut() else {
             return;
         };
+        if let Some(bench) = self.bench.as_mut() {
+            if running.panel.is_none() {
+                let reason =
+                    "--bench-panel: the window has no panel to measure (see the error above)";
+                return self.fail(event_loop, Error::Window(reason.into()));
+            }
+            match bench.next_frame(Instant::now(), running.panel_shown) {
+                Next::Draw { panel_shown } => running.panel_shown = panel_shown,
+                Next::Done => {
+                    println!("{}", bench.report());
+                    return event_loop.exit();
+                }
+            }
+        }
         if let Err(e) = running.frame(frozen) {
             return self.fail(event_loop, e);
         }
