@@ -70,7 +70,8 @@ impl PanelBench {
         Next::Draw { panel_shown: show }
     }
 
-    /// "panel shown: min … median … ms/frame; hidden: …; shown/hidden: … (medians)".
+    /// "K frames each, in runs of 50: panel shown min … median … ms/frame; hidden min … median …
+    /// ms/frame; shown/hidden R (medians)".
     pub fn report(&self) -> String {
         let (shown_min, shown_median) = min_median(&self.shown);
         let (hidden_min, hidden_median) = min_median(&self.hidden);

@@ -35,7 +35,7 @@ pub struct GlWindow {
     surface: Surface<WindowSurface>,
     context: PossiblyCurrentContext,
     /// The drawable's size, at least 1×1, as the last `Resized` event gave it: asking the window
-    /// instead is a round trip to the X server each time (about 0.1 ms under Xvfb).
+    /// instead is a round trip to the X server each time (about 0.15 ms under Xvfb).
     size: (u32, u32),
     pub window: Window,
 }

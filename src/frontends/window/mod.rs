@@ -190,7 +190,7 @@ struct Running {
 
 /// egui's input for the panel's next frame: what `egui_winit::State::take_egui_input` gives, but
 /// for the window's `size` as its last `Resized` event gave it, where that function asks the X server
-/// each frame (a round trip: 0.15 ms a frame under Xvfb, half of what the shown panel cost).
+/// each frame (a round trip: 0.15 ms a frame under Xvfb).
 fn take_panel_input(
     state: &mut egui_winit::State,
     window: &winit::window::Window,
