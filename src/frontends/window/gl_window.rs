@@ -3,6 +3,7 @@
 
 use std::cell::RefCell;
 use std::ffi::{CStr, CString};
+use std::num::NonZeroU32;
 
 use glow::HasContext;
 use glutin::config::{Config, ConfigTemplateBuilder, GlConfig};
@@ -34,9 +35,6 @@ pub struct GlWindow {
     samples: i32,
     surface: Surface<WindowSurface>,
     context: PossiblyCurrentContext,
-    /// The drawable's size, at least 1×1, as the last `Resized` event gave it: asking the window
-    /// instead is a round trip to the X server each time (about 0.15 ms under Xvfb).
-    size: (u32, u32),
     pub window: Window,
 }
 
@@ -101,14 +99,12 @@ impl GlWindow {
             config.num_samples(),
             config.depth_size()
         );
-        let size = at_least_one(window.inner_size());
         Ok(GlWindow {
             gl,
             info,
             samples,
             surface,
             context,
-            size,
             window,
         })
     }
@@ -124,14 +120,20 @@ impl GlWindow {
         })
     }
 
-    /// The drawable size, at least 1×1.
+    /// The drawable size, at least 1×1. Under X this asks the server (a round trip, about 0.15 ms
+    /// under Xvfb): each frame asks once, which also finds a window another program destroyed
+    /// before a swap draws into it (Mesa's swap to a destroyed window crashes the process); what
+    /// else needs the size in that frame takes the frame's.
     pub fn size(&self) -> (u32, u32) {
-        self.size
+        let size = self.window.inner_size();
+        (
+            NonZeroU32::new(size.width).map_or(1, |v| v.get()),
+            NonZeroU32::new(size.height).map_or(1, |v| v.get()),
+        )
     }
 
-    /// The surface follows the window's new `size` (from its `Resized` event).
-    pub fn resize(&mut self, size: PhysicalSize<u32>) {
-        self.size = at_least_one(size);
+    /// The surface follows the window's new size.
+    pub fn resize(&self) {
         self.window.resize_surface(&self.surface, &self.context);
     }
 
@@ -208,9 +210,4 @@ fn build_window(
     }
     let window = window.ok_or_else(|| Error::Window("it could not be created".into()))?;
     Ok((window, config))
-}
-
-/// `size`, with a side of 0 (a minimised window) as 1.
-fn at_least_one(size: PhysicalSize<u32>) -> (u32, u32) {
-    (size.width.max(1), size.height.max(1))
 }

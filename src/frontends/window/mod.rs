@@ -189,8 +189,8 @@ struct Running {
 }
 
 /// egui's input for the panel's next frame: what `egui_winit::State::take_egui_input` gives, but
-/// for the window's `size` as its last `Resized` event gave it, where that function asks the X server
-/// each frame (a round trip: 0.15 ms a frame under Xvfb).
+/// for the `size` the frame was drawn at, where that function asks the X server again (a round
+/// trip: 0.15 ms a frame under Xvfb).
 fn take_panel_input(
     state: &mut egui_winit::State,
     window: &winit::window::Window,
@@ -260,7 +260,7 @@ impl Running {
             return;
         };
         let window = &self.gl_window.window;
-        let size = self.gl_window.size();
+        let size = self.renderer.frame_size();
         let input = take_panel_input(state, window, size, self.started);
         let info = self.renderer.panel_info();
         let (output, actions) = panel.run(
@@ -330,6 +330,16 @@ impl Running {
             .frame(&self.gl_window, &mut self.input, frozen)
     }
 
+    /// A frame drawn to be read back for a screenshot: the scene's alone, or with the panel over
+    /// it (`with_panel`: the window as shown).
+    fn frame_to_save(&mut self, frozen: bool, with_panel: bool) -> Result<()> {
+        self.frame(frozen)?;
+        if with_panel {
+            self.paint_panel();
+        }
+        Ok(())
+    }
+
     /// A file dropped on the window (an .obj: `--model`); an error (an unreadable model, another
     /// kind of file) is logged and the scene stays.
     fn open_file(&mut self, path: &Path) {
@@ -375,13 +385,9 @@ impl Running {
             KeyCode::KeyP => {
                 // The frame on screen is the front buffer: draw it again and read it back, before
                 // the panel is painted over it (P), or after (Ctrl+P: the window as shown).
-                let with_panel = self.ctrl_held;
-                let saved = self.frame(true).and_then(|()| {
-                    if with_panel {
-                        self.paint_panel();
-                    }
-                    self.renderer.save_numbered(&self.gl_window)
-                });
+                let saved = self
+                    .frame_to_save(true, self.ctrl_held)
+                    .and_then(|()| self.renderer.save_numbered(&self.gl_window));
                 if let Err(e) = saved {
                     log::error!("{e}");
                 }
@@ -524,7 +530,7 @@ impl ApplicationHandler for App {
             }
             WindowEvent::DroppedFile(path) => running.open_file(&path),
             WindowEvent::Resized(size) => {
-                running.gl_window.resize(size);
+                running.gl_window.resize();
                 log::debug!("resized to {}x{}", size.width, size.height);
             }
             _ => {}
@@ -545,13 +551,9 @@ impl ApplicationHandler for App {
             self.options.screenshot.clone(),
             self.options.frames,
         ) {
-            let with_panel = self.options.panel;
-            let saved = running.frame(false).and_then(|()| {
-                if with_panel {
-                    running.paint_panel();
-                }
-                renderer::save(&running.gl_window, &path)
-            });
+            let saved = running
+                .frame_to_save(false, self.options.panel)
+                .and_then(|()| renderer::save(&running.gl_window, &path));
             if let Err(e) = saved {
                 self.outcome = Err(e);
             }

@@ -26,6 +26,8 @@ pub struct Renderer {
     timer: FrameTimer,
     /// The last "ms/frame" figure, kept for the title.
     ms_per_frame: Option<f64>,
+    /// The size the last frame was drawn at (asked of the window once a frame).
+    frame_size: (u32, u32),
     /// The title the window has now (set again only when it changes).
     shown_title: String,
     screenshots_taken: u32,
@@ -55,6 +57,7 @@ impl Renderer {
             frames_drawn: 0,
             timer: FrameTimer::new(),
             ms_per_frame: None,
+            frame_size: gl_window.size(),
             shown_title: String::new(),
             screenshots_taken: 0,
             shader_error: None,
@@ -98,6 +101,11 @@ impl Renderer {
         Ok(())
     }
 
+    /// The size the last frame was drawn at.
+    pub fn frame_size(&self) -> (u32, u32) {
+        self.frame_size
+    }
+
     /// What the panel shows of the window's own figures.
     pub fn panel_info(&self) -> PanelInfo {
         PanelInfo {
@@ -134,6 +142,7 @@ impl Renderer {
         }
         let frame_input = input.take_frame_input(frozen);
         let size = gl_window.size();
+        self.frame_size = size;
         // The viewport and the projection's aspect follow the window (1024×768 is the tutorial's 4:3).
         input.controls.set_viewport(size.0, size.1);
         input
