@@ -499,7 +499,12 @@ impl DebugLines {
 
     /// Moves the light's cross to `light_position_worldspace` and makes every line `length` long
     /// (the panel's sliders; the tutorial's length is [`LINE_LENGTH`]).
+    /// Nothing is rebuilt when both are as they are (the panel's "tutorial's values" sets every
+    /// slider, most of them unmoved).
     pub fn reshape(&mut self, light_position_worldspace: Vec3, length: f32) -> Result<()> {
+        if self.shape() == (light_position_worldspace, length) {
+            return Ok(());
+        }
         let mesh = self.source.mesh.clone();
         self.set_source(TbnSource::new(&mesh, light_position_worldspace, length)?)
     }

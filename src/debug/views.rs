@@ -54,7 +54,6 @@ impl ColorView {
         }
     }
 
-    /// All → x → y → z → all.
     /// This view showing `vector` (raw, or (v + 1) / 2 if `mapped`).
     pub fn with_vector(self, vector: DebugVector, mapped: bool) -> Self {
         ColorView {
@@ -64,6 +63,7 @@ impl ColorView {
         }
     }
 
+    /// All → x → y → z → all.
     pub fn next_component(self) -> Self {
         let component = match self.component {
             None => Some(0),

@@ -632,7 +632,6 @@ pub struct PanelKeyRow {
 /// The panel's key list: the rows `--help` and the window print for the scene, the scene's own keys
 /// marked as such (F1 is the panel's own and comes last).
 pub fn panel_key_rows(descriptor: &'static SceneDescriptor) -> Vec<PanelKeyRow> {
-    let scene_keys: Vec<String> = descriptor.keys.iter().map(|k| k.key.to_string()).collect();
     let is_window_key = |key: &str| WINDOW_KEYS.iter().any(|&(k, _)| k == key);
     key_rows(descriptor)
         .into_iter()
@@ -642,7 +641,7 @@ pub fn panel_key_rows(descriptor: &'static SceneDescriptor) -> Vec<PanelKeyRow> 
                 .iter()
                 .find(|k| k.key.to_string() == key && k.help == help)
                 .map(|k| k.key)
-                .filter(|_| scene_keys.contains(&key) && !is_window_key(&key));
+                .filter(|_| !is_window_key(&key));
             PanelKeyRow {
                 key,
                 help,

@@ -658,10 +658,8 @@ impl Cylinder {
     pub fn set_line_length(&mut self, length: f32) -> Result<()> {
         self.line_length = length;
         match &mut self.lines {
-            Some(lines) if lines.shape().1 != length => {
-                lines.reshape(self.tutorial.light_position_worldspace, length)
-            }
-            _ => Ok(()),
+            Some(lines) => lines.reshape(self.tutorial.light_position_worldspace, length),
+            None => Ok(()),
         }
     }
 
@@ -882,8 +880,12 @@ impl Scene for Cylinder {
                 Ok(())
             }
             (None, "TBN line length") => self.set_line_length(value),
-            (None, _) => {
+            (None, "compare split") => {
                 self.compare_view.split = value;
+                Ok(())
+            }
+            (None, other) => {
+                log::warn!("the cylinder has no slider {other:?}");
                 Ok(())
             }
         };
