@@ -134,7 +134,13 @@ pub fn corpus_dir(target: Target) -> PathBuf {
 /// Where `target`'s seeds are: its corpus, and for `obj-tobj` the OBJ and model targets'.
 pub fn seed_dirs(target: Target) -> Vec<PathBuf> {
     match target {
-        Target::ObjTobj => vec![corpus_dir(Target::Obj), corpus_dir(Target::Model)],
+        // Every OBJ the other targets keep, their saved failures too.
+        Target::ObjTobj => vec![
+            corpus_dir(Target::Obj),
+            corpus_dir(Target::Model),
+            regressions_dir(Target::Model),
+            regressions_dir(Target::Pipeline),
+        ],
         _ => vec![corpus_dir(target)],
     }
 }

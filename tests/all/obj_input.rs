@@ -277,32 +277,3 @@ fn the_obj_reader_reads_as_tobj_does() {
         assert_same_as_tobj(text, text.as_bytes());
     }
 }
-
-// Fails if a seed or saved failure of the fuzz harness's OBJ targets reads otherwise than through
-// tobj (the harness's `obj-tobj` target mutates them further).
-#[test]
-fn fuzz_inputs_read_as_tobj_does() {
-    let mut files = 0;
-    for dir in [
-        "corpus/obj",
-        "corpus/model",
-        "regressions/model",
-        "regressions/pipeline",
-    ] {
-        let dir = common::manifest().join("fuzz").join(dir);
-        for entry in std::fs::read_dir(&dir).unwrap() {
-            let path = entry.unwrap().path();
-            let input = std::fs::read(&path).unwrap();
-            // A model's input holds its MTL after a separator line.
-            let text = String::from_utf8_lossy(&input);
-            let (obj, mtl) = text
-                .split_once("#--- fuzz.mtl ---\n")
-                .map_or((input.clone(), Vec::new()), |(o, m)| (o.into(), m.into()));
-            if let Err(difference) = differ_from_tobj(&obj, &mtl) {
-                panic!("{}: {difference}", path.display());
-            }
-            files += 1;
-        }
-    }
-    assert!(files >= 20, "only {files} files");
-}

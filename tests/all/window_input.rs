@@ -74,7 +74,7 @@ fn mouse_look_reset_release_and_grab() {
         "view lit",
         "lines off",
         "tangents tutorial",
-        "Tutorial 13",
+        " | Tutorial 13",
     ] {
         assert!(
             title.contains(part),
@@ -310,10 +310,9 @@ fn over_the_panel_the_sprite_light_stays() {
     xvfb.quit(&mut app);
 }
 
-// Fails if the window's frame does not follow a resize: the window keeps the size its last Resized
-// event gave (asking the X server every frame cost a round trip), so a missed event would leave the
-// viewport and the projection at 1024×768 on an 800×600 window. The frame must then be the headless
-// frame of that size, bit for bit.
+// Fails if the window's frame does not follow a resize (a size kept from before would leave the
+// viewport and the projection at 1024×768 on an 800×600 window): the frame must then be the
+// headless frame of that size, bit for bit.
 #[test]
 fn a_resized_window_draws_the_frame_of_its_new_size() {
     let dir = common::scratch("resize");
