@@ -217,7 +217,9 @@ impl OffscreenTarget {
     ) -> Result<bool> {
         if !info.has_extension(FLIP_Y_EXTENSION) {
             FLIP_Y_MISSING_LOGGED.call_once(|| {
-                log::warn!(
+                // The debug log, not a warning: on such a renderer every headless run would
+                // otherwise start with this line, and a one-line error would become two.
+                log::debug!(
                     "{} has no {FLIP_Y_EXTENSION}: headless frames may differ from a window's in \
                      a few edge pixels",
                     info.renderer

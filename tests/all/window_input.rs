@@ -330,3 +330,61 @@ fn a_resized_window_draws_the_frame_of_its_new_size() {
     );
     xvfb.quit(&mut app);
 }
+
+// Fails if the click that grabs the cursor for mouse look leaves egui holding its button down (its
+// release came while the cursor was grabbed and never reached egui): every later click on the panel
+// would then be ignored, and L's checkbox would not turn the lines on.
+#[test]
+fn after_a_grab_the_panel_still_takes_clicks() {
+    let dir = common::scratch("panel-after-grab");
+    let layout = panel_layout();
+    let xvfb = Xvfb::start();
+    let (mut app, window) = xvfb.open_window::<&str>(&dir, &[]);
+    let settle = || std::thread::sleep(Duration::from_millis(400));
+    // A click on the frame, right of the panel: the cursor is grabbed on the press.
+    xvfb.xdotool(&["mousemove", "--window", &window, "800", "400"]);
+    settle();
+    xvfb.xdotool(&["mousedown", "1"]);
+    settle();
+    xvfb.xdotool(&["mouseup", "1"]);
+    settle();
+    xvfb.xdotool(&["key", "Tab"]);
+    settle();
+    let (x, y) = (layout.lines_checkbox.x, layout.lines_checkbox.y);
+    let (x, y) = (x.round().to_string(), y.round().to_string());
+    xvfb.xdotool(&["mousemove", "--window", &window, &x, &y]);
+    settle();
+    xvfb.xdotool(&["mousedown", "1"]);
+    settle();
+    xvfb.xdotool(&["mouseup", "1"]);
+    wait_for_title(&xvfb, &window, "lines on after a grab", |t| {
+        t.contains("lines on")
+    });
+    xvfb.quit(&mut app);
+}
+
+// Fails if a key held down runs its action again on the X server's auto-repeat: P held for 1.5 s
+// must save one screenshot (the next P the second, with no third), and L held as long must turn the
+// lines on once (an odd number of repeats would leave them off, an even number flicker them).
+#[test]
+fn a_held_key_acts_once() {
+    let dir = common::scratch("held-key");
+    let xvfb = Xvfb::start();
+    let (mut app, window) = xvfb.open_window::<&str>(&dir, &[]);
+    let hold = |key: &str| {
+        xvfb.xdotool(&["keydown", key]);
+        std::thread::sleep(Duration::from_millis(1500));
+        xvfb.xdotool(&["keyup", key]);
+    };
+    hold("p");
+    wait_for("the held P's screenshot", || {
+        dir.join("tutorial13-1.png").exists().then_some(())
+    });
+    hold("l");
+    let title = wait_for_title(&xvfb, &window, "lines on", |t| t.contains("lines on"));
+    std::thread::sleep(Duration::from_millis(500));
+    let now = xvfb.xdotool(&["getwindowname", &window]);
+    assert!(now.contains("lines on"), "{title:?} then {now:?}");
+    xvfb.screenshot(&dir, 2);
+    xvfb.quit(&mut app);
+}

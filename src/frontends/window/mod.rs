@@ -163,6 +163,15 @@ fn is_window_gone(message: &str) -> bool {
     .any(|mark| message.contains(mark))
 }
 
+/// What a key event is to the window: a new press runs the key's action once; a repeat (the key
+/// held down) or a synthetic press (focus gained with the key down) only keeps an arrow key held.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum KeyPress {
+    New,
+    Again,
+    Released,
+}
+
 /// The event handler: routes winit's events to the window, the input state and the renderer.
 struct App {
     options: WindowOptions,
@@ -281,11 +290,26 @@ impl Running {
 
     /// Whether the panel takes this event (a click or a wheel over it), so that the frame does not.
     fn panel_takes(&mut self, event: &WindowEvent) -> bool {
-        let Some((_, state)) = self.panel.as_mut().filter(|_| self.panel_shown) else {
+        let Some((_, state)) = self.panel.as_mut() else {
             return false;
         };
+        // Every button release reaches egui, also one that comes while the cursor is grabbed or
+        // the panel hidden: the click that grabs the cursor went down before the grab, and egui,
+        // never told of its release, would hold the button down and ignore every later click.
+        // egui clicks a widget only on a press and a release over it, so this clicks nothing.
+        if let WindowEvent::MouseInput {
+            state: ElementState::Released,
+            ..
+        } = event
+        {
+            let consumed = state
+                .on_window_event(&self.gl_window.window, event)
+                .consumed;
+            return consumed && self.panel_shown && !self.input.grabbed();
+        }
         // Keys stay the scene's and the window's; a grabbed cursor is mouse look, not a pointer.
-        if matches!(event, WindowEvent::KeyboardInput { .. }) || self.input.grabbed() {
+        let keys = matches!(event, WindowEvent::KeyboardInput { .. });
+        if !self.panel_shown || keys || self.input.grabbed() {
             return false;
         }
         state
@@ -361,15 +385,19 @@ impl Running {
             Ok(()) => {
                 self.grab_cursor(false);
                 self.reset_camera();
-                self.grab_cursor(true);
+                // As at the start: while the panel shows the cursor stays free for it, and a
+                // click on the frame grabs it.
+                if !self.panel_shown {
+                    self.grab_cursor(true);
+                }
             }
             Err(e) => log::error!("{e}"),
         }
     }
 
     /// A key went down or up.
-    fn key(&mut self, event_loop: &ActiveEventLoop, code: KeyCode, pressed: bool) {
-        if self.input.arrow(code, pressed) || !pressed {
+    fn key(&mut self, event_loop: &ActiveEventLoop, code: KeyCode, press: KeyPress) {
+        if self.input.arrow(code, press != KeyPress::Released) || press != KeyPress::New {
             return;
         }
         match code {
@@ -503,10 +531,24 @@ impl ApplicationHandler for App {
                     KeyEvent {
                         physical_key: PhysicalKey::Code(code),
                         state,
+                        repeat,
                         ..
                     },
+                is_synthetic,
                 ..
-            } => running.key(event_loop, code, state == ElementState::Pressed),
+            } => {
+                let pressed = state == ElementState::Pressed;
+                // A key held down repeats, and a window gaining focus with a key down gets a
+                // synthetic press: neither is a new press, so neither runs an action again (a
+                // toggle would flip twice, P would save two screenshots). A held arrow key still
+                // counts as held, and every release is taken.
+                let press = match (pressed, repeat || is_synthetic) {
+                    (true, false) => KeyPress::New,
+                    (true, true) => KeyPress::Again,
+                    (false, _) => KeyPress::Released,
+                };
+                running.key(event_loop, code, press)
+            }
             WindowEvent::CursorMoved { position, .. } => {
                 let at = Vec2::new(position.x as f32, position.y as f32);
                 // Over the panel the cursor is the panel's: to the scene it has left the frame (a

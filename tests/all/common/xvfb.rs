@@ -117,16 +117,22 @@ impl Xvfb {
             .unwrap()
     }
 
-    /// The id of the program's window once it is mapped; fails with the program's stderr if it
-    /// exits first.
+    /// The id of the program's window once it has drawn its first frame (the title then names the
+    /// scene: input sent before that could reach a window whose scene is still loading); fails with
+    /// the program's stderr if it exits first.
     pub fn wait_for_window(&self, app: &mut Child) -> String {
-        wait_for("the window", || {
+        wait_for("the window's first frame", || {
             if app.try_wait().unwrap().is_some() {
                 let (status, stderr) = wait_exit(app);
-                panic!("the program exited ({status}) before its window appeared:\n{stderr}");
+                panic!("the program exited ({status}) before its first frame:\n{stderr}");
             }
             let found = self.xdotool(&["search", "--name", "Tutorial 13"]);
-            found.lines().next().map(str::to_string)
+            let window = found.lines().next()?.to_string();
+            let title = self.xdotool(&["getwindowname", &window]);
+            title
+                .trim_end()
+                .ends_with(" | Tutorial 13")
+                .then_some(window)
         })
     }
 
@@ -154,12 +160,29 @@ impl Xvfb {
 
     /// Presses `keys` (P, or Ctrl+P: the window with its panel) and waits for the numbered
     /// screenshot the window writes into `dir`.
+    /// Fails if the window has saved more screenshots than the `n` asked for so far (one press
+    /// saving two: every later screenshot read would then be one press late).
     pub fn screenshot_with(&self, dir: &Path, n: u32, keys: &str) -> image::RgbImage {
         self.xdotool(&["key", keys]);
         let path = dir.join(format!("tutorial13-{n}.png"));
         // The file appears by rename, so it is whole once it exists.
-        wait_for(&format!("{}", path.display()), || image::open(&path).ok()).into_rgb8()
+        let shot = wait_for(&format!("{}", path.display()), || image::open(&path).ok()).into_rgb8();
+        let saved = numbered_screenshots(dir);
+        assert_eq!(saved, n, "{saved} screenshots saved for {n} presses");
+        shot
     }
+}
+
+/// How many numbered screenshots (tutorial13-N.png) the window has saved into `dir`.
+pub fn numbered_screenshots(dir: &Path) -> u32 {
+    let numbered = |name: &str| {
+        let n = name.strip_prefix("tutorial13-")?.strip_suffix(".png")?;
+        n.parse::<u32>().ok()
+    };
+    std::fs::read_dir(dir)
+        .unwrap()
+        .filter(|e| numbered(&e.as_ref().unwrap().file_name().to_string_lossy()).is_some())
+        .count() as u32
 }
 
 /// Polls `get` every 100 ms until it gives something, or fails after [`STEP_TIMEOUT`].
