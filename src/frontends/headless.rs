@@ -3,15 +3,14 @@
 
 use std::time::Instant;
 
-use glam::Vec2;
 use glow::HasContext;
 
+use super::host::SceneHost;
 use super::panel::{Panel, PanelInfo};
-use crate::common::controls::{Controls, Input};
 use crate::gl::context::HeadlessContext;
 use crate::gl::offscreen::OffscreenTarget;
 use crate::gl::{check_gl_errors, Profile};
-use crate::scenes::{FrameInput, Scene, SceneContext, SceneDescriptor, SceneOptions};
+use crate::scenes::{Scene, SceneContext, SceneDescriptor, SceneOptions};
 use crate::Result;
 
 /// What to render headless.
@@ -43,21 +42,31 @@ impl Default for HeadlessOptions {
     }
 }
 
-/// A ready-to-draw headless set-up: context, target, scene, camera at the tutorial's start.
+/// A ready-to-draw headless set-up: context, target, and the [`SceneHost`] with the scene and its
+/// camera at the start. It derefs to the host, so that tests and tools reach the scene, its camera
+/// and the cursor as the window's own front end does.
 pub struct HeadlessRenderer {
     // Field order is drop order: GL objects go before the context that owns them.
-    pub scene: Box<dyn Scene>,
-    /// Which scene [`HeadlessRenderer::scene`] is.
-    pub descriptor: &'static SceneDescriptor,
-    scene_options: SceneOptions,
+    pub host: SceneHost,
     pub target: OffscreenTarget,
-    pub controls: Controls,
-    /// Where a window's cursor would be (x right, y down, pixels), for scenes that follow it.
-    pub cursor: Option<Vec2>,
     /// The window's panel, drawn over every frame (`--panel`), and the input it gets next frame.
     pub panel: Option<Panel>,
     pub panel_events: Vec<egui::Event>,
     pub context: HeadlessContext,
+}
+
+impl std::ops::Deref for HeadlessRenderer {
+    type Target = SceneHost;
+
+    fn deref(&self) -> &SceneHost {
+        &self.host
+    }
+}
+
+impl std::ops::DerefMut for HeadlessRenderer {
+    fn deref_mut(&mut self) -> &mut SceneHost {
+        &mut self.host
+    }
 }
 
 impl HeadlessRenderer {
@@ -73,76 +82,53 @@ impl HeadlessRenderer {
             context.info(),
             |name| context.get_proc_address(name),
         )?;
-        let scene = build_scene(&context, options.descriptor, &options.scene)?;
-        let controls = scene.start_controls(options.width, options.height);
+        let size = (options.width, options.height);
+        let host = with_scene_context(&context, |c| {
+            SceneHost::new(c, options.descriptor, &options.scene, size)
+        })?;
         Ok(HeadlessRenderer {
-            scene,
-            descriptor: options.descriptor,
-            scene_options: options.scene.clone(),
+            host,
             target,
-            controls,
-            cursor: None,
             panel: None,
             panel_events: Vec::new(),
             context,
         })
     }
 
-    /// Replaces the scene with `name`, built from the same options (the window's scene key). The new
-    /// scene is built first, so a failure leaves the current one in place; the old one's GL objects
-    /// are deleted when it is dropped.
+    /// Enter: the next scene, as the window's Enter ([`SceneHost::next_scene`]).
+    pub fn next_scene(&mut self) -> Result<()> {
+        let (context, host) = (&self.context, &mut self.host);
+        with_scene_context(context, |c| host.next_scene(c))
+    }
+
+    /// Replaces the scene with `name`'s, built from the same options, the camera at its start
+    /// ([`SceneHost::switch_scene`]); a failure leaves the current one in place.
     pub fn switch_scene(&mut self, name: &'static SceneDescriptor) -> Result<()> {
-        self.scene = build_scene(&self.context, name, &self.scene_options)?;
-        self.descriptor = name;
-        Ok(())
+        let (context, host) = (&self.context, &mut self.host);
+        with_scene_context(context, |c| host.switch_scene(c, name))
     }
 
-    /// What the window does with a dropped file ([`crate::scenes::open_file`]): the scene that opens
-    /// it, built with it, and the camera at that scene's start. On an error the current scene stays.
+    /// What the window does with a dropped file ([`SceneHost::open_file`]).
     pub fn open_file(&mut self, path: &std::path::Path) -> Result<()> {
-        let mut options = self.scene_options.clone();
-        let next = crate::scenes::open_file(path, &mut options)?;
-        self.scene = build_scene(&self.context, next, &options)?;
-        self.scene_options = options;
-        self.descriptor = next;
-        let (width, height) = (self.target.width(), self.target.height());
-        self.controls = self.scene.start_controls(width, height);
-        Ok(())
-    }
-
-    /// Reads the scene's shader files again (what the window does when one is saved): on an error the
-    /// scene keeps drawing with the programs it had.
-    pub fn reload_shaders(&mut self) -> Result<()> {
-        self.scene.reload_shaders()
+        let (context, host) = (&self.context, &mut self.host);
+        with_scene_context(context, |c| host.open_file(c, path))
     }
 
     /// The scene as its own type, for tests and tools that reach into it. Panics if the renderer
     /// holds another scene.
-    pub fn scene_mut<S: Scene + 'static>(&mut self) -> &mut S {
-        // `*self.scene`: the scene in the box (the box itself is `Any` too).
-        (*self.scene)
-            .as_any_mut()
-            .downcast_mut()
-            .expect("the renderer holds another scene")
+    pub fn scene_mut<S: Scene>(&mut self) -> &mut S {
+        let name = self.host.descriptor().name;
+        self.host
+            .scene_as()
+            .unwrap_or_else(|| panic!("the renderer holds scene {name}, not the one asked for"))
     }
 
     /// [`HeadlessRenderer::scene_mut`], shared.
-    pub fn scene_ref<S: Scene + 'static>(&self) -> &S {
-        (*self.scene)
-            .as_any()
-            .downcast_ref()
-            .expect("the renderer holds another scene")
-    }
-
-    /// What the scene is given this frame: the camera, the target's size, time frozen at 0.
-    pub fn frame_input(&self) -> FrameInput {
-        FrameInput {
-            projection: self.controls.projection_matrix(),
-            view: self.controls.view_matrix(),
-            cursor: self.cursor,
-            size: (self.target.width(), self.target.height()),
-            time: 0.0,
-        }
+    pub fn scene_ref<S: Scene>(&self) -> &S {
+        let name = self.host.descriptor().name;
+        self.host
+            .scene_as_ref()
+            .unwrap_or_else(|| panic!("the renderer holds scene {name}, not the one asked for"))
     }
 
     /// Draws the window's panel over every frame from now on (`--panel`).
@@ -158,18 +144,17 @@ impl HeadlessRenderer {
     /// One frame with time frozen at 0 and no input, as the original's screenshot test; the panel
     /// over it if it is shown (with [`HeadlessRenderer::panel_events`] as its input).
     pub fn render(&mut self) {
-        self.controls
-            .compute_matrices_from_inputs(&Input::default(), 0.0);
         self.target.bind();
-        let input = self.frame_input();
-        self.scene.draw(&input);
+        let size = (self.target.width(), self.target.height());
+        self.host.set_size(size);
+        let input = self.host.draw(0.0, 0.0, true);
         if let Some(panel) = &mut self.panel {
             let mut panel_input = Panel::headless_input(input.size);
             panel_input.events = std::mem::take(&mut self.panel_events);
             let (output, _) = panel.run(
                 panel_input,
-                self.descriptor,
-                &mut *self.scene,
+                self.host.descriptor(),
+                &mut *self.host.scene,
                 PanelInfo::default(),
             );
             // The scene's viewport (the target's size) is the panel's too.
@@ -210,16 +195,12 @@ impl HeadlessRenderer {
     }
 }
 
-fn build_scene(
-    context: &HeadlessContext,
-    name: &'static SceneDescriptor,
-    options: &SceneOptions,
-) -> Result<Box<dyn Scene>> {
+/// `f` with the scene context of the headless `context`.
+fn with_scene_context<T>(context: &HeadlessContext, f: impl FnOnce(&SceneContext) -> T) -> T {
     let loader = |symbol: &std::ffi::CStr| context.get_proc_address(symbol);
-    let scene_context = SceneContext {
+    f(&SceneContext {
         gl: context.gl(),
         info: context.info(),
         loader: &loader,
-    };
-    (name.build)(&scene_context, options)
+    })
 }

@@ -4,6 +4,7 @@
 //! window's pixels.
 
 pub mod headless;
+pub mod host;
 pub mod panel;
 pub mod window;
 

@@ -388,3 +388,43 @@ fn a_held_key_acts_once() {
     xvfb.screenshot(&dir, 2);
     xvfb.quit(&mut app);
 }
+
+// Fails if Enter does not do the same in the window as headless: both move the camera first (an
+// arrow key held in the window, the camera's position moved headless), then press Enter twice; each
+// must then draw the cube's first frame, bit for bit, with the camera back at the cube's start.
+#[test]
+fn enter_does_the_same_in_the_window_and_headless() {
+    let dir = common::scratch("enter");
+    let mut headless = HeadlessRenderer::new(&HeadlessOptions::default()).unwrap();
+    headless.controls.position.z += 2.0;
+    headless.next_scene().unwrap();
+    headless.next_scene().unwrap();
+    assert_eq!(headless.descriptor().name, "cube");
+    let headless_cube = image::DynamicImage::from(headless.render_frames(1).unwrap()).into_rgb8();
+    let cube_start = common::headless_screenshot(&dir, "cube.png", &["--scene", "cube"]);
+    assert!(
+        headless_cube == cube_start,
+        "headless Enter kept the camera it had"
+    );
+
+    let xvfb = Xvfb::start();
+    let (mut app, window) = xvfb.open_window::<&str>(&dir, &[]);
+    xvfb.xdotool(&["keydown", "Up"]);
+    std::thread::sleep(Duration::from_millis(400));
+    xvfb.xdotool(&["keyup", "Up"]);
+    assert!(
+        xvfb.screenshot(&dir, 1) != headless_first_frame(&dir),
+        "the arrow key did not move the camera"
+    );
+    xvfb.xdotool(&["key", "Return"]);
+    wait_for_title(&xvfb, &window, "the sprite", |t| t.starts_with("sprite:"));
+    xvfb.xdotool(&["key", "Return"]);
+    wait_for_title(&xvfb, &window, "the cube", |t| t.starts_with("cube:"));
+    let shot = xvfb.screenshot(&dir, 2);
+    assert!(
+        shot == headless_cube,
+        "{} pixels differ from headless Enter's cube",
+        common::differing_pixels(&shot, &headless_cube)
+    );
+    xvfb.quit(&mut app);
+}

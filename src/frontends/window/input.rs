@@ -1,74 +1,42 @@
-//! What the user's hands are doing: the tutorial's camera and arrow keys, the cursor (position, and
-//! whether it is grabbed for mouse look), and which scene key a key code is.
+//! What the user's hands are doing that only a window has: whether the cursor is grabbed for mouse
+//! look, which arrow key a key code is, and which scene key.
 
-use glam::Vec2;
 use winit::keyboard::KeyCode;
 use winit::window::{CursorGrabMode, Window};
 
-use crate::common::controls::{Controls, Input};
-use crate::scenes::{MouseMode, Scene};
+use crate::frontends::host::Arrow;
+use crate::scenes::MouseMode;
 
-/// The camera and the input that moves it.
+/// Whether the cursor is grabbed (and hidden) for the tutorial's mouse look.
 #[derive(Default)]
-pub struct InputState {
-    /// The tutorial's `computeMatricesFromInputs` state.
-    pub controls: Controls,
-    /// Arrow keys held and mouse motion since the last frame.
-    pub input: Input,
-    /// The cursor in window pixels, for scenes that follow it.
-    pub cursor: Option<Vec2>,
-    /// The cursor is grabbed and hidden for mouse look (only in a scene that wants it).
+pub struct CursorGrab {
     grabbed: bool,
 }
 
-impl InputState {
-    /// An arrow key went down or up; `false` for any other key.
-    pub fn arrow(&mut self, code: KeyCode, pressed: bool) -> bool {
-        let held = match code {
-            KeyCode::ArrowUp => &mut self.input.up,
-            KeyCode::ArrowDown => &mut self.input.down,
-            KeyCode::ArrowLeft => &mut self.input.left,
-            KeyCode::ArrowRight => &mut self.input.right,
-            _ => return false,
-        };
-        *held = pressed;
-        true
+/// The arrow key a key code is.
+pub fn arrow(code: KeyCode) -> Option<Arrow> {
+    match code {
+        KeyCode::ArrowUp => Some(Arrow::Up),
+        KeyCode::ArrowDown => Some(Arrow::Down),
+        KeyCode::ArrowLeft => Some(Arrow::Left),
+        KeyCode::ArrowRight => Some(Arrow::Right),
+        _ => None,
     }
+}
 
-    /// Raw mouse motion: the same pixel deltas the tutorial reads after re-centring the cursor,
-    /// counted only while the cursor is grabbed (a released cursor moves without turning the camera).
-    pub fn mouse_motion(&mut self, (dx, dy): (f64, f64)) {
-        if self.grabbed {
-            self.input.mouse_dx += dx;
-            self.input.mouse_dy += dy;
-        }
-    }
-
+impl CursorGrab {
     /// Whether the cursor is grabbed for mouse look.
     pub fn grabbed(&self) -> bool {
         self.grabbed
     }
 
-    /// The camera back at the start of `scene` (the tutorial's, or framing the scene's model) for
-    /// the window's `size`.
-    pub fn reset_camera(&mut self, scene: &dyn Scene, size: (u32, u32)) {
-        self.controls = scene.start_controls(size.0, size.1);
-    }
-
-    /// This frame's input (none while time is frozen); the motion is consumed.
-    pub fn take_frame_input(&mut self, frozen: bool) -> Input {
-        let input = if frozen { Input::default() } else { self.input };
-        self.input.mouse_dx = 0.0;
-        self.input.mouse_dy = 0.0;
-        input
-    }
-
     /// Grabs (and hides) the cursor for mouse look, or releases it; a scene that follows the
-    /// absolute cursor is never grabbed. Says so only when the grab changes.
-    pub fn set_cursor_grab(&mut self, window: &Window, grab: bool, mode: MouseMode) {
+    /// absolute cursor is never grabbed. Says so only when the grab changes, and returns whether it
+    /// did (the motion sent before then is not mouse look).
+    pub fn set(&mut self, window: &Window, grab: bool, mode: MouseMode) -> bool {
         let grab = grab && mode == MouseMode::Look;
         if grab == self.grabbed {
-            return;
+            return false;
         }
         if grab {
             let grabbed = window
@@ -90,9 +58,8 @@ impl InputState {
             }
         }
         window.set_cursor_visible(!grab);
-        self.input.mouse_dx = 0.0;
-        self.input.mouse_dy = 0.0;
         self.grabbed = grab;
+        true
     }
 }
 

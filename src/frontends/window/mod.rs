@@ -35,7 +35,7 @@ use crate::{Error, Result};
 use bench::{Next, PanelBench};
 use gl_window::GlWindow;
 pub use input::key_char;
-use input::InputState;
+use input::CursorGrab;
 use renderer::Renderer;
 
 /// The original's window title, until the first frame names the scene.
@@ -184,7 +184,8 @@ struct App {
 /// panel's GL objects first, then the window with its surface and context.
 struct Running {
     renderer: Renderer,
-    input: InputState,
+    /// Whether the cursor is grabbed for mouse look.
+    grab: CursorGrab,
     /// The panel (`None` if its painter could not be built: the window runs without it) and
     /// egui's winit glue, which turns the window's events into the panel's input.
     panel: Option<(Panel, egui_winit::State)>,
@@ -243,20 +244,19 @@ impl Running {
         };
         let mut running = Running {
             renderer,
-            input: InputState::default(),
+            grab: CursorGrab::default(),
             panel_shown: panel.is_some(),
             panel,
             ctrl_held: false,
             started: Instant::now(),
             gl_window,
         };
-        running.reset_camera();
         // With the panel shown the cursor starts free, so that the panel can be clicked; a click on
         // the frame grabs it for mouse look, as it does after Tab.
         if options.frames.is_none() && !running.panel_shown {
             running.grab_cursor(true);
         } else if options.frames.is_none()
-            && running.renderer.descriptor.mouse_mode == MouseMode::Look
+            && running.renderer.host.descriptor().mouse_mode == MouseMode::Look
         {
             log::info!("click the frame to look around (F1 hides the panel)");
         }
@@ -272,17 +272,13 @@ impl Running {
         let size = self.renderer.frame_size();
         let input = take_panel_input(state, window, size, self.started);
         let info = self.renderer.panel_info();
-        let (output, actions) = panel.run(
-            input,
-            self.renderer.descriptor,
-            &mut *self.renderer.scene,
-            info,
-        );
+        let host = &mut self.renderer.host;
+        let (output, actions) = panel.run(input, host.descriptor(), &mut *host.scene, info);
         if !actions.is_empty() {
             log::debug!("panel: {actions:?}");
         }
         // The cursor's shape is egui's only while it is free (a grabbed cursor stays hidden).
-        if let (PanelFrame::Laid(output), false) = (&output, self.input.grabbed()) {
+        if let (PanelFrame::Laid(output), false) = (&output, self.grab.grabbed()) {
             state.handle_platform_output(window, output.platform_output.clone());
         }
         panel.paint(size, output);
@@ -305,11 +301,11 @@ impl Running {
             let consumed = state
                 .on_window_event(&self.gl_window.window, event)
                 .consumed;
-            return consumed && self.panel_shown && !self.input.grabbed();
+            return consumed && self.panel_shown && !self.grab.grabbed();
         }
         // Keys stay the scene's and the window's; a grabbed cursor is mouse look, not a pointer.
         let keys = matches!(event, WindowEvent::KeyboardInput { .. });
-        if !self.panel_shown || keys || self.input.grabbed() {
+        if !self.panel_shown || keys || self.grab.grabbed() {
             return false;
         }
         state
@@ -336,22 +332,15 @@ impl Running {
         );
     }
 
-    /// The camera at the current scene's start, for the window's size.
-    fn reset_camera(&mut self) {
-        let size = self.gl_window.size();
-        let scene = &*self.renderer.scene;
-        self.input.reset_camera(scene, size);
-    }
-
     fn grab_cursor(&mut self, grab: bool) {
-        let mode = self.renderer.descriptor.mouse_mode;
-        self.input
-            .set_cursor_grab(&self.gl_window.window, grab, mode);
+        let mode = self.renderer.host.descriptor().mouse_mode;
+        if self.grab.set(&self.gl_window.window, grab, mode) {
+            self.renderer.host.forget_motion();
+        }
     }
 
     fn frame(&mut self, frozen: bool) -> Result<()> {
-        self.renderer
-            .frame(&self.gl_window, &mut self.input, frozen)
+        self.renderer.frame(&self.gl_window, frozen)
     }
 
     /// A frame drawn to be read back for a screenshot: the scene's alone, or with the panel over
@@ -373,18 +362,16 @@ impl Running {
 
     /// Enter: the next scene.
     fn next_scene(&mut self) {
-        let next = crate::scenes::next(self.renderer.descriptor);
-        let switched = self.renderer.switch_scene(&self.gl_window, next);
+        let switched = self.renderer.next_scene(&self.gl_window);
         self.start_scene(switched);
     }
 
-    /// After the renderer built another scene (or failed to): the camera at its start and the
-    /// cursor as it wants it, or the error logged.
+    /// After the host built another scene (its camera at the start) or failed to: the cursor as
+    /// the new scene wants it, or the error logged.
     fn start_scene(&mut self, built: Result<()>) {
         match built {
             Ok(()) => {
                 self.grab_cursor(false);
-                self.reset_camera();
                 // As at the start: while the panel shows the cursor stays free for it, and a
                 // click on the frame grabs it.
                 if !self.panel_shown {
@@ -397,7 +384,10 @@ impl Running {
 
     /// A key went down or up.
     fn key(&mut self, event_loop: &ActiveEventLoop, code: KeyCode, press: KeyPress) {
-        if self.input.arrow(code, press != KeyPress::Released) || press != KeyPress::New {
+        if let Some(arrow) = input::arrow(code) {
+            return self.renderer.host.arrow(arrow, press != KeyPress::Released);
+        }
+        if press != KeyPress::New {
             return;
         }
         match code {
@@ -407,7 +397,7 @@ impl Running {
             KeyCode::F5 => self.renderer.reload_shaders(),
             KeyCode::F1 => self.toggle_panel(),
             KeyCode::KeyR => {
-                self.reset_camera();
+                self.renderer.host.reset_camera();
                 log::info!("camera back at the start");
             }
             KeyCode::KeyP => {
@@ -430,9 +420,9 @@ impl Running {
 
     /// A left click: grabs the cursor for mouse look, or goes to a scene that uses the cursor.
     fn click(&mut self) {
-        match self.renderer.descriptor.mouse_mode {
+        match self.renderer.host.descriptor().mouse_mode {
             MouseMode::Look => self.grab_cursor(true),
-            MouseMode::Cursor => self.renderer.scene.click(),
+            MouseMode::Cursor => self.renderer.host.click(),
         }
     }
 }
@@ -553,9 +543,9 @@ impl ApplicationHandler for App {
                 let at = Vec2::new(position.x as f32, position.y as f32);
                 // Over the panel the cursor is the panel's: to the scene it has left the frame (a
                 // light that follows it stays where it was).
-                running.input.cursor = Some(at).filter(|&at| !running.over_panel(at));
+                running.renderer.host.cursor = Some(at).filter(|&at| !running.over_panel(at));
             }
-            WindowEvent::CursorLeft { .. } => running.input.cursor = None,
+            WindowEvent::CursorLeft { .. } => running.renderer.host.cursor = None,
             WindowEvent::Focused(false) => running.grab_cursor(false),
             WindowEvent::MouseInput {
                 state: ElementState::Pressed,
@@ -568,7 +558,7 @@ impl ApplicationHandler for App {
                     // Touchpads report pixels; about 20 make one notch of a wheel.
                     MouseScrollDelta::PixelDelta(p) => p.y as f32 / 20.0,
                 };
-                running.renderer.scene.scroll(notches);
+                running.renderer.host.scroll(notches);
             }
             WindowEvent::DroppedFile(path) => running.open_file(&path),
             WindowEvent::Resized(size) => {
@@ -582,7 +572,11 @@ impl ApplicationHandler for App {
     fn device_event(&mut self, _: &ActiveEventLoop, _: DeviceId, event: DeviceEvent) {
         if let (Some(running), DeviceEvent::MouseMotion { delta }) = (self.running.as_mut(), event)
         {
-            running.input.mouse_motion(delta);
+            // Raw motion turns the camera only while the cursor is grabbed for it (a free cursor
+            // moves over the window and the panel without turning it).
+            if running.grab.grabbed() {
+                running.renderer.host.look(delta);
+            }
         }
     }
 

@@ -3,23 +3,23 @@
 //! given the window's GL and input; it opens nothing itself.
 
 use std::path::{Path, PathBuf};
+
 use std::time::Instant;
 
 use super::gl_window::GlWindow;
-use super::input::InputState;
 use super::TITLE_SHORT;
+use crate::frontends::host::SceneHost;
 use crate::frontends::panel::PanelInfo;
 use crate::frontends::{key_list, FrameTimer, ShaderWatch};
 use crate::gl::check_gl_errors;
 use crate::gl::image::write_screenshot;
-use crate::scenes::{FrameInput, Scene, SceneDescriptor, SceneOptions};
+use crate::scenes::{SceneDescriptor, SceneOptions};
 use crate::{Error, Result};
 
-/// The scene being drawn and what the window keeps about its frames.
+/// The scene's host and what the window keeps about its frames.
 pub struct Renderer {
-    pub scene: Box<dyn Scene>,
-    pub descriptor: &'static SceneDescriptor,
-    scene_options: SceneOptions,
+    /// The scene, its camera and input: every input reaches the scene through it.
+    pub host: SceneHost,
     start: Instant,
     last_time: Instant,
     pub frames_drawn: u32,
@@ -44,61 +44,47 @@ impl Renderer {
         descriptor: &'static SceneDescriptor,
         scene_options: &SceneOptions,
     ) -> Result<Self> {
-        let scene = gl_window.with_scene_context(|c| (descriptor.build)(c, scene_options))?;
-        log::info!("{}", scene.status());
+        let size = gl_window.size();
+        let host =
+            gl_window.with_scene_context(|c| SceneHost::new(c, descriptor, scene_options, size))?;
         let now = Instant::now();
         Ok(Renderer {
-            shader_watch: ShaderWatch::new(&*scene),
-            scene,
-            descriptor,
-            scene_options: scene_options.clone(),
+            shader_watch: ShaderWatch::new(&*host.scene),
+            host,
             start: now,
             last_time: now,
             frames_drawn: 0,
             timer: FrameTimer::new(),
             ms_per_frame: None,
-            frame_size: gl_window.size(),
+            frame_size: size,
             shown_title: String::new(),
             screenshots_taken: 0,
             shader_error: None,
         })
     }
 
-    /// The scene key: builds `next` on this context (the current scene stays if that fails), drops
-    /// the old scene's GL objects, and prints the new scene's keys.
-    pub fn switch_scene(
-        &mut self,
-        gl_window: &GlWindow,
-        next: &'static SceneDescriptor,
-    ) -> Result<()> {
-        let options = self.scene_options.clone();
-        self.install(gl_window, next, options)
-    }
-
-    /// A file dropped on the window: the scene that opens it, with it (see
-    /// [`crate::scenes::open_file`]). On an error the current scene stays.
-    pub fn open_file(&mut self, gl_window: &GlWindow, path: &Path) -> Result<()> {
-        let mut options = self.scene_options.clone();
-        let next = crate::scenes::open_file(path, &mut options)?;
-        self.install(gl_window, next, options)
-    }
-
-    /// Builds `next` with `options` (the current scene stays if that fails) and makes it current.
-    fn install(
-        &mut self,
-        gl_window: &GlWindow,
-        next: &'static SceneDescriptor,
-        options: SceneOptions,
-    ) -> Result<()> {
-        let scene = gl_window.with_scene_context(|c| (next.build)(c, &options))?;
-        self.scene_options = options;
-        self.scene = scene;
-        self.descriptor = next;
-        self.shader_watch = ShaderWatch::new(&*self.scene);
-        self.shader_error = None;
-        println!("{}", key_list(next));
-        log::info!("scene {next}: {}", self.scene.status());
+    /// Enter: the next scene ([`SceneHost::next_scene`]), and its keys printed.
+    pub fn next_scene(&mut self, gl_window: &GlWindow) -> Result<()> {
+        let host = &mut self.host;
+        gl_window.with_scene_context(|c| host.next_scene(c))?;
+        self.scene_changed();
         Ok(())
+    }
+
+    /// A file dropped on the window ([`SceneHost::open_file`]). On an error the current scene
+    /// stays.
+    pub fn open_file(&mut self, gl_window: &GlWindow, path: &Path) -> Result<()> {
+        let host = &mut self.host;
+        gl_window.with_scene_context(|c| host.open_file(c, path))?;
+        self.scene_changed();
+        Ok(())
+    }
+
+    /// Another scene draws: its shader files are watched, and its keys printed.
+    fn scene_changed(&mut self) {
+        self.shader_watch = ShaderWatch::new(&*self.host.scene);
+        self.shader_error = None;
+        println!("{}", key_list(self.host.descriptor()));
     }
 
     /// The size the last frame was drawn at.
@@ -114,57 +100,32 @@ impl Renderer {
         }
     }
 
-    /// A key of the scene's list; the scene's status is logged when it was one.
+    /// A key of the scene's list (an error is logged: the scene stays as it was).
     pub fn scene_key(&mut self, key: char) {
-        match self.scene.key(key) {
-            Ok(true) => log::info!("{}", self.scene.status()),
-            Ok(false) => {}
-            Err(e) => log::error!("{e}"),
+        if let Err(e) = self.host.scene_key(key) {
+            log::error!("{e}");
         }
     }
 
     /// One frame into the back buffer (not yet swapped), with time frozen at 0 if `frozen`.
-    pub fn frame(
-        &mut self,
-        gl_window: &GlWindow,
-        input: &mut InputState,
-        frozen: bool,
-    ) -> Result<()> {
+    pub fn frame(&mut self, gl_window: &GlWindow, frozen: bool) -> Result<()> {
         let now = Instant::now();
-        let delta_time = if frozen {
-            0.0
-        } else {
-            (now - self.last_time).as_secs_f32()
-        };
+        let delta_time = (now - self.last_time).as_secs_f32();
         self.last_time = now;
-        if self.shader_watch.changed(&*self.scene, now) {
+        if self.shader_watch.changed(&*self.host.scene, now) {
             self.reload_shaders();
         }
-        let frame_input = input.take_frame_input(frozen);
         let size = gl_window.size();
         self.frame_size = size;
         // The viewport and the projection's aspect follow the window (1024×768 is the tutorial's 4:3).
-        input.controls.set_viewport(size.0, size.1);
-        input
-            .controls
-            .compute_matrices_from_inputs(&frame_input, delta_time);
+        self.host.set_size(size);
         // SAFETY: a viewport of the window's size on the current context.
         unsafe {
             use glow::HasContext;
             gl_window.gl.viewport(0, 0, size.0 as i32, size.1 as i32)
         };
-        let time = if frozen {
-            0.0
-        } else {
-            (now - self.start).as_secs_f32()
-        };
-        self.scene.draw(&FrameInput {
-            projection: input.controls.projection_matrix(),
-            view: input.controls.view_matrix(),
-            cursor: input.cursor,
-            size,
-            time,
-        });
+        let time = (now - self.start).as_secs_f32();
+        self.host.draw(delta_time, time, frozen);
         check_gl_errors(&gl_window.gl, "frame")?;
         self.frames_drawn += 1;
         if let Some(ms) = self.timer.tick(now) {
@@ -190,8 +151,8 @@ impl Renderer {
             .map_or(String::new(), |e| format!("{e} | "));
         let title = format!(
             "{error}{}: {}{ms} | {TITLE_SHORT}",
-            self.descriptor.name,
-            self.scene.short_status()
+            self.host.descriptor().name,
+            self.host.scene.short_status()
         );
         if title != self.shown_title {
             gl_window.window.set_title(&title);
@@ -203,7 +164,7 @@ impl Renderer {
     /// leaves the last good programs drawing; its driver log goes to stderr and a short line to the
     /// title until a good version is saved.
     pub fn reload_shaders(&mut self) {
-        match self.scene.reload_shaders() {
+        match self.host.reload_shaders() {
             Ok(()) => {
                 log::info!("shaders reloaded");
                 self.shader_error = None;
