@@ -23,7 +23,8 @@ use criterion::{Criterion, SamplingMode};
 use glam::Vec3;
 use tutorial13::common::objloader::{load_obj_bytes, load_obj_bytes_with_tobj, TriangleSoup};
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
-use tutorial13::common::vboindexer::{index_vbo, index_vbo_tbn, IndexOptions};
+use tutorial13::common::vboindexer::IndexOptions;
+use tutorial13::pipeline::indexer::{index_vbo, index_vbo_tbn};
 
 /// One corner as meshoptimizer reads it: the 32 bytes `indexVBO` compares.
 #[repr(C)]
