@@ -12,11 +12,12 @@ mod common;
 use common::{cylinder, spread_soup};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use glam::Vec3;
-use tutorial13::common::objloader::{load_obj, TriangleSoup};
+use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::common::vboindexer::{self, IndexOptions};
 use tutorial13::mesh::{build_mesh, MeshOptions};
 use tutorial13::pipeline::indexer::index_vbo_tbn;
+use tutorial13::pipeline::obj_parse::load_obj;
 use tutorial13::tangents::TangentSource;
 
 fn write_obj(name: &str, segments: u32, rings: u32) -> PathBuf {

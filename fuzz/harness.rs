@@ -18,7 +18,7 @@ use std::time::{Duration, Instant};
 
 use glam::Vec3;
 
-use tutorial13::common::objloader::{differ_from_tobj, load_obj_bytes, TriangleSoup};
+use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::common::texture::{dxt_level_size, read_bmp_bytes, read_dds_bytes};
 use tutorial13::common::vboindexer::{self, IndexOptions, IndexedMesh};
@@ -28,6 +28,9 @@ use tutorial13::normalmap::{decode_image, normal_map, HeightMap, Kernel, NormalM
 use tutorial13::photo::{height_from_photo, Photo};
 use tutorial13::photometric::{recover, PhotometricOptions};
 use tutorial13::pipeline::indexer::index_vbo_tbn;
+use tutorial13::pipeline::obj_parse::load_obj_bytes;
+
+use crate::differential::differ_from_tobj;
 
 /// What is fuzzed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

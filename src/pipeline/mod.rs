@@ -5,5 +5,7 @@
 //! | module          | ports                                  | how                                  |
 //! |-----------------|----------------------------------------|--------------------------------------|
 //! | [`indexer`]     | `indexVBO_TBN`, `indexVBO`             | exact numbering, then a hash grid    |
+//! | [`obj_parse`]   | `loadOBJ`                              | the file's lines split over the cores |
 
 pub mod indexer;
+pub mod obj_parse;

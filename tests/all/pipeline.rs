@@ -5,13 +5,14 @@ use std::path::Path;
 
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
-use tutorial13::common::objloader::{load_obj, load_obj_bytes, TriangleSoup};
+use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
 use tutorial13::common::vboindexer::{self, IndexOptions, Indices};
 use tutorial13::mesh::{
     build_mesh, charted_cylinder_obj_text, grid_cylinder_obj_text, MeshOptions,
 };
 use tutorial13::pipeline::indexer::index_vbo;
+use tutorial13::pipeline::obj_parse::{load_obj, load_obj_bytes};
 use tutorial13::scenes::cylinder::tutorial13::load_mesh;
 
 use crate::common;

@@ -12,7 +12,6 @@ use std::rc::Rc;
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
 
-use crate::common::objloader::{load_obj, TriangleSoup};
 use crate::common::shader::load_program;
 use crate::common::tangentspace::compute_tangent_basis;
 use crate::common::texture::{load_bmp_custom, load_dds, Texture};
@@ -21,6 +20,7 @@ use crate::gl::buffers::MeshBuffers;
 use crate::gl::{bind_textures, Gl};
 use crate::mesh::MeshOptions;
 use crate::Result;
+use crate::{common::objloader::TriangleSoup, pipeline::obj_parse::load_obj};
 use crate::{common::vboindexer::IndexedMesh, pipeline::indexer::index_vbo_tbn};
 
 /// `glClearColor(0.0f, 0.0f, 0.4f, 0.0f)`: dark blue.
