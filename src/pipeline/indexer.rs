@@ -2,10 +2,10 @@
 //! `indexVBO_TBN` and `indexVBO` ([`crate::common::vboindexer`]) to the bit, in expected linear time.
 //!
 //! [`index_vbo_tbn`] works in two passes. First the corners are numbered by their exact bits, as
-//! [`index_vbo`] (and meshoptimizer's remap) does ([`weld`]): a corner equal to an earlier one to the
+//! [`index_vbo`] (and meshoptimizer's remap) does (`weld.rs`): a corner equal to an earlier one to the
 //! bit gets that corner's vertex, which the search would find again. Then, corner by corner in the
 //! tutorial's order, the search (once per distinct corner), the index and the tangent sums. The
-//! search keeps output vertices in a hash grid keyed on their position ([`grid`]: each registered in
+//! search keeps output vertices in a hash grid keyed on their position (`grid.rs`: each registered in
 //! the cells its ±0.01 neighbourhood touches); a corner looks only in its own cell, taking the lowest
 //! matching index, as the tutorial's linear search would.
 //!
