@@ -21,9 +21,11 @@ use std::time::{Duration, Instant};
 use common::{charted_cylinder, cylinder, spread_soup};
 use criterion::{Criterion, SamplingMode};
 use glam::Vec3;
-use tutorial13::common::objloader::{load_obj_bytes, load_obj_bytes_with_tobj, TriangleSoup};
+use tutorial13::common::objloader::{self, TriangleSoup};
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
-use tutorial13::common::vboindexer::{index_vbo, index_vbo_tbn, IndexOptions};
+use tutorial13::common::vboindexer::IndexOptions;
+use tutorial13::pipeline::indexer::{index_vbo, index_vbo_tbn};
+use tutorial13::pipeline::obj_parse::load_obj_bytes;
 
 /// One corner as meshoptimizer reads it: the 32 bytes `indexVBO` compares.
 #[repr(C)]
@@ -153,7 +155,7 @@ fn first_frame(c: &mut Criterion) {
     group.bench_function("obj", |b| b.iter(|| soup_of(&text)));
     let path = Path::new("generated.obj");
     group.bench_function("obj-tobj", |b| {
-        b.iter(|| load_obj_bytes_with_tobj(text.as_bytes(), path).unwrap())
+        b.iter(|| objloader::load_obj_bytes(text.as_bytes(), path).unwrap())
     });
     group.bench_function("tangents", |b| {
         b.iter(|| compute_tangent_basis(&soup, TangentOptions::default()))

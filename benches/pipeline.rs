@@ -12,10 +12,12 @@ mod common;
 use common::{cylinder, spread_soup};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use glam::Vec3;
-use tutorial13::common::objloader::{load_obj, TriangleSoup};
+use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
-use tutorial13::common::vboindexer::{index_vbo_tbn, index_vbo_tbn_linear, IndexOptions};
+use tutorial13::common::vboindexer::{self, IndexOptions};
 use tutorial13::mesh::{build_mesh, MeshOptions};
+use tutorial13::pipeline::indexer::index_vbo_tbn;
+use tutorial13::pipeline::obj_parse::load_obj;
 use tutorial13::tangents::TangentSource;
 
 fn write_obj(name: &str, segments: u32, rings: u32) -> PathBuf {
@@ -60,14 +62,14 @@ fn indexers(c: &mut Criterion) {
             b.iter(|| index_vbo_tbn(&soup, &basis, IndexOptions::default()))
         });
         group.bench_function(BenchmarkId::new("linear", label), |b| {
-            b.iter(|| index_vbo_tbn_linear(&soup, &basis, IndexOptions::default()))
+            b.iter(|| vboindexer::index_vbo_tbn(&soup, &basis, IndexOptions::default()))
         });
     }
     group.finish();
 }
 
 /// The worst case of the position grid (every vertex in one cell) against a mesh of the same size
-/// whose positions are all distinct: issue 8 asks for at most 10× between them.
+/// whose positions are all distinct: the split is meant to keep it within 10× of that.
 fn one_cell(c: &mut Criterion) {
     let mut group = c.benchmark_group("one_cell");
     group

@@ -11,6 +11,8 @@
 //! corpus in fuzz/corpus/ and exit). Failing inputs are saved to fuzz/regressions/<target>/,
 //! which `cargo test` replays. Exit status 1 if anything failed.
 
+#[path = "../tests/support/differential.rs"]
+mod differential;
 #[path = "../fuzz/harness.rs"]
 mod harness;
 

@@ -18,17 +18,19 @@ use std::time::{Duration, Instant};
 
 use glam::Vec3;
 
-use tutorial13::common::objloader::{differ_from_tobj, load_obj_bytes, TriangleSoup};
+use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::common::texture::{dxt_level_size, read_bmp_bytes, read_dds_bytes};
-use tutorial13::common::vboindexer::{
-    index_vbo_tbn, index_vbo_tbn_linear, IndexOptions, IndexedMesh,
-};
+use tutorial13::common::vboindexer::{self, IndexOptions, IndexedMesh};
 use tutorial13::mesh::MeshOptions;
 use tutorial13::model::{load_model_bytes, MapOverrides, Model};
 use tutorial13::normalmap::{decode_image, normal_map, HeightMap, Kernel, NormalMapOptions};
 use tutorial13::photo::{height_from_photo, Photo};
 use tutorial13::photometric::{recover, PhotometricOptions};
+use tutorial13::pipeline::indexer::index_vbo_tbn;
+use tutorial13::pipeline::obj_parse::load_obj_bytes;
+
+use crate::differential::differ_from_tobj;
 
 /// What is fuzzed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -477,7 +479,7 @@ fn check_pipeline(soup: &TriangleSoup) -> Result<(), String> {
         let mesh = index_vbo_tbn(soup, &basis, options.indexing);
         check_indexed(&mesh, corners).map_err(|e| format!("{options:?}: {e}"))?;
         if corners <= LINEAR_REFERENCE_MAX_CORNERS {
-            let reference = index_vbo_tbn_linear(soup, &basis, options.indexing);
+            let reference = vboindexer::index_vbo_tbn(soup, &basis, options.indexing);
             if mesh != reference {
                 return Err(format!(
                     "{options:?}: grid indexer differs from the linear reference"

@@ -3,7 +3,8 @@
 
 use crate::common::objloader::TriangleSoup;
 use crate::common::tangentspace::{compute_tangent_basis, TangentOptions};
-use crate::common::vboindexer::{index_vbo_tbn, IndexOptions, IndexedMesh};
+use crate::common::vboindexer::{IndexOptions, IndexedMesh};
+use crate::pipeline::indexer::index_vbo_tbn;
 
 /// Every switch of the CPU pipeline.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]

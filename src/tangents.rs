@@ -20,8 +20,9 @@ use glam::Vec3;
 use rustc_hash::FxHashMap;
 
 use crate::common::objloader::TriangleSoup;
-use crate::common::vboindexer::{index_vbo, IndexedMesh, Indices};
+use crate::common::vboindexer::{IndexedMesh, Indices};
 use crate::mesh::{build_mesh, MeshOptions};
+use crate::pipeline::indexer::index_vbo;
 use crate::{Error, Result};
 
 /// The three sources, in the order the key steps through them.

@@ -2,20 +2,17 @@
 //!
 //! The tutorial's `loadOBJ` reads `v`, `vt`, `vn` and `f a/b/c a/b/c a/b/c`, then emits three
 //! corners per triangle (position, UV, normal), negating V because its textures are DDS files stored
-//! upside down. Here the project's parse (`parse.rs`, every core) reads the file as tobj
-//! would (polygons triangulated, negative indices resolved) with the checks of what tobj patches
-//! over silently: a face corner without UV or normal (tobj reuses the previous one), index 0 or
-//! out-of-range relative indices. A file it refuses is read by tobj and `check_faces`, whose error
-//! is the one reported.
-
-mod parse;
+//! upside down. Here tobj reads the file (polygons triangulated, negative indices resolved) and the
+//! checks add what tobj patches over silently: a face corner without UV or normal (tobj reuses the
+//! previous one), index 0 or out-of-range relative indices. The program reads files with
+//! [`crate::pipeline::obj_parse`], the same soup to the bit on every core, which leaves the files it
+//! refuses to [`read_obj`] here, so that one set of errors is reported.
 
 use std::path::Path;
 
 use glam::{Vec2, Vec3};
 
 use crate::{Error, Result};
-use parse::Outcome;
 
 /// Three corners per triangle, in file order, as `loadOBJ`'s three output vectors.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -40,23 +37,18 @@ pub fn load_obj(path: &Path) -> Result<TriangleSoup> {
 
 /// [`load_obj`] on bytes already in memory; `path` is only used in error messages.
 pub fn load_obj_bytes(bytes: &[u8], path: &Path) -> Result<TriangleSoup> {
-    let no_materials = |_: &Path| Ok((Vec::new(), Default::default()));
     Ok(read_obj(bytes, path, ObjMode::Tutorial, no_materials)?.soup)
 }
 
-/// [`load_obj_bytes`] through tobj's parse and the checks, the way every file was read before the
-/// project's parse: for the benches' same-run comparison; not part of the tutorial.
-#[doc(hidden)]
-pub fn load_obj_bytes_with_tobj(bytes: &[u8], path: &Path) -> Result<TriangleSoup> {
-    let no_materials = |_: &Path| Ok((Vec::new(), Default::default()));
-    let text = utf8(bytes, path)?;
-    Ok(read_obj_with_tobj(text, path, ObjMode::Tutorial, no_materials)?.soup)
+/// The `.mtl` loader of the tutorial's mode: it never touches the file.
+pub fn no_materials(_: &Path) -> tobj::MTLLoadResult {
+    Ok((Vec::new(), Default::default()))
 }
 
 /// How [`read_obj`] reads a file: as the tutorial's `loadOBJ`, or as a learner's model (the
 /// project's addition, `crate::model`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum ObjMode {
+pub enum ObjMode {
     /// V negated, every corner `v/vt/vn`, the `.mtl` never read.
     Tutorial,
     /// V as written, corners `v/vt` or `v/vt/vn` (normals left out are computed by the caller), the
@@ -66,7 +58,7 @@ pub(crate) enum ObjMode {
 
 /// What [`read_obj`] reads: the soup, and for [`ObjMode::Model`] each triangle's material.
 #[derive(Debug, Default)]
-pub(crate) struct ObjRead {
+pub struct ObjRead {
     pub soup: TriangleSoup,
     /// One per triangle: an index into `materials`, or `None` (no `usemtl`, or an unknown one).
     pub triangle_materials: Vec<Option<usize>>,
@@ -78,67 +70,28 @@ pub(crate) struct ObjRead {
     pub normals_missing: bool,
 }
 
-/// Reads an OBJ in either mode. `materials` loads an `mtllib` (called with the name as written in
-/// the OBJ). The project's parse ([`parse`]) reads the file on every core; a file it
-/// refuses goes to tobj and the checks ([`read_obj_with_tobj`]), whose error is the one reported.
-pub(crate) fn read_obj(
-    bytes: &[u8],
-    path: &Path,
-    mode: ObjMode,
-    materials: impl Fn(&Path) -> tobj::MTLLoadResult,
-) -> Result<ObjRead> {
-    read_obj_in_pieces(bytes, path, mode, materials, None)
-}
-
-/// [`read_obj`], the text cut into `pieces` runs of lines (`None`: one per core).
-fn read_obj_in_pieces(
-    bytes: &[u8],
-    path: &Path,
-    mode: ObjMode,
-    materials: impl Fn(&Path) -> tobj::MTLLoadResult,
-    pieces: Option<usize>,
-) -> Result<ObjRead> {
-    let text = utf8(bytes, path)?;
-    match parse::read(text, path, mode, &materials, pieces) {
-        Outcome::Read(read) => Ok(read),
-        Outcome::LoaderPanicked => Err(obj_error(path, "tobj's parser panicked".into())),
-        Outcome::ReadIfTobjAgrees(mut read) => {
-            let reference = read_obj_with_tobj(text, path, mode, materials)?;
-            read.materials = reference.materials;
-            read.triangle_materials = reference.triangle_materials;
-            Ok(read)
-        }
-        Outcome::Refused => match read_obj_with_tobj(text, path, mode, materials) {
-            Err(e) => Err(e),
-            // Never seen: the fuzz harness's `obj-tobj` target looks for such files.
-            Ok(_) => Err(obj_error(
-                path,
-                "the project's OBJ reader refuses a file tobj reads (please report it)".into(),
-            )),
-        },
-    }
-}
-
-fn obj_error(path: &Path, reason: String) -> Error {
+pub(crate) fn obj_error(path: &Path, reason: String) -> Error {
     Error::Obj {
         path: path.to_path_buf(),
         reason,
     }
 }
 
-fn utf8<'b>(bytes: &'b [u8], path: &Path) -> Result<&'b str> {
+pub(crate) fn utf8<'b>(bytes: &'b [u8], path: &Path) -> Result<&'b str> {
     std::str::from_utf8(bytes)
         .map_err(|e| obj_error(path, format!("not UTF-8 text (byte {})", e.valid_up_to())))
 }
 
-/// tobj's parse with the checks above it, in either mode: the reference [`read_obj`] is tested
-/// against, and the reader of the files it refuses (for their error: their soup is not used).
-pub(crate) fn read_obj_with_tobj(
-    text: &str,
+/// Reads an OBJ in either mode: tobj's parse with the checks below it. `materials` loads an
+/// `mtllib` (called with the name as written in the OBJ). The reference the program's parse
+/// ([`crate::pipeline::obj_parse`]) is tested against, and the reader of the files it refuses.
+pub fn read_obj(
+    bytes: &[u8],
     path: &Path,
     mode: ObjMode,
     materials: impl Fn(&Path) -> tobj::MTLLoadResult,
 ) -> Result<ObjRead> {
+    let text = utf8(bytes, path)?;
     let err = |reason: String| obj_error(path, reason);
     let options = tobj::LoadOptions {
         triangulate: true,
@@ -359,99 +312,6 @@ fn check_corner(
 const NEEDS_UV_AND_NORMAL: &str = "needs a UV and a normal index (v/vt/vn): the tutorial uses both";
 const NEEDS_UV: &str = "needs a texture coordinate index (v/vt or v/vt/vn): normal mapping reads \
                         its maps at each point's UV, and the model has none there";
-
-/// Reads `bytes` in both modes with `read_obj` (one piece per core, and cut into 2 and 5 pieces
-/// whatever its size) and with tobj's parse (`read_obj_with_tobj`), every `mtllib` loaded from
-/// `mtl` by tobj, and names the first difference: in the error, the
-/// soup (to the bit), the materials, each triangle's material, the `.mtl` files loaded and in what
-/// order, and the position indices of a model without normals (each names one position). The
-/// tests and the fuzz harness's `obj-tobj` target run it; not part of the tutorial.
-#[doc(hidden)]
-pub fn differ_from_tobj(bytes: &[u8], mtl: &[u8]) -> std::result::Result<(), String> {
-    use std::cell::RefCell;
-    let path = Path::new("differential.obj");
-    let cases = [ObjMode::Tutorial, ObjMode::Model]
-        .into_iter()
-        .flat_map(|mode| [None, Some(2), Some(5)].map(|pieces| (mode, pieces)));
-    for (mode, pieces) in cases {
-        let mode_name = format!("{mode:?} mode, {pieces:?} pieces");
-        let calls = [RefCell::new(Vec::new()), RefCell::new(Vec::new())];
-        let loader = |k: usize| {
-            let calls = &calls[k];
-            move |name: &Path| {
-                calls.borrow_mut().push(name.to_path_buf());
-                tobj::load_mtl_buf(&mut &mtl[..])
-            }
-        };
-        let own = read_obj_in_pieces(bytes, path, mode, loader(0), pieces);
-        let reference =
-            utf8(bytes, path).and_then(|text| read_obj_with_tobj(text, path, mode, loader(1)));
-        let (own, reference) = match (own, reference) {
-            (Err(a), Err(b)) if a.to_string() == b.to_string() => continue,
-            (Ok(a), Ok(b)) => (a, b),
-            (a, b) => {
-                let show = |r: &Result<ObjRead>| match r {
-                    Ok(read) => format!("{} triangles", read.soup.triangle_count()),
-                    Err(e) => e.to_string(),
-                };
-                return Err(format!(
-                    "{mode_name}: read {} but tobj {}",
-                    show(&a),
-                    show(&b)
-                ));
-            }
-        };
-        let bits3 = |v: &[Vec3]| -> Vec<[u32; 3]> {
-            v.iter().map(|p| p.to_array().map(f32::to_bits)).collect()
-        };
-        let bits2 = |v: &[Vec2]| -> Vec<[u32; 2]> {
-            v.iter().map(|p| p.to_array().map(f32::to_bits)).collect()
-        };
-        let names = |read: &ObjRead| -> Vec<String> {
-            read.materials.iter().map(|m| m.name.clone()).collect()
-        };
-        let differences = [
-            (
-                "positions",
-                bits3(&own.soup.vertices) != bits3(&reference.soup.vertices),
-            ),
-            ("UVs", bits2(&own.soup.uvs) != bits2(&reference.soup.uvs)),
-            (
-                "normals",
-                bits3(&own.soup.normals) != bits3(&reference.soup.normals),
-            ),
-            ("materials", names(&own) != names(&reference)),
-            (
-                "triangle materials",
-                own.triangle_materials != reference.triangle_materials,
-            ),
-            (
-                "missing normals",
-                own.normals_missing != reference.normals_missing,
-            ),
-            ("mtl loads", *calls[0].borrow() != *calls[1].borrow()),
-            (
-                "position indices",
-                own.position_indices.len() != reference.position_indices.len(),
-            ),
-        ];
-        if let Some((what, _)) = differences.iter().find(|(_, differ)| *differ) {
-            return Err(format!("{mode_name}: the {what} differ from tobj's"));
-        }
-        // tobj numbers positions per object, this reader in the whole file: compare what they name.
-        let mut named = std::collections::HashMap::new();
-        for (&index, p) in own.position_indices.iter().zip(&own.soup.vertices) {
-            if *named.entry(index).or_insert(p.to_array().map(f32::to_bits))
-                != p.to_array().map(f32::to_bits)
-            {
-                return Err(format!(
-                    "{mode_name}: position index {index} names two positions"
-                ));
-            }
-        }
-    }
-    Ok(())
-}
 
 #[cfg(test)]
 mod tests {

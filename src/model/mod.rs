@@ -24,7 +24,8 @@ use std::time::Instant;
 
 use glam::{DVec3, Vec3};
 
-use crate::common::objloader::{read_obj, ObjMode, TriangleSoup};
+use crate::common::objloader::{ObjMode, TriangleSoup};
+use crate::pipeline::obj_parse::read_obj;
 use crate::{Error, Result};
 
 /// The centre of the tutorial's cylinder's bounding box: it spans x and z from -1 to 1, y from 0 to 2.
@@ -209,7 +210,7 @@ pub fn load_model_bytes(
             }
         }
     };
-    let read = read_obj(bytes, path, ObjMode::Model, load_mtl)?;
+    let read = read_obj(bytes, path, ObjMode::Model, load_mtl, None)?;
     let start = Instant::now();
     let mut notices = notices.into_inner();
     let material_files = material_files.into_inner();

@@ -411,7 +411,7 @@ fn dds_mortar_lines_up_with_flat_normals() {
 fn bricks_look_raised_with_the_tutorials_tangent_frame() {
     let obj = tutorial_cylinder_obj_text(32);
     let soup =
-        tutorial13::common::objloader::load_obj_bytes(obj.as_bytes(), Path::new("cylinder.obj"))
+        tutorial13::pipeline::obj_parse::load_obj_bytes(obj.as_bytes(), Path::new("cylinder.obj"))
             .expect("cylinder loads");
     let basis = tutorial13::common::tangentspace::compute_tangent_basis(&soup, Default::default());
     let front = (0..soup.vertices.len())

@@ -3,6 +3,8 @@
 //! checks; run one with `cargo test --release -- <module>::` (see the README).
 
 mod common;
+#[path = "../support/differential.rs"]
+mod differential;
 
 mod asset_fallback;
 mod assets;

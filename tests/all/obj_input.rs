@@ -3,7 +3,10 @@
 
 use std::path::Path;
 
-use tutorial13::common::objloader::{differ_from_tobj, load_obj_bytes, TriangleSoup};
+use tutorial13::common::objloader::TriangleSoup;
+use tutorial13::pipeline::obj_parse::load_obj_bytes;
+
+use crate::differential::differ_from_tobj;
 use tutorial13::mesh::{self, build_mesh, MeshOptions};
 use tutorial13::Result;
 

@@ -5,7 +5,8 @@ use glam::{Vec2, Vec3};
 use proptest::prelude::*;
 use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
-use tutorial13::common::vboindexer::{index_vbo_tbn, index_vbo_tbn_linear, IndexOptions};
+use tutorial13::common::vboindexer::{self, IndexOptions};
+use tutorial13::pipeline::indexer::index_vbo_tbn;
 
 use crate::common::{indexers_match_references, mesh_bit_difference};
 
@@ -42,7 +43,7 @@ fn one_position_many_uvs_matches_linear() {
         };
         let basis = basis_for(n);
         let fast = index_vbo_tbn(&soup, &basis, IndexOptions::default());
-        let reference = index_vbo_tbn_linear(&soup, &basis, IndexOptions::default());
+        let reference = vboindexer::index_vbo_tbn(&soup, &basis, IndexOptions::default());
         assert!(fast.vertices.len() > 1000, "{}", fast.vertices.len());
         if let Some(difference) = mesh_bit_difference(&fast, &reference) {
             panic!("at {position}: {difference}");

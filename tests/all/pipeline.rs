@@ -5,12 +5,14 @@ use std::path::Path;
 
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
-use tutorial13::common::objloader::{load_obj, load_obj_bytes, TriangleSoup};
+use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
-use tutorial13::common::vboindexer::{index_vbo, index_vbo_tbn_linear, IndexOptions, Indices};
+use tutorial13::common::vboindexer::{self, IndexOptions, Indices};
 use tutorial13::mesh::{
     build_mesh, charted_cylinder_obj_text, grid_cylinder_obj_text, MeshOptions,
 };
+use tutorial13::pipeline::indexer::index_vbo;
+use tutorial13::pipeline::obj_parse::{load_obj, load_obj_bytes};
 use tutorial13::scenes::cylinder::tutorial13::load_mesh;
 
 use crate::common;
@@ -32,7 +34,7 @@ fn tutorial_cylinder_indexes_to_66_vertices() {
     assert_eq!(mesh.indices.len(), 192);
     assert!(matches!(mesh.indices, Indices::U16(_)));
     let basis = compute_tangent_basis(&soup, TangentOptions::default());
-    let reference = index_vbo_tbn_linear(&soup, &basis, IndexOptions::default());
+    let reference = vboindexer::index_vbo_tbn(&soup, &basis, IndexOptions::default());
     assert_eq!(mesh, reference);
     // Every summed tangent points around the cylinder (perpendicular to the axis and the normal).
     for (t, n) in mesh.tangents.iter().zip(&mesh.normals) {

@@ -4,9 +4,9 @@
 
 use crate::common::*;
 use glam::Vec3;
-use tutorial13::common::objloader::load_obj;
 use tutorial13::debug::lines::LineMode;
 use tutorial13::gl::Profile;
+use tutorial13::pipeline::obj_parse::load_obj;
 
 // Fails if the program does not link in a 3.3 core context, any GL error is raised in a frame, the
 // clear colour is not the tutorial's (0, 0, 0.4), or the cylinder is missing.

@@ -3,10 +3,12 @@
 use std::path::Path;
 
 use glam::{Vec2, Vec3};
-use tutorial13::common::objloader::{load_obj_bytes, TriangleSoup};
+use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::TangentBasis;
-use tutorial13::common::vboindexer::{index_vbo_tbn, index_vbo_tbn_linear, IndexOptions};
+use tutorial13::common::vboindexer::{self, IndexOptions};
 use tutorial13::mesh::{build_mesh, MeshOptions};
+use tutorial13::pipeline::indexer::index_vbo_tbn;
+use tutorial13::pipeline::obj_parse::load_obj_bytes;
 
 /// Every output tangent and bitangent is finite, not zero, and small enough for the shader's
 /// products and squares.
@@ -80,7 +82,7 @@ fn scaled_sums_keep_their_direction() {
     let mesh = index_vbo_tbn(&soup, &basis, IndexOptions::default());
     assert_eq!(
         mesh,
-        index_vbo_tbn_linear(&soup, &basis, IndexOptions::default())
+        vboindexer::index_vbo_tbn(&soup, &basis, IndexOptions::default())
     );
     assert_eq!(mesh.vertices.len(), 1);
     let (t, b) = (mesh.tangents[0], mesh.bitangents[0]);

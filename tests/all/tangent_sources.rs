@@ -11,9 +11,10 @@ use crate::common::{
 };
 use glam::Vec3;
 use image::RgbImage;
-use tutorial13::common::objloader::{load_obj, TriangleSoup};
+use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::mesh::MeshOptions;
+use tutorial13::pipeline::obj_parse::load_obj;
 use tutorial13::tangents::{mikktspace_tangents, TangentSource};
 
 /// The project's textures with `obj` as the mesh.

@@ -15,7 +15,6 @@ use std::rc::Rc;
 use glam::Vec3;
 use glow::HasContext;
 
-use crate::common::objloader::{load_obj, TriangleSoup};
 use crate::common::shader::shader_paths;
 use crate::debug::compare::{CompareMode, CompareView};
 use crate::debug::lines::{DebugLines, LegacyGl, LineMode, LINE_LENGTH, LINE_SHADERS};
@@ -30,6 +29,7 @@ use crate::model::{
 use crate::progress::Progress;
 use crate::tangents::TangentSource;
 use crate::Result;
+use crate::{common::objloader::TriangleSoup, pipeline::obj_parse::load_obj};
 
 use super::scene::{
     clamp_to_slider, drawing_program, handle_key, key_help, point_light_sliders, slide_light,

@@ -12,16 +12,16 @@ use std::rc::Rc;
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
 
-use crate::common::objloader::{load_obj, TriangleSoup};
 use crate::common::shader::load_program;
 use crate::common::tangentspace::compute_tangent_basis;
 use crate::common::texture::{load_bmp_custom, load_dds, Texture};
-use crate::common::vboindexer::{index_vbo_tbn, IndexedMesh};
 use crate::debug::lines::DebugLines;
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::{bind_textures, Gl};
 use crate::mesh::MeshOptions;
 use crate::Result;
+use crate::{common::objloader::TriangleSoup, pipeline::obj_parse::load_obj};
+use crate::{common::vboindexer::IndexedMesh, pipeline::indexer::index_vbo_tbn};
 
 /// `glClearColor(0.0f, 0.0f, 0.4f, 0.0f)`: dark blue.
 pub const CLEAR_COLOR: [f32; 4] = [0.0, 0.0, 0.4, 0.0];

@@ -16,11 +16,10 @@ use tutorial13::assets::{encode_bmp, encode_dds_dxt3};
 use tutorial13::common::controls::Controls;
 use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::TangentBasis;
-use tutorial13::common::vboindexer::{
-    index_vbo, index_vbo_tbn, index_vbo_tbn_linear, IndexOptions, IndexedMesh, Indices,
-};
+use tutorial13::common::vboindexer::{self, IndexOptions, IndexedMesh};
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::gl::{ContextInfo, Profile};
+use tutorial13::pipeline::indexer::{index_vbo, index_vbo_tbn};
 use tutorial13::scenes::cylinder::CylinderOptions;
 use tutorial13::scenes::SceneOptions;
 
@@ -467,13 +466,13 @@ pub fn indexers_match_references(
         normalize_before_sum: normalize,
     };
     let fast = index_vbo_tbn(soup, basis, options);
-    let linear = index_vbo_tbn_linear(soup, basis, options);
+    let linear = vboindexer::index_vbo_tbn(soup, basis, options);
     if let Some(difference) = mesh_bit_difference(&fast, &linear) {
         return Err(TestCaseError::fail(format!(
             "index_vbo_tbn against the linear search: {difference}"
         )));
     }
-    if let Some(difference) = mesh_bit_difference(&index_vbo(soup), &index_vbo_reference(soup)) {
+    if let Some(difference) = mesh_bit_difference(&index_vbo(soup), &vboindexer::index_vbo(soup)) {
         return Err(TestCaseError::fail(format!(
             "index_vbo against the tutorial's map: {difference}"
         )));
@@ -517,32 +516,4 @@ pub fn mesh_bit_difference(a: &IndexedMesh, b: &IndexedMesh) -> Option<String> {
 
 fn floats<T: bytemuck::Pod>(values: &[T]) -> Vec<f32> {
     bytemuck::cast_slice(values).to_vec()
-}
-
-/// The tutorial's `indexVBO`, as written: a map from each corner's bytes (`memcmp` order) to the
-/// first vertex made from it. The reference `index_vbo` is compared with.
-pub fn index_vbo_reference(soup: &TriangleSoup) -> IndexedMesh {
-    let mut mesh = IndexedMesh {
-        indices: Indices::U32(Vec::new()),
-        vertices: Vec::new(),
-        uvs: Vec::new(),
-        normals: Vec::new(),
-        tangents: Vec::new(),
-        bitangents: Vec::new(),
-    };
-    let mut map = std::collections::BTreeMap::new();
-    let mut indices = Vec::new();
-    for i in 0..soup.vertices.len() {
-        let (p, uv, n) = (soup.vertices[i], soup.uvs[i], soup.normals[i]);
-        let bytes: [u8; 32] = bytemuck::cast([p.x, p.y, p.z, uv.x, uv.y, n.x, n.y, n.z]);
-        let index = *map.entry(bytes).or_insert_with(|| {
-            mesh.vertices.push(p);
-            mesh.uvs.push(uv);
-            mesh.normals.push(n);
-            mesh.vertices.len() as u32 - 1
-        });
-        indices.push(index);
-    }
-    mesh.indices = Indices::from_u32(indices, mesh.vertices.len());
-    mesh
 }

@@ -1,5 +1,5 @@
-//! The project's own OBJ parse behind `read_obj`: the file's lines split over the cores, for a
-//! learner's model of a million triangles.
+//! The program's OBJ parse: the file's lines split over the cores, for a learner's model of a
+//! million triangles, with the soup of the tutorial's reader ([`crate::common::objloader`]) to the bit.
 //!
 //! tobj reads one line at a time on one core (a `String` per line, a `Vec` per face, three hash
 //! maps per corner): 0.75 s of a 1M-triangle file's 1.7 s to its first frame. This reader reads the
@@ -10,8 +10,8 @@
 //!
 //! It reads only what it is sure tobj and `objloader`'s checks would read the same way. Anything
 //! else (a malformed line, an index out of range, a used number that is not finite, no faces) it
-//! refuses, and `read_obj` hands the file to tobj and the checks, whose error is the one the user
-//! sees: one set of error messages, however the file was read.
+//! refuses, and [`read_obj`] hands the file to the tutorial's reader, whose error is the one the
+//! user sees: one set of error messages, however the file was read.
 
 use std::collections::HashMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -20,7 +20,53 @@ use std::time::Instant;
 
 use glam::{Vec2, Vec3};
 
-use super::{ObjMode, ObjRead, TriangleSoup};
+use crate::common::objloader::{
+    no_materials, obj_error, read_obj as read_obj_with_tobj, utf8, ObjMode, ObjRead, TriangleSoup,
+};
+use crate::{Error, Result};
+
+/// Reads `path` as the tutorial's `loadOBJ` does ([`crate::common::objloader::load_obj`]), on
+/// every core. Errors name the file and the reason.
+pub fn load_obj(path: &Path) -> Result<TriangleSoup> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    load_obj_bytes(&bytes, path)
+}
+
+/// [`load_obj`] on bytes already in memory; `path` is only used in error messages.
+pub fn load_obj_bytes(bytes: &[u8], path: &Path) -> Result<TriangleSoup> {
+    Ok(read_obj(bytes, path, ObjMode::Tutorial, no_materials, None)?.soup)
+}
+
+/// [`crate::common::objloader::read_obj`] on every core: the same result, or the same error. The
+/// text is cut into `pieces` runs of lines (`None`: one per core, fewer for a small file); the
+/// differential tests cut small files too.
+pub fn read_obj(
+    bytes: &[u8],
+    path: &Path,
+    mode: ObjMode,
+    materials: impl Fn(&Path) -> tobj::MTLLoadResult,
+    pieces: Option<usize>,
+) -> Result<ObjRead> {
+    let text = utf8(bytes, path)?;
+    match read(text, path, mode, &materials, pieces) {
+        Outcome::Read(read) => Ok(read),
+        Outcome::LoaderPanicked => Err(obj_error(path, "tobj's parser panicked".into())),
+        Outcome::ReadIfTobjAgrees(mut read) => {
+            let reference = read_obj_with_tobj(bytes, path, mode, materials)?;
+            read.materials = reference.materials;
+            read.triangle_materials = reference.triangle_materials;
+            Ok(read)
+        }
+        Outcome::Refused => match read_obj_with_tobj(bytes, path, mode, materials) {
+            Err(e) => Err(e),
+            // Never seen: the fuzz harness's `obj-tobj` target looks for such files.
+            Ok(_) => Err(obj_error(
+                path,
+                "the project's OBJ reader refuses a file tobj reads (please report it)".into(),
+            )),
+        },
+    }
+}
 
 /// Files are cut into runs of lines of at least this size: below it a thread costs more than it
 /// saves.
@@ -32,7 +78,7 @@ const NO_NORMAL: u32 = u32::MAX;
 type Corner = [u32; 3];
 
 /// What [`read`] made of a file.
-pub(crate) enum Outcome {
+enum Outcome {
     /// Read as tobj and the checks read it.
     Read(ObjRead),
     /// Read, but only some `v` lines carry a vertex colour: tobj refuses a face whose position
@@ -83,10 +129,10 @@ struct Piece<'a> {
     stop: Option<Stop>,
 }
 
-/// Reads `text` as `read_obj` does with tobj and the face check. `materials` loads an `mtllib`.
-/// `pieces`: how many runs of lines to cut the text into (by default one per core, fewer for a
-/// small file; the differential tests cut small files too).
-pub(crate) fn read(
+/// Reads `text` as the tutorial's reader does with tobj and the face check. `materials` loads an
+/// `mtllib`. `pieces`: how many runs of lines to cut the text into (by default one per core, fewer
+/// for a small file; the differential tests cut small files too).
+fn read(
     text: &str,
     path: &Path,
     mode: ObjMode,
