@@ -64,6 +64,16 @@ pub enum Error {
     /// Writing a generated asset failed for a reason other than I/O (e.g. the encoder refused).
     #[error("{}: cannot write: {reason}", path.display())]
     Write { path: PathBuf, reason: String },
+    /// A command-line value that parses but cannot be used (a folder that is not there, a strength
+    /// that is not a number), found before anything is drawn or written; the message names the flag.
+    #[error("{0}")]
+    Argument(String),
+    /// The frame was drawn but its `--screenshot` could not be written; `error` says why.
+    #[error("cannot save the screenshot")]
+    Screenshot {
+        #[source]
+        error: Box<Error>,
+    },
 }
 
 impl Error {
@@ -78,12 +88,14 @@ impl Error {
             | Error::Image { path, .. }
             | Error::Open { path, .. }
             | Error::Write { path, .. } => Some(path),
+            Error::Screenshot { error } => error.path(),
             Error::WouldOverwrite { paths } => paths.first().map(PathBuf::as_path),
             Error::Context(_)
             | Error::Window(_)
             | Error::Gl { .. }
             | Error::Mesh(_)
-            | Error::Photometric(_) => None,
+            | Error::Photometric(_)
+            | Error::Argument(_) => None,
         }
     }
 

@@ -12,6 +12,7 @@
 //! | debugging aids      | [`debug`]     | the TBN lines (immediate mode and line shader), colour views  |
 //! | scenes              | [`scenes`]    | `tutorial13.rs` (`tutorial13.cpp`), the cylinder scene, the [`scenes::Scene`] seam |
 //! | front ends          | [`frontends`] | the window, headless rendering (`--headless`, `--bench`, tests) |
+//! | commands            | [`tools`]     | what the binary runs: a scene (window or headless), `make-assets`, `normalmap`, `photometric`; `--help`'s layout |
 //!
 //! `docs/reading-guide.md` maps every block of `tutorial13.cpp` and every `common/*.cpp` function to
 //! the Rust that ports it.
@@ -33,5 +34,6 @@ pub mod pipeline;
 pub mod progress;
 pub mod scenes;
 pub mod tangents;
+pub mod tools;
 
 pub use error::{Error, Result};

@@ -1,4 +1,6 @@
-//! The binary's command line (DESIGN.md, "Command-line contract"), run as a user runs it.
+//! The binary's command line, run as a user runs it: its flags and messages (`--help`, with
+//! docs/scenes.md for what the help leaves out), exit status 0 on success, 1 with one line on stderr
+//! for an error, 2 for a usage error (clap's, or a flag of another scene).
 //!
 //! Headless tests need Mesa's EGL + llvmpipe (libegl1, libegl-mesa0, libgl1-mesa-dri); the window test
 //! needs Xvfb and xdotool (Debian packages xvfb, xdotool), which CI installs. Every test works in its
@@ -273,19 +275,18 @@ fn vertex_shader_syntax_error_is_one_line_with_the_driver_log() {
 // ---------------------------------------------------------------------------------------------------
 // 4. --help
 
-// Fails if --help stops exiting 0, drops the key list or any flag of the contract, or opens with
-// another line than the program's own (a doc comment on a scene's Args struct once took its place).
+// Fails if --help stops exiting 0, drops any flag of the contract (every scene's flags included), or
+// opens with another line than the program's own (a doc comment on a flattened Args struct once took
+// its place).
 #[test]
-fn help_lists_the_keys_and_every_flag() {
-    let out = run(tutorial13().arg("--help"));
-    assert_success(&out, "--help");
-    let help = text(&out.stdout);
+fn help_lists_every_flag() {
+    let help = help_text(&["--help"], None);
     assert!(
         help.starts_with("opengl-tutorial.org's Tutorial 13 (Normal Mapping), ported to Rust\n"),
         "--help opens with {:?}",
         help.lines().next()
     );
-    for needle in ["arrow", "Esc", "make-assets"] {
+    for needle in ["make-assets", "normalmap", "photometric", "docs/keys.md"] {
         assert!(
             help.contains(needle),
             "--help does not mention {needle:?}:\n{help}"
@@ -309,6 +310,98 @@ fn help_lists_the_keys_and_every_flag() {
         help.contains("core") && help.contains("compat"),
         "--help does not list the profiles:\n{help}"
     );
+}
+
+/// `tutorial13 ARGS` (which asks for help) with stdout a pipe and `COLUMNS` set to `columns` (or
+/// unset): its stdout, after checking it exited 0.
+fn help_text(args: &[&str], columns: Option<usize>) -> String {
+    let mut command = tutorial13();
+    command.args(args).env_remove("COLUMNS");
+    if let Some(columns) = columns {
+        command.env("COLUMNS", columns.to_string());
+    }
+    let out = run(&mut command);
+    assert_success(&out, &format!("{args:?} at COLUMNS={columns:?}"));
+    text(&out.stdout)
+}
+
+/// `text` with every run of white space one space: a row wrapped onto two lines reads as one.
+fn words(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+// Fails if --help is no longer wrapped to the width it is given when stdout is not a terminal
+// (COLUMNS, else 100; wider terminals get 100), the closing lists included, or if it grows past a few
+// screens (241 lines up to 520 columns before it wrapped and left the scenes' key tables out).
+#[test]
+fn help_fits_the_width_it_is_given() {
+    // (--help, -h, --scene sprite --help): 215, 130 and 116 lines at 100 columns, 238, 161 and 126
+    // at 80; each scene's key table would add 12 to 20.
+    for (columns, width, most_lines) in [
+        (None, 100, [235, 150, 130]),
+        (Some(80), 80, [260, 180, 140]),
+        (Some(100), 100, [235, 150, 130]),
+        (Some(200), 100, [235, 150, 130]),
+    ] {
+        let asks = [&["--help"][..], &["-h"], &["--scene", "sprite", "--help"]];
+        for (args, most_lines) in asks.into_iter().zip(most_lines) {
+            let help = help_text(args, columns);
+            let lines = help.lines().count();
+            println!("{args:?} at COLUMNS={columns:?}: {lines} lines");
+            for line in help.lines() {
+                assert!(
+                    line.chars().count() <= width,
+                    "{args:?} at COLUMNS={columns:?}: a line of {} columns, over {width}:\n{line}",
+                    line.chars().count()
+                );
+            }
+            assert!(
+                lines <= most_lines,
+                "{args:?} at COLUMNS={columns:?}: {lines} lines, over {most_lines}"
+            );
+        }
+    }
+}
+
+// Fails if `--scene NAME --help` does not end with that scene's keys as the window prints them
+// (tutorial13::frontends::key_list), shows another scene's keys or flags, or drops a flag the scene
+// reads; or if the window's own keys (the arrow keys, Esc) are no longer listed there.
+#[test]
+fn scene_help_lists_that_scenes_keys_and_flags_only() {
+    use tutorial13::frontends::key_list;
+    use tutorial13::scenes::{cylinder, sprite};
+    let help = help_text(&["--scene", "sprite", "--help"], None);
+    let (help_words, sprite_keys) = (words(&help), key_list(&sprite::SCENE));
+    for row in sprite_keys.lines() {
+        assert!(
+            help_words.contains(&words(row)),
+            "--scene sprite --help lacks the key row {row:?}:\n{help}"
+        );
+    }
+    for row in key_list(&cylinder::SCENE).lines() {
+        if !sprite_keys.contains(row) {
+            assert!(
+                !help_words.contains(&words(row)),
+                "--scene sprite --help shows the cylinder's key row {row:?}:\n{help}"
+            );
+        }
+    }
+    for flag in ["--green", "--light", "--headless", "--scene"] {
+        assert!(help.contains(flag), "--scene sprite --help lacks {flag}");
+    }
+    for flag in ["--debug-lines", "--space", "Scene cylinder"] {
+        assert!(!help.contains(flag), "--scene sprite --help shows {flag}");
+    }
+    let cylinder = words(&help_text(&["--help", "--scene=cylinder"], None));
+    for needle in ["arrow keys", "Esc", "--debug-lines"] {
+        assert!(
+            cylinder.contains(needle),
+            "--scene cylinder --help does not mention {needle:?}:\n{cylinder}"
+        );
+    }
+    // Plain --help keeps no scene's key table.
+    let plain = words(&help_text(&["--help"], None));
+    assert!(!plain.contains("Keys (window"), "{plain}");
 }
 
 // Fails if a flag of another scene is ignored again (exit 0 and a frame drawn without it), if the

@@ -1,0 +1,79 @@
+//! `tutorial13 photometric`: photos under known lights to a normal map (and albedo) file.
+
+use std::path::PathBuf;
+
+use crate::normalmap::Green;
+use crate::photo::Encoding;
+use crate::photometric::{Job, DEFAULT_SHADOW};
+use crate::Result;
+
+/// Photometric stereo: a normal map (and albedo) from three or more photos under known lights
+///
+/// Photos of a matte surface from one camera position, each lit by one distant light from a
+/// known direction, all equally bright (one lamp at one distance, exposure locked). Photos are
+/// read as sRGB (or --linear) and solved in linear light, Lambert's law by least squares. Per
+/// texel, photos where it is near black (--shadow) or saturated (98 % of full scale) are left
+/// out; texels left with fewer than three, or with lights within 5° of one plane, get the flat
+/// normal and are counted on stderr. Shine, a lamp close to the surface and light bounced
+/// between its parts break the model
+#[derive(clap::Args, Debug, Clone)]
+pub struct PhotometricOptions {
+    /// The photos (PNG, JPEG, TGA or BMP, 8 or 16 bits), all the same size
+    pub photos: Vec<PathBuf>,
+    /// Direction towards the light of each photo, in the photos' order: x to the photo's right,
+    /// y up it, z out of the surface towards the camera; any length (e.g. --light -1,0,1)
+    #[arg(long = "light", value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub lights: Vec<String>,
+    /// Output normal map: .bmp (24-bit, what the tutorial loads) or .png
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+    /// Also write the albedo (the surface's colour without the lighting), .bmp or .png, encoded
+    /// as the photos are
+    #[arg(long, value_name = "FILE")]
+    pub albedo: Option<PathBuf>,
+    /// Green channel up the picture (OpenGL, the tutorial) or down (DirectX)
+    #[arg(long, value_enum, default_value_t = Green::Up)]
+    pub green: Green,
+    /// The photos are linear already (a raw converter's linear output, a render), not sRGB
+    #[arg(long)]
+    pub linear: bool,
+    /// Linear luminance below which a photo's texel counts as shadow and is left out
+    #[arg(long, value_name = "L", default_value_t = DEFAULT_SHADOW)]
+    pub shadow: f32,
+}
+
+/// Solves (see [`crate::photometric::run`]), warns on stderr of the texels left flat, and prints
+/// what was written.
+pub fn photometric(options: &PhotometricOptions) -> Result<()> {
+    let recovered = crate::photometric::run(&Job {
+        photos: &options.photos,
+        lights: &options.lights,
+        output: &options.output,
+        albedo: options.albedo.as_deref(),
+        encoding: if options.linear {
+            Encoding::Linear
+        } else {
+            Encoding::Srgb
+        },
+        green: options.green,
+        shadow: options.shadow,
+    })?;
+    let (w, h, flat) = (recovered.width, recovered.height, recovered.unsolved);
+    if flat > 0 {
+        log::warn!(
+            "{flat} of {} texels kept fewer than three photos (or photos whose lights are \
+             nearly coplanar): flat normal there",
+            w as usize * h as usize
+        );
+    }
+    let albedo = options
+        .albedo
+        .iter()
+        .map(|a| format!(" and {}", a.display()));
+    println!(
+        "wrote {}{} ({w}x{h})",
+        options.output.display(),
+        albedo.collect::<String>()
+    );
+    Ok(())
+}
