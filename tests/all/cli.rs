@@ -1,4 +1,4 @@
-//! The binary's command line (DESIGN.md, "Command-line contract"), run as a user runs it.
+//! The binary's command line, run as a user runs it.
 //!
 //! Headless tests need Mesa's EGL + llvmpipe (libegl1, libegl-mesa0, libgl1-mesa-dri); the window test
 //! needs Xvfb and xdotool (Debian packages xvfb, xdotool), which CI installs. Every test works in its
