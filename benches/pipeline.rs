@@ -67,7 +67,7 @@ fn indexers(c: &mut Criterion) {
 }
 
 /// The worst case of the position grid (every vertex in one cell) against a mesh of the same size
-/// whose positions are all distinct: issue 8 asks for at most 10× between them.
+/// whose positions are all distinct: the target is at most 10× between them.
 fn one_cell(c: &mut Criterion) {
     let mut group = c.benchmark_group("one_cell");
     group

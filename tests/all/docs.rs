@@ -2,7 +2,8 @@
 //! from the scenes' descriptors and must be what the code makes now; every relative link in the
 //! README, BENCHMARKS.md and docs/*.md points at a file (and heading) that exists; the README's
 //! short list of differences from the C++ names every one that docs/differences.md details; the
-//! Rust names those documents mention are defined in the code.
+//! Rust names those documents mention are defined in the code; and no tracked text file cites an
+//! issue by its number, which a reader of the repository cannot look up.
 //!
 //! What the name check does, and what it does not (it reads text; it does not compile anything):
 //! - It reads every `.rs` file under src/, tests/, benches/, fuzz/ and examples/ with comments,
@@ -38,6 +39,7 @@ use std::collections::{HashMap, HashSet};
 use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::process::Command;
 
 use tutorial13::frontends::keys_markdown;
 use tutorial13::scenes::SCENES;
@@ -277,6 +279,102 @@ fn readme_lists_every_difference() {
         "differences in docs/differences.md that the README's list does not link to:\n{}",
         unlisted.join("\n")
     );
+}
+
+// Fails if a tracked `.rs`, `.md` or `.toml` file, or .ci/run, cites an issue by its number
+// ("issue" or "issues", any case, then a number, maybe after `#`): a reader of the repository cannot
+// look the issue up, so the text must say the fact itself.
+#[test]
+fn no_file_cites_an_issue_number() {
+    let cited = |n: &str| format!("see Issue{n} here");
+    assert!(cites_issue(&cited(" 8")) && cites_issue(&cited(" #17")));
+    assert!(cites_issue(&cited("s 8 and 19")) && !cites_issue(&cited("'s target")));
+    assert!(!cites_issue("a tissue 5 cm wide"));
+    let mut citing = Vec::new();
+    for file in text_files() {
+        let Ok(text) = fs::read_to_string(common::manifest().join(&file)) else {
+            continue;
+        };
+        for (number, line) in text.lines().enumerate() {
+            if cites_issue(line) {
+                citing.push(format!(
+                    "{}:{}: {}",
+                    file.display(),
+                    number + 1,
+                    line.trim()
+                ));
+            }
+        }
+    }
+    assert!(
+        citing.is_empty(),
+        "lines that cite an issue by number (say the fact instead):\n{}",
+        citing.join("\n")
+    );
+}
+
+/// Whether `line` has the word "issue" or "issues" (any case) followed by a number, maybe after
+/// spaces, `#`, `-` or `_`.
+fn cites_issue(line: &str) -> bool {
+    let lower = line.to_ascii_lowercase();
+    lower.match_indices("issue").any(|(i, word)| {
+        let starts_word = !lower[..i].ends_with(|c: char| c.is_alphanumeric() || c == '_');
+        let after = &lower[i + word.len()..];
+        let after = after.strip_prefix('s').unwrap_or(after);
+        let number = after.trim_start_matches([' ', '\t', '#', '-', '_']);
+        starts_word && number.starts_with(|c: char| c.is_ascii_digit())
+    })
+}
+
+/// The repository's `.rs`, `.md` and `.toml` files and .ci/run: git's list of tracked files, or,
+/// where git cannot give one (a copy without .git), every such file outside `target/` and hidden
+/// folders other than `.ci/`.
+fn text_files() -> Vec<PathBuf> {
+    let text = |path: &Path| {
+        path == Path::new(".ci/run")
+            || path
+                .extension()
+                .is_some_and(|e| e == "rs" || e == "md" || e == "toml")
+    };
+    let root = common::manifest();
+    let listed = Command::new("git")
+        .args(["ls-files", "-z"])
+        .current_dir(root)
+        .output()
+        .ok()
+        .filter(|out| out.status.success());
+    let files: Vec<PathBuf> = match listed {
+        Some(out) => String::from_utf8_lossy(&out.stdout)
+            .split('\0')
+            .filter(|f| !f.is_empty())
+            .map(PathBuf::from)
+            .collect(),
+        None => {
+            let mut files = Vec::new();
+            let mut folders = vec![PathBuf::new()];
+            while let Some(folder) = folders.pop() {
+                for entry in fs::read_dir(root.join(&folder)).unwrap().flatten() {
+                    let path = folder.join(entry.file_name());
+                    let name = entry.file_name().to_string_lossy().into_owned();
+                    if !entry.path().is_dir() {
+                        files.push(path);
+                    } else if name == ".ci"
+                        || !(name.starts_with('.') || path == Path::new("target"))
+                    {
+                        folders.push(path);
+                    }
+                }
+            }
+            files
+        }
+    };
+    let mut files: Vec<PathBuf> = files.into_iter().filter(|f| text(f)).collect();
+    files.sort();
+    assert!(
+        files.iter().any(|f| f == Path::new("README.md")),
+        "found no README.md among the repository's files"
+    );
+    files
 }
 
 /// README.md, BENCHMARKS.md and every `docs/*.md`, relative to the crate.
