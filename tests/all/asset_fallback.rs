@@ -1,6 +1,6 @@
-//! An `--assets` folder that lacks some of a scene's files (the README suggests one holding just the
-//! tutorial's four): each missing file is taken from the crate's own assets/, with one notice per
-//! scene load naming those files; a file that is there but broken stays an error naming it (issue 19).
+//! An `--assets` folder that lacks some of a scene's files (docs/testing.md suggests one holding
+//! just the tutorial's four): each missing file is taken from the crate's own assets/, with one notice per
+//! scene load naming those files; a file that is there but broken stays an error naming it.
 
 use std::path::{Path, PathBuf};
 
@@ -47,7 +47,7 @@ fn times_taken(scene: &SceneDescriptor, dir: &Path) -> Vec<usize> {
         .collect()
 }
 
-/// A folder as the README suggests: the cylinder's four files alone, the look-alikes `make-assets`
+/// A folder as docs/testing.md suggests: the cylinder's four files alone, the look-alikes `make-assets`
 /// writes (run as a user runs it), every other scene's folder deleted.
 fn tutorials_four_files(name: &str) -> PathBuf {
     let dir = common::scratch(name);

@@ -1,7 +1,9 @@
 //! The documentation against the code. `docs/keys.md` and the README's list of scenes are generated
-//! from the scenes' descriptors and must be what the code makes now; every link in the markdown
-//! files points at a file (and heading) that exists; and the Rust names that docs/reading-guide.md
-//! and BENCHMARKS.md mention are defined in the code.
+//! from the scenes' descriptors and must be what the code makes now; every relative link in the
+//! README, BENCHMARKS.md and docs/*.md points at a file (and heading) that exists; the README's
+//! short list of differences from the C++ names every one that docs/differences.md details; the
+//! Rust names those documents mention are defined in the code; and no tracked text file cites an
+//! issue by its number, which a reader of the repository cannot look up.
 //!
 //! What the name check does, and what it does not (it reads text; it does not compile anything):
 //! - It reads every `.rs` file under src/, tests/, benches/, fuzz/ and examples/ with comments,
@@ -10,7 +12,7 @@
 //!   of structs and the variants of enums, and, for the `fn`, `const` and `type` items of an `impl`
 //!   or `trait` block, `Owner::name` (the owner is the last segment of the implemented type's path,
 //!   generics left out, so `impl Trait for a::Foo<T>` gives `Foo::name`).
-//! - In the two documents it looks at text in single backticks outside fenced code blocks, and
+//! - In the documents it looks at text in single backticks outside fenced code blocks, and
 //!   skips table columns headed "C++…" or "#" (those name the C++ original's code). A span is taken
 //!   as a Rust name when, after a trailing `(…)` and a turbofish `::<…>` are dropped, it is a path
 //!   of identifiers (`a::b::C::d`) or one identifier in Rust's styles for items: snake_case with an
@@ -37,27 +39,26 @@ use std::collections::{HashMap, HashSet};
 use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::process::Command;
 
 use tutorial13::frontends::keys_markdown;
 use tutorial13::scenes::SCENES;
 
 use crate::common;
 
-/// The markdown files whose links are checked.
-const LINKED_DOCS: &[&str] = &[
-    "README.md",
-    "BENCHMARKS.md",
-    "docs/reading-guide.md",
-    "docs/scenes.md",
-    "docs/keys.md",
-];
+/// The markdown files at the top of the repository whose links and names are checked, besides every
+/// `docs/*.md` (see [`markdown_docs`]).
+const TOP_DOCS: &[&str] = &["README.md", "BENCHMARKS.md"];
 
 /// The lines around the README's list of scenes (the start marker is the beginning of a line).
 const README_LIST_START: &str = "<!-- The list below is generated from SCENES";
 const README_LIST_END: &str = "<!-- End of the generated list. -->";
 
-/// The documents whose Rust names are checked.
-const NAMED_DOCS: &[&str] = &["docs/reading-guide.md", "BENCHMARKS.md"];
+/// The heading of the README's short list of differences from the C++ original.
+const README_DIFFERENCES: &str = "## Where this port deliberately differs from the C++ original";
+
+/// docs/differences.md's headings that group differences rather than name one.
+const DIFFERENCE_GROUPS: &[&str] = &["and-from-the-articles-code"];
 
 /// Where the code is read from.
 const CODE_DIRS: &[&str] = &["src", "tests", "benches", "fuzz", "examples"];
@@ -187,12 +188,13 @@ fn readme_scene_list_matches_the_code() {
     );
 }
 
-// Fails if a link in README.md, BENCHMARKS.md or docs/*.md points at a file that does not exist,
-// or at a heading (#anchor) that the linked markdown file (or the same file) does not have.
+// Fails if a relative link in README.md, BENCHMARKS.md or docs/*.md points at a file that does not
+// exist, or at a heading (#anchor) that the linked markdown file (or the same file) does not have.
 #[test]
 fn links_point_at_files_that_exist() {
     let mut broken = Vec::new();
-    for doc in LINKED_DOCS {
+    for doc in &markdown_docs() {
+        let doc = doc.as_str();
         let text = read(doc);
         let folder = Path::new(doc).parent().unwrap();
         for target in links(&text) {
@@ -226,15 +228,16 @@ fn links_point_at_files_that_exist() {
     assert!(broken.is_empty(), "broken links:\n{}", broken.join("\n"));
 }
 
-// Fails if docs/reading-guide.md or BENCHMARKS.md names, in backticks, a Rust item that the code
-// does not define (renamed, moved to another module, or removed), a `Type::member` that the type
-// does not have, a module path without its file, or a path into the repository that does not exist.
-// What counts as a Rust name, and what is not checked, is in this file's module documentation.
+// Fails if README.md, BENCHMARKS.md or a docs/*.md page names, in backticks, a Rust item that the
+// code does not define (renamed, moved to another module, or removed), a `Type::member` that the
+// type does not have, a module path without its file, or a path into the repository that does not
+// exist. What counts as a Rust name, and what is not checked, is in this file's module
+// documentation.
 #[test]
 fn named_rust_items_exist() {
     let index = Index::read();
     let mut missing = Vec::new();
-    for doc in NAMED_DOCS {
+    for doc in &markdown_docs() {
         for span in code_spans(&read(doc)) {
             if let Err(why) = index.check(&span) {
                 missing.push(format!("{doc}: `{span}`: {why}"));
@@ -246,6 +249,143 @@ fn named_rust_items_exist() {
         "names in the documents that the code does not have:\n{}",
         missing.join("\n")
     );
+}
+
+// Fails if a difference that docs/differences.md details (one of its headings) has no line in the
+// README's short list linking to it: the README's list must name every difference, and say it in
+// one line, the details being written once, on that page.
+#[test]
+fn readme_lists_every_difference() {
+    let readme = read("README.md");
+    let start = readme
+        .find(README_DIFFERENCES)
+        .expect("README.md has no section on the differences from the C++ original");
+    let section = &readme[start + README_DIFFERENCES.len()..];
+    let section = &section[..section.find("\n## ").unwrap_or(section.len())];
+    let linked: HashSet<String> = links(section)
+        .iter()
+        .filter_map(|target| target.strip_prefix("docs/differences.md#"))
+        .map(String::from)
+        .collect();
+    let details = read("docs/differences.md");
+    let mut unlisted: Vec<String> = prose(&details)
+        .filter(|line| line.starts_with("##"))
+        .flat_map(heading_slugs)
+        .filter(|slug| !DIFFERENCE_GROUPS.contains(&slug.as_str()) && !linked.contains(slug))
+        .collect();
+    unlisted.sort();
+    assert!(
+        unlisted.is_empty(),
+        "differences in docs/differences.md that the README's list does not link to:\n{}",
+        unlisted.join("\n")
+    );
+}
+
+// Fails if a tracked `.rs`, `.md` or `.toml` file, or .ci/run, cites an issue by its number
+// ("issue" or "issues", any case, then a number, maybe after `#`): a reader of the repository cannot
+// look the issue up, so the text must say the fact itself.
+#[test]
+fn no_file_cites_an_issue_number() {
+    let cited = |n: &str| format!("see Issue{n} here");
+    assert!(cites_issue(&cited(" 8")) && cites_issue(&cited(" #17")));
+    assert!(cites_issue(&cited("s 8 and 19")) && !cites_issue(&cited("'s target")));
+    assert!(!cites_issue("a tissue 5 cm wide"));
+    let mut citing = Vec::new();
+    for file in text_files() {
+        let Ok(text) = fs::read_to_string(common::manifest().join(&file)) else {
+            continue;
+        };
+        for (number, line) in text.lines().enumerate() {
+            if cites_issue(line) {
+                citing.push(format!(
+                    "{}:{}: {}",
+                    file.display(),
+                    number + 1,
+                    line.trim()
+                ));
+            }
+        }
+    }
+    assert!(
+        citing.is_empty(),
+        "lines that cite an issue by number (say the fact instead):\n{}",
+        citing.join("\n")
+    );
+}
+
+/// Whether `line` has the word "issue" or "issues" (any case) followed by a number, maybe after
+/// spaces, `#`, `-` or `_`.
+fn cites_issue(line: &str) -> bool {
+    let lower = line.to_ascii_lowercase();
+    lower.match_indices("issue").any(|(i, word)| {
+        let starts_word = !lower[..i].ends_with(|c: char| c.is_alphanumeric() || c == '_');
+        let after = &lower[i + word.len()..];
+        let after = after.strip_prefix('s').unwrap_or(after);
+        let number = after.trim_start_matches([' ', '\t', '#', '-', '_']);
+        starts_word && number.starts_with(|c: char| c.is_ascii_digit())
+    })
+}
+
+/// The repository's `.rs`, `.md` and `.toml` files and .ci/run: git's list of tracked files, or,
+/// where git cannot give one (a copy without .git), every such file outside `target/` and hidden
+/// folders other than `.ci/`.
+fn text_files() -> Vec<PathBuf> {
+    let text = |path: &Path| {
+        path == Path::new(".ci/run")
+            || path
+                .extension()
+                .is_some_and(|e| e == "rs" || e == "md" || e == "toml")
+    };
+    let root = common::manifest();
+    let listed = Command::new("git")
+        .args(["ls-files", "-z"])
+        .current_dir(root)
+        .output()
+        .ok()
+        .filter(|out| out.status.success());
+    let files: Vec<PathBuf> = match listed {
+        Some(out) => String::from_utf8_lossy(&out.stdout)
+            .split('\0')
+            .filter(|f| !f.is_empty())
+            .map(PathBuf::from)
+            .collect(),
+        None => {
+            let mut files = Vec::new();
+            let mut folders = vec![PathBuf::new()];
+            while let Some(folder) = folders.pop() {
+                for entry in fs::read_dir(root.join(&folder)).unwrap().flatten() {
+                    let path = folder.join(entry.file_name());
+                    let name = entry.file_name().to_string_lossy().into_owned();
+                    if !entry.path().is_dir() {
+                        files.push(path);
+                    } else if name == ".ci"
+                        || !(name.starts_with('.') || path == Path::new("target"))
+                    {
+                        folders.push(path);
+                    }
+                }
+            }
+            files
+        }
+    };
+    let mut files: Vec<PathBuf> = files.into_iter().filter(|f| text(f)).collect();
+    files.sort();
+    assert!(
+        files.iter().any(|f| f == Path::new("README.md")),
+        "found no README.md among the repository's files"
+    );
+    files
+}
+
+/// README.md, BENCHMARKS.md and every `docs/*.md`, relative to the crate.
+fn markdown_docs() -> Vec<String> {
+    let mut docs: Vec<String> = common::files_under(&common::manifest().join("docs"))
+        .into_iter()
+        .filter(|f| f.parent() == Some(Path::new("")) && f.extension().is_some_and(|e| e == "md"))
+        .map(|f| format!("docs/{}", f.display()))
+        .collect();
+    docs.sort();
+    TOP_DOCS.iter().map(|d| d.to_string()).chain(docs).collect()
 }
 
 fn read(path: &str) -> String {

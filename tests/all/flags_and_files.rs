@@ -1,6 +1,6 @@
 //! Flags that must be refused, files that must not be lost or written half-way, and the projection
-//! that follows the viewport (issue "Nothing lost, nothing silently wrong"). Runs the binary as a
-//! user does; the headless runs need Mesa's EGL + llvmpipe.
+//! that follows the viewport: nothing lost, nothing silently wrong. Runs the binary as a user does;
+//! the headless runs need Mesa's EGL + llvmpipe.
 
 use std::path::Path;
 use std::process::Output;

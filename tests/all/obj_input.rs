@@ -1,5 +1,5 @@
-//! Issue 8, items 1 and 2: OBJ index extremes and `l` lines, through the public loader; issue 18:
-//! the project's OBJ reader against tobj's.
+//! OBJ index extremes and `l` lines, through the public loader; the project's OBJ reader against
+//! tobj's.
 
 use std::path::Path;
 

@@ -1,4 +1,4 @@
-//! Issue 8, item 4: many vertices in one position cell. The grid then splits the cell by UV and
+//! Many vertices in one position cell. The grid then splits the cell by UV and
 //! normal; the result must stay exactly the linear search's (first near vertex, same sums).
 
 use glam::{Vec2, Vec3};

@@ -1,4 +1,4 @@
-//! The panel (issue 19) headless: drawn over the frame without touching a pixel outside its
+//! The panel headless: drawn over the frame without touching a pixel outside its
 //! rectangle, listing exactly the scene's keys, and changing the scene only as its keys and sliders
 //! say. Clicks are real pointer events given to egui (the same input the window's egui-winit glue
 //! produces), aimed at where the panel drew each widget.

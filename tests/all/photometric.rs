@@ -2,7 +2,7 @@
 //! project's own wall, shaded Lambertian from its normal and diffuse maps under known lights and
 //! written as 8-bit PNGs and as sRGB JPEGs; photos with shadows and highlights in part of them; every
 //! refusal. `normalmap --from-photo`'s one-photo guess, and what it cannot tell. Both outputs on the
-//! wall scene, as the README's picture (docs/photometric.png) shows them.
+//! wall scene, as docs/tools.md's picture (docs/photometric.png) shows them.
 
 use std::path::{Path, PathBuf};
 
@@ -549,7 +549,7 @@ fn from_photo_turns_a_lit_dome_into_outward_slopes() {
     assert!(!dir.join("x.png").exists());
 }
 
-// The limitation the README states, as a test: an engraved dome (the same shape, sunk) lit from the
+// The limitation docs/tools.md states, as a test: an engraved dome (the same shape, sunk) lit from the
 // front photographs exactly as the raised one does, so the guess gives the same normal map for both,
 // though their true slopes point opposite ways. Fails if the two photos or the two maps differ.
 #[test]
@@ -657,7 +657,7 @@ fn wall_assets(name: &str, change: impl FnOnce(&Path)) -> PathBuf {
 // from four photos) draw a wall less like the one drawn from its own maps than stated (hybrid
 // similarity, 1 = identical; measured 0.998), or if the one-photo guess is not stated's distance
 // from it either (measured 0.89: its joints come out raised; a flat normal map gives 0.87).
-// It also makes the README's picture, docs/photometric.png: first row the four photos, second the
+// It also makes docs/tools.md's picture, docs/photometric.png: first row the four photos, second the
 // recovered normal map and the wall drawn with its own maps, with the photometric maps and with the
 // guess from its diffuse map. The picture must match (similarity ≥ 0.95; other renderers differ a
 // little), or with TUTORIAL13_UPDATE_DOCS=1 it is rewritten.

@@ -1,6 +1,6 @@
 //! The `sprite` scene (article 001): a 2D normal-mapped rock lit by a point light with
 //! constant-linear-quadratic falloff. Headless frames, measured against what the article describes;
-//! each test prints the numbers it measured (`cargo test --test scene_sprite -- --nocapture`).
+//! each test prints the numbers it measured (`cargo test --release -- scene_sprite:: --nocapture`).
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;

@@ -1,4 +1,4 @@
-//! Issue 8, item 3: tangent and bitangent sums of a mesh near f32's range stay finite and usable.
+//! Tangent and bitangent sums of a mesh near f32's range stay finite and usable.
 
 use std::path::Path;
 
@@ -23,7 +23,7 @@ fn assert_usable(t: Vec3, b: Vec3) {
 }
 
 // Fails if two corners whose bitangents are finite but near f32::MAX sum to infinity (the
-// shader's normalize then gives NaN): the issue's mesh, one triangle repeated.
+// shader's normalize then gives NaN): a mesh of one triangle repeated.
 #[test]
 fn huge_mesh_gives_finite_tbn() {
     let obj = "v 0 0 0\nv 3e38 0 0\nv 0 3e38 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n\

@@ -1,6 +1,6 @@
-//! Helpers shared by every test binary: headless set-up, asset folders (the project's, the
+//! Helpers shared by the test modules: headless set-up, asset folders (the project's, the
 //! tutorial's or skipped), scratch folders, golden images, projection to pixels, a private Xvfb.
-#![allow(dead_code)] // each test file uses a different subset
+#![allow(dead_code)] // a helper no test calls any more is not an error
 
 pub mod xvfb;
 

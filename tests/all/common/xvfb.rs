@@ -14,7 +14,7 @@ const READY_TIMEOUT: Duration = Duration::from_secs(60);
 /// How long a window step (a window appearing, a screenshot, an exit) may take on two busy cores.
 pub const STEP_TIMEOUT: Duration = Duration::from_secs(60);
 
-/// One server at a time per test binary: two started at once can both pick the same free display.
+/// One server at a time in the test binary: two started at once can both pick the same free display.
 static ONE_SERVER: Mutex<()> = Mutex::new(());
 
 /// Xvfb on a display it picks itself (`-displayfd`, so a developer's own X server never clashes),
