@@ -14,17 +14,20 @@ pub mod cube;
 pub mod cylinder;
 mod scene;
 pub mod sprite;
+pub mod table;
 pub mod wall;
 
 use clap::parser::ValueSource;
 
 pub use scene::{
-    action_for_key, crate_assets_dir, find_assets, handle_key, key_help, read_args,
-    taken_from_crate, AsAny, AssetFiles, Binding, CompareLabels, DrawingProgram, FrameInput,
-    KeyHelp, MouseMode, PerScene, Scene, SceneArgs, SceneContext, SceneDescriptor, SceneOption,
-    SceneOptions, SharedArgs, Slider, Switch, SwitchState,
+    crate_assets_dir, drawing_program, find_assets, read_args, taken_from_crate, AsAny, AssetFiles,
+    CompareLabels, DrawingProgram, FrameInput, MouseMode, PerScene, Scene, SceneArgs, SceneContext,
+    SceneDescriptor, SceneOption, SceneOptions, SceneType, SharedArgs,
 };
-pub use scene::{clamp_to_slider, drawing_program, light_sliders, slide_light, LIGHT_AXES};
+pub use table::{
+    control_for_key, key_count, key_help, Control, ControlState, ControlValue, KeyHelp, Kind,
+    SceneControls, SetTo,
+};
 
 /// Every scene, in the order the Enter key steps through them; the first is the default. Adding a
 /// scene is its folder, one line here, and its tests.

@@ -12,6 +12,7 @@ use std::sync::{Mutex, PoisonError};
 
 use glam::{Mat4, Vec2};
 
+use super::table::{Control, KeyHelp, SceneControls};
 use crate::gl::{ContextInfo, Gl};
 use crate::{Error, Result};
 
@@ -24,7 +25,7 @@ pub struct SceneDescriptor {
     pub description: &'static str,
     /// Mouse look (the tutorial's) or a free cursor.
     pub mouse_mode: MouseMode,
-    /// The scene's keys, from the same bindings its key handler reads.
+    /// The scene's keys: those of its table ([`SceneType::CONTROLS`], through [`super::table::key_help`]).
     pub keys: &'static [KeyHelp],
     /// What the mouse, wheel and click do in a scene with [`MouseMode::Cursor`] (mouse-look scenes
     /// have the window's mouse look and list nothing here).
@@ -73,6 +74,9 @@ impl SceneDescriptor {
 pub trait SceneType: Scene + Sized + 'static {
     /// The scene's command-line arguments, and through them its options type.
     type Args: SceneArgs;
+
+    /// Every switch, choice and slider of the scene, each declared once (see [`Control`]).
+    const CONTROLS: &'static [Control<Self>];
 
     /// Loads the scene on the current context: its files from `files` (`--assets`, `--shaders`),
     /// its switches from `options`.
@@ -391,69 +395,30 @@ pub enum MouseMode {
     Cursor,
 }
 
-/// One line of a scene's key list: the key as printed ("L") and what it does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct KeyHelp {
-    pub key: char,
-    pub help: &'static str,
-}
-
-/// One key of a scene: the key as listed, the scene's action, and what it does.
-pub type Binding<A> = (char, A, &'static str);
-
-/// The key list of a scene's bindings, in their order (a `const` so that `--help` can list a
-/// scene's keys without building it). Two bindings of one key stop the build: the second could never
-/// be reached.
-pub const fn key_help<A: Copy, const N: usize>(bindings: &[Binding<A>; N]) -> [KeyHelp; N] {
-    let mut keys = [KeyHelp { key: ' ', help: "" }; N];
-    let mut i = 0;
-    while i < N {
-        let mut j = 0;
-        while j < i {
-            assert!(bindings[j].0 != bindings[i].0, "two bindings share a key");
-            j += 1;
-        }
-        keys[i] = KeyHelp {
-            key: bindings[i].0,
-            help: bindings[i].2,
-        };
-        i += 1;
-    }
-    keys
-}
-
-/// [`Scene::key`] for a scene whose keys are `bindings`: runs `apply` with the key's action.
-pub fn handle_key<A: Copy>(
-    bindings: &[Binding<A>],
-    key: char,
-    apply: impl FnOnce(A) -> Result<()>,
-) -> Result<bool> {
-    action_for_key(bindings, key).map_or(Ok(false), |action| apply(action).map(|()| true))
-}
-
-/// The action bound to `key` (letters either case).
-pub fn action_for_key<A: Copy>(bindings: &[Binding<A>], key: char) -> Option<A> {
-    bindings
-        .iter()
-        .find(|(k, _, _)| *k == key.to_ascii_uppercase())
-        .map(|&(_, action, _)| action)
-}
-
 /// The seam between the front ends and a program.
-pub trait Scene: AsAny {
+pub trait Scene: AsAny + SceneControls {
     /// Draws one frame into the bound framebuffer (the front end has set the viewport): the scene
     /// clears it itself, as the tutorial's loop does.
     fn draw(&mut self, frame: &FrameInput);
 
-    /// A key of the scene's list was pressed (letters upper-case). `Ok(false)`: not one of its keys.
-    fn key(&mut self, key: char) -> Result<bool>;
+    /// A key of the scene's list was pressed (letters either case). `Ok(false)`: not one of its
+    /// keys. The key of each control of the scene's table ([`SceneType::CONTROLS`]).
+    fn key(&mut self, key: char) -> Result<bool> {
+        self.press_key(key)
+    }
 
     /// One line for the log: the scene's current switches.
     fn status(&self) -> String;
 
-    /// The two or three most important of them, for the title bar (the panel shows the rest).
+    /// The two or three most important of them, for the title bar (the panel shows the rest):
+    /// the controls the table names in the title, where they apply (the whole status where it
+    /// names none).
     fn short_status(&self) -> String {
-        self.status()
+        let title = self.title_status();
+        match title.is_empty() {
+            true => self.status(),
+            false => title.join(", "),
+        }
     }
 
     /// The sphere (centre, radius; world space) the camera starts by framing, and goes back to
@@ -489,19 +454,6 @@ pub trait Scene: AsAny {
     /// uses it.
     fn scroll(&mut self, _notches: f32) {}
 
-    /// The scene's switches with their state, for the panel (each one is also a key of its list).
-    fn switches(&self) -> Vec<Switch> {
-        Vec::new()
-    }
-
-    /// The values the panel offers to move.
-    fn sliders(&self) -> Vec<Slider> {
-        Vec::new()
-    }
-
-    /// Moves the slider `name` (one of [`Scene::sliders`]) to `value`, clamped to its range.
-    fn set_slider(&mut self, _name: &str, _value: f32) {}
-
     /// The programs drawing the frame now, and the files they read.
     fn drawing_programs(&self) -> Vec<DrawingProgram> {
         Vec::new()
@@ -515,111 +467,6 @@ pub trait Scene: AsAny {
     /// A left click in a scene with [`MouseMode::Cursor`] (with mouse look, a click grabs the cursor
     /// instead). Ignored unless the scene uses it.
     fn click(&mut self) {}
-}
-
-/// A switch of a scene as the panel shows it: the key that flips or steps it, and its state now.
-/// The panel changes it only by pressing that key ([`Scene::key`]), so the two cannot disagree.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Switch {
-    pub key: char,
-    /// A few words: what is switched.
-    pub label: &'static str,
-    pub state: SwitchState,
-}
-
-/// On or off (a checkbox), or one of several values the key steps through in order (a choice).
-#[derive(Debug, Clone, PartialEq)]
-pub enum SwitchState {
-    On(bool),
-    /// `choices` in the order the key steps through them; `current` is one of them.
-    Step {
-        current: String,
-        choices: Vec<String>,
-    },
-}
-
-/// A value a learner may want to move (the light, a strength, a length), with the tutorial's (or
-/// the article's) value it starts from.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Slider {
-    /// Names it on the panel and in [`Scene::set_slider`].
-    pub name: &'static str,
-    pub value: f32,
-    /// The value the scene starts with.
-    pub start: f32,
-    pub range: (f32, f32),
-}
-
-/// The three sliders of a light's position (world space), each within `reach` of the origin.
-pub fn light_sliders(light: glam::Vec3, start: glam::Vec3, reach: f32) -> [Slider; 3] {
-    let axis = |name, value, start| Slider {
-        name,
-        value,
-        start,
-        range: (-reach, reach),
-    };
-    [
-        axis(LIGHT_AXES[0], light.x, start.x),
-        axis(LIGHT_AXES[1], light.y, start.y),
-        axis(LIGHT_AXES[2], light.z, start.z),
-    ]
-}
-
-/// A point light's sliders: its position ([`light_sliders`]) and its power, up to `power_max`.
-pub fn point_light_sliders(
-    light: glam::Vec3,
-    start: glam::Vec3,
-    power: f32,
-    power_start: f32,
-    power_max: f32,
-) -> Vec<Slider> {
-    let mut sliders = light_sliders(light, start, 10.0).to_vec();
-    sliders.push(Slider {
-        name: LIGHT_POWER,
-        value: power,
-        start: power_start,
-        range: (0.0, power_max),
-    });
-    sliders
-}
-
-/// The name of the power slider of [`point_light_sliders`].
-pub const LIGHT_POWER: &str = "light power";
-
-/// Moves slider `name` of `sliders` (made by [`point_light_sliders`]) to `value`, clamped to its
-/// range: an axis of `light`, or `power`. Any other name changes nothing.
-pub fn slide_point_light(
-    sliders: &[Slider],
-    name: &str,
-    value: f32,
-    light: &mut glam::Vec3,
-    power: &mut f32,
-) {
-    let Some(value) = clamp_to_slider(sliders, name, value) else {
-        return;
-    };
-    match slide_light(*light, name, value) {
-        Some(moved) => *light = moved,
-        None if name == LIGHT_POWER => *power = value,
-        None => {}
-    }
-}
-
-/// The names of [`light_sliders`].
-pub const LIGHT_AXES: [&str; 3] = ["light x", "light y", "light z"];
-
-/// `light` with the axis that slider `name` moves set to `value`; `None` if `name` is no light axis.
-pub fn slide_light(light: glam::Vec3, name: &str, value: f32) -> Option<glam::Vec3> {
-    let axis = LIGHT_AXES.iter().position(|&a| a == name)?;
-    let mut light = light;
-    light[axis] = value;
-    Some(light)
-}
-
-/// The slider `name` of `sliders`, with `value` clamped to its range.
-pub fn clamp_to_slider(sliders: &[Slider], name: &str, value: f32) -> Option<f32> {
-    let slider = sliders.iter().find(|s| s.name == name)?;
-    Some(value.clamp(slider.range.0, slider.range.1))
 }
 
 /// The program of `names` (vertex and fragment shader, read from `dir` as the scene reads them) as

@@ -32,9 +32,11 @@ use crate::tangents::TangentSource;
 use crate::Result;
 
 use super::scene::{
-    clamp_to_slider, drawing_program, handle_key, key_help, point_light_sliders, slide_light,
-    Binding, CompareLabels, DrawingProgram, FrameInput, KeyHelp, Scene, SceneContext,
-    SceneDescriptor, SceneOptions, SceneType, Slider, Switch, SwitchState, LIGHT_POWER,
+    drawing_program, CompareLabels, DrawingProgram, FrameInput, Scene, SceneContext,
+    SceneDescriptor, SceneOptions, SceneType,
+};
+use super::table::{
+    key_count, key_help, light_slider, power_slider, Control, KeyHelp, PointLight, SceneControls,
 };
 pub use args::CylinderArgs;
 use maps::{model_texture_sets, override_tutorial_maps};
@@ -69,6 +71,33 @@ fn warn_of_merged_corners(model: &Model, mesh: &crate::common::vboindexer::Index
             mesh.indices.len()
         );
     }
+}
+
+/// The flags of `options` that the per-pixel frame (`--tangents derivative`, alone) does nothing
+/// with, as they were given.
+fn flags_without_effect(options: &CylinderOptions) -> Vec<String> {
+    if options.tangents != TangentSource::Derivative || options.compare.is_some() {
+        return Vec::new();
+    }
+    let sw = options.switches;
+    let convention = sw.convention;
+    let flags = [
+        (
+            sw.view != ColorView::default(),
+            format!("--view {}", sw.view),
+        ),
+        (!sw.specular_texture, "--no-specular-texture".into()),
+        (sw.normalize_tbn, "--normalize-tbn".into()),
+        (convention.green_down, "--green down".into()),
+        (convention.exact_expansion, "--exact-expansion".into()),
+        (convention.two_channel, "--two-channel".into()),
+        (options.debug_lines, "--debug-lines".into()),
+    ];
+    flags
+        .into_iter()
+        .filter(|(given, _)| *given)
+        .map(|(_, flag)| flag)
+        .collect()
 }
 
 /// A dropped `.obj` file is opened as `--model` (the other options stay as they were).
@@ -119,116 +148,287 @@ pub struct CylinderOptions {
     pub light: Option<Vec3>,
 }
 
-/// What a key (or a test) can change while the program runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Action {
-    /// Show or hide the TBN debug lines.
-    ToggleLines,
-    /// Immediate mode ↔ line shader.
-    ToggleLineMode,
-    /// Next colour view (lit, light, eye, texture normal; raw and (v+1)/2).
-    NextView,
-    /// All components → x → y → z.
-    NextComponent,
-    /// Exercise 1: normalize tangents before summing them (CPU pipeline re-run).
-    ToggleNormalizeBeforeSum,
-    /// Gram-Schmidt on/off (CPU pipeline re-run).
-    ToggleGramSchmidt,
-    /// Handedness fix on/off (CPU pipeline re-run).
-    ToggleHandedness,
-    /// Specular texture ↔ constant 0.3.
-    ToggleSpecularTexture,
-    /// The article's normalized TBN ↔ the repository shader's.
-    ToggleNormalizedTbn,
-    /// Tutorial → MikkTSpace → per-pixel derivative tangents.
-    NextTangentSource,
-    /// Compare view off → split → difference → off.
-    NextCompareMode,
-    /// The compare view's split line 5 % of the width to the left, or to the right.
-    MoveSplitLeft,
-    MoveSplitRight,
-    /// Normal map green up ↔ down.
-    ToggleGreenDown,
-    /// `2c − 1` ↔ `c × 255/127 − 128/127`.
-    ToggleExactExpansion,
-    /// Three channels ↔ two (z rebuilt).
-    ToggleTwoChannel,
+/// Why a switch of the colour views and shader experiments does nothing with the per-pixel frame.
+const PER_PIXEL: &str =
+    "the per-pixel frame (F = derivative) draws the lit picture without the experiments";
+
+/// Whether the per-pixel frame draws (alone: the compare view draws each side's own).
+fn per_pixel(cylinder: &Cylinder) -> Option<&'static str> {
+    let alone = cylinder.comparison.is_none();
+    (alone && cylinder.tangent_source == TangentSource::Derivative).then_some(PER_PIXEL)
 }
 
-/// The scene's keys and their actions, in the order they are listed.
-const BINDINGS: [Binding<Action>; 16] = [
-    (
+/// Why the TBN lines are not drawn, if they cannot be.
+fn no_lines(cylinder: &Cylinder) -> Option<&'static str> {
+    if cylinder.comparison.is_some() {
+        Some("the compare view draws no TBN lines")
+    } else if cylinder.tangent_source == TangentSource::Derivative {
+        Some("the per-pixel frame (F = derivative) has no vertex tangents to draw lines from")
+    } else {
+        None
+    }
+}
+
+/// Why the compare view's split line does nothing, if it does nothing.
+fn no_split(cylinder: &Cylinder) -> Option<&'static str> {
+    match (&cylinder.comparison, cylinder.compare_view.mode) {
+        (None, _) => Some("the compare view is off (K turns it on)"),
+        (Some(_), CompareMode::Difference) => Some("the difference view has no split line"),
+        (Some(_), CompareMode::Split) => None,
+    }
+}
+
+/// Sets the shader switches with `change`: a uniform, nothing rebuilt.
+fn switch(cylinder: &mut Cylinder, change: impl FnOnce(&mut ShaderSwitches)) -> Result<()> {
+    change(&mut cylinder.switches);
+    Ok(())
+}
+
+/// Runs the CPU pipeline again with `change` made to its switches.
+fn mesh_switch(cylinder: &mut Cylinder, change: impl FnOnce(&mut MeshOptions)) -> Result<()> {
+    let mut mesh = cylinder.mesh_options;
+    change(&mut mesh);
+    cylinder.set_mesh_options(mesh)
+}
+
+/// The colour view's component names, [`ColorView::component`] `None`, 0, 1, 2.
+const COMPONENTS: [&str; 4] = ["all", "x", "y", "z"];
+
+/// The compare view's states on the panel: off, [`CompareMode::Split`], [`CompareMode::Difference`].
+const COMPARE_NAMES: [&str; 3] = ["off", "side by side", "difference"];
+
+fn names(names: &[&str]) -> Vec<String> {
+    names.iter().map(|n| n.to_string()).collect()
+}
+
+/// Every switch, choice and slider of the scene, in the order they are listed.
+const CONTROLS: &[C] = &[
+    C::toggle(
         'L',
-        Action::ToggleLines,
+        "TBN debug lines",
         "TBN debug lines on / off (normals blue, tangents red, bitangents green)",
-    ),
-    (
+        |c| c.show_lines,
+        Cylinder::set_show_lines,
+    )
+    .in_title("lines")
+    .inert_when(no_lines),
+    C::choice(
         'M',
-        Action::ToggleLineMode,
+        "lines drawn with",
         "debug lines: immediate mode (compatibility profile) / line shader",
-    ),
-    (
+        // A core context has no immediate mode to choose.
+        |c| match c.legacy {
+            Ok(_) => names(&LINE_MODE_NAMES),
+            Err(_) => names(&LINE_MODE_NAMES[1..]),
+        },
+        |c| line_mode_name(c.shown_line_mode()).into(),
+        |c, name| {
+            c.set_line_mode(if name == LINE_MODE_NAMES[0] {
+                LineMode::Legacy
+            } else {
+                LineMode::Shader
+            })
+        },
+    )
+    .inert_when(|c| {
+        c.legacy
+            .as_ref()
+            .err()
+            .map(|_| "this context has no immediate mode (a compatibility context has)")
+    }),
+    C::choice(
         'V',
-        Action::NextView,
+        "colour view",
         "colour view: lit, light, light01, eye, eye01, normal, normal01",
-    ),
-    (
+        |_| {
+            ColorView::CYCLE
+                .iter()
+                .map(|&(v, m)| view_name(v, m))
+                .collect()
+        },
+        |c| {
+            let view = c.switches.view;
+            view_name(view.vector, view.mapped)
+        },
+        |c, name| {
+            let cycle = ColorView::CYCLE.iter();
+            let found = cycle.copied().find(|&(v, m)| view_name(v, m) == name);
+            switch(c, |sw| {
+                if let Some((vector, mapped)) = found {
+                    sw.view = sw.view.with_vector(vector, mapped);
+                }
+            })
+        },
+    )
+    .in_title("view")
+    .inert_when(per_pixel),
+    C::choice(
         'C',
-        Action::NextComponent,
+        "component",
         "colour view component: all, x, y, z",
-    ),
-    (
+        |_| names(&COMPONENTS),
+        |c| COMPONENTS[c.switches.view.component.map_or(0, |i| usize::from(i) + 1)].into(),
+        |c, name| {
+            let i = COMPONENTS.iter().position(|&n| n == name).unwrap_or(0);
+            switch(c, |sw| {
+                sw.view.component = i.checked_sub(1).map(|i| i as u8)
+            })
+        },
+    )
+    .inert_when(per_pixel),
+    C::toggle(
         'N',
-        Action::ToggleNormalizeBeforeSum,
+        "normalize before summing",
         "normalize tangents before summing them (exercise 1)",
+        |c| c.mesh_options.indexing.normalize_before_sum,
+        |c, on| mesh_switch(c, |m| m.indexing.normalize_before_sum = on),
     ),
-    ('G', Action::ToggleGramSchmidt, "Gram-Schmidt on / off"),
-    ('H', Action::ToggleHandedness, "handedness fix on / off"),
-    (
+    C::toggle(
+        'G',
+        "Gram-Schmidt",
+        "Gram-Schmidt on / off",
+        |c| c.mesh_options.tangents.gram_schmidt,
+        |c, on| mesh_switch(c, |m| m.tangents.gram_schmidt = on),
+    ),
+    C::toggle(
+        'H',
+        "handedness fix",
+        "handedness fix on / off",
+        |c| c.mesh_options.tangents.handedness,
+        |c, on| mesh_switch(c, |m| m.tangents.handedness = on),
+    ),
+    C::toggle(
         'S',
-        Action::ToggleSpecularTexture,
+        "specular texture",
         "specular texture / constant 0.3",
-    ),
-    (
+        |c| c.switches.specular_texture,
+        |c, on| switch(c, |sw| sw.specular_texture = on),
+    )
+    .inert_when(per_pixel),
+    C::toggle(
         'T',
-        Action::ToggleNormalizedTbn,
+        "normalized TBN (article)",
         "TBN as summed (repository shader) / normalized (article)",
-    ),
-    (
+        |c| c.switches.normalize_tbn,
+        |c, on| switch(c, |sw| sw.normalize_tbn = on),
+    )
+    .inert_when(per_pixel),
+    C::choice(
         'F',
-        Action::NextTangentSource,
+        "tangent frame",
         "tangent frame: tutorial, MikkTSpace, per-pixel derivatives",
-    ),
-    (
+        |_| crate::choices::names::<TangentSource>(),
+        |c| c.tangent_source.to_string(),
+        |c, name| match crate::choices::by_name(name) {
+            Some(source) => c.set_tangent_source(source),
+            None => Ok(()),
+        },
+    )
+    .in_title("tangents"),
+    C::choice(
         'K',
-        Action::NextCompareMode,
+        "compare view",
         "compare two tangent frames: off, side by side, difference heat map",
-    ),
-    ('A', Action::MoveSplitLeft, "compare view: split line left"),
-    (
+        |_| names(&COMPARE_NAMES),
+        |c| {
+            match (&c.comparison, c.compare_view.mode) {
+                (None, _) => COMPARE_NAMES[0],
+                (Some(_), CompareMode::Split) => COMPARE_NAMES[1],
+                (Some(_), CompareMode::Difference) => COMPARE_NAMES[2],
+            }
+            .into()
+        },
+        Cylinder::set_compare,
+    )
+    .inert_when(|c| c.unlike_comparison()),
+    C::press(
+        'A',
+        "split line left",
+        "compare view: split line left",
+        |c| c.move_split(-0.05),
+    )
+    .inert_when(no_split),
+    C::press(
         'D',
-        Action::MoveSplitRight,
+        "split line right",
         "compare view: split line right",
-    ),
-    (
+        |c| c.move_split(0.05),
+    )
+    .inert_when(no_split),
+    C::toggle(
         'Y',
-        Action::ToggleGreenDown,
+        "green down (DirectX)",
         "normal map green up (OpenGL) / down (DirectX)",
-    ),
-    (
+        |c| c.switches.convention.green_down,
+        |c, on| switch(c, |sw| sw.convention.green_down = on),
+    )
+    .inert_when(per_pixel),
+    C::toggle(
         'E',
-        Action::ToggleExactExpansion,
+        "exact expansion",
         "normal map expansion 2c-1 / c*255/127-128/127 (exact 0 at 128)",
-    ),
-    (
+        |c| c.switches.convention.exact_expansion,
+        |c, on| switch(c, |sw| sw.convention.exact_expansion = on),
+    )
+    .inert_when(per_pixel),
+    C::toggle(
         'Z',
-        Action::ToggleTwoChannel,
+        "two channels",
         "normal map of three channels / two (z rebuilt)",
+        |c| c.switches.convention.two_channel,
+        |c, on| switch(c, |sw| sw.convention.two_channel = on),
+    )
+    .inert_when(per_pixel),
+    // Room around the tutorial's cylinder (radius 1, height 2, light 4 away) or the model placed on
+    // its bounding sphere.
+    light_slider::<Cylinder, 0>(10.0),
+    light_slider::<Cylinder, 1>(10.0),
+    light_slider::<Cylinder, 2>(10.0),
+    power_slider::<Cylinder>(200.0),
+    C::slider(
+        "normal strength",
+        (0.0, 4.0),
+        |_| Knobs::TUTORIAL.normal_strength,
+        |c| c.knobs.normal_strength,
+        |c, value| {
+            c.knobs.normal_strength = value;
+            Ok(())
+        },
     ),
+    C::slider(
+        "TBN line length",
+        (0.01, 1.0),
+        |_| LINE_LENGTH,
+        |c| c.line_length,
+        Cylinder::set_line_length,
+    )
+    .inert_when(|c| match c.show_lines {
+        true => no_lines(c),
+        false => Some("the TBN lines are off (L)"),
+    }),
+    C::slider(
+        "compare split",
+        (0.0, 1.0),
+        |c| c.compare_start_split,
+        |c| c.compare_view.split,
+        |c, value| {
+            c.compare_view.split = value;
+            Ok(())
+        },
+    )
+    .inert_when(no_split),
 ];
 
+/// A colour view's name without its component ("light01").
+fn view_name(vector: crate::debug::views::DebugVector, mapped: bool) -> String {
+    ColorView::default().with_vector(vector, mapped).to_string()
+}
+
+/// A control of this scene.
+type C = Control<Cylinder>;
+
 /// The key list `--help` and the window print.
-pub const KEYS: &[KeyHelp] = &key_help(&BINDINGS);
+pub const KEYS: &[KeyHelp] = &key_help::<Cylinder, { key_count(CONTROLS) }>(CONTROLS);
 
 /// Tutorial 13 and the state of its debugging aids.
 pub struct Cylinder {
@@ -272,6 +472,8 @@ pub struct Cylinder {
     /// Where the CPU pipeline's soup comes from when a switch re-runs it.
     soup_source: SoupSource,
     shader_dir: Option<PathBuf>,
+    /// The tangent source of every mesh the CPU pipeline built since the scene was loaded.
+    meshes_built: Vec<TangentSource>,
 }
 
 /// The mesh the scene draws: the tutorial's `cylinder.obj` (read again by `loadOBJ` whenever the
@@ -292,6 +494,7 @@ impl SoupSource {
 
 impl SceneType for Cylinder {
     type Args = CylinderArgs;
+    const CONTROLS: &'static [Control<Self>] = CONTROLS;
 
     /// Loads the tutorial's four files from `assets` and the shaders from `shader_dir` (or the
     /// crate's), and starts with `cylinder`'s switches.
@@ -367,12 +570,23 @@ impl SceneType for Cylinder {
             line_mode: cylinder.line_mode,
             soup_source,
             shader_dir: shader_dir.map(Path::to_path_buf),
+            meshes_built: Vec::new(),
         };
         scene.set_tangent_source(cylinder.tangents)?;
         if let Some(compare) = cylinder.compare {
             scene.start_comparison(compare.sources)?;
         }
         scene.set_show_lines(cylinder.debug_lines)?;
+        let flags = flags_without_effect(&cylinder);
+        if !flags.is_empty() {
+            log::warn!(
+                "--tangents derivative: {PER_PIXEL}: {} change nothing",
+                flags.join(", ")
+            );
+        }
+        if let Some(reason) = scene.comparison.as_ref().and(scene.unlike_comparison()) {
+            log::warn!("--compare: {reason}");
+        }
         Ok(scene)
     }
 }
@@ -381,6 +595,12 @@ impl Cylinder {
     /// The CPU pipeline's current switches.
     pub fn mesh_options(&self) -> MeshOptions {
         self.mesh_options
+    }
+
+    /// The tangent source of every mesh the CPU pipeline built since the scene was loaded (the
+    /// first one aside), in order.
+    pub fn meshes_built(&self) -> &[TangentSource] {
+        &self.meshes_built
     }
 
     /// Whether the TBN lines are shown.
@@ -402,6 +622,7 @@ impl Cylinder {
     /// Shows `sources` in the compare view (each drawn whole, the first left of the split).
     pub fn start_comparison(&mut self, sources: [TangentSource; 2]) -> Result<()> {
         let soup = self.soup_source.soup()?;
+        self.meshes_built.extend(sources);
         let upload = |source: TangentSource| -> Result<MeshBuffers> {
             MeshBuffers::new(&self.gl, &source.mesh(&soup, self.mesh_options)?)
         };
@@ -440,6 +661,7 @@ impl Cylinder {
     /// Runs the CPU pipeline of `source` with `options` and uploads the result; the lines follow
     /// (the per-pixel frame has no vertex tangents to show, so they are dropped until another source).
     fn rebuild_mesh(&mut self, source: TangentSource, options: MeshOptions) -> Result<()> {
+        self.meshes_built.push(source);
         match (&self.soup_source, source) {
             (SoupSource::Tutorial(path), TangentSource::Tutorial) => {
                 self.tutorial.reload_mesh(path, options)?
@@ -490,62 +712,26 @@ impl Cylinder {
         self.lines.as_ref().and_then(DebugLines::notice)
     }
 
-    /// Applies one switch, redoing only what it needs: a uniform for shader switches, the CPU
-    /// pipeline and the vertex uploads for mesh switches.
-    pub fn apply(&mut self, action: Action) -> Result<()> {
-        let mut mesh = self.mesh_options;
-        let switches = &mut self.switches;
-        match action {
-            Action::ToggleLines => self.set_show_lines(!self.show_lines)?,
-            Action::ToggleLineMode => {
-                let current = self.line_mode().or(self.line_mode);
-                let next = match current {
-                    Some(LineMode::Shader) => LineMode::Legacy,
-                    // Immediate mode is the default where the context has it.
-                    _ if self.legacy.is_err() => LineMode::Legacy,
-                    _ => LineMode::Shader,
-                };
-                self.line_mode = Some(next);
-                if let Some(lines) = &mut self.lines {
-                    lines.set_mode(next)?;
-                }
-            }
-            Action::NextView => switches.view = switches.view.next_vector(),
-            Action::NextComponent => switches.view = switches.view.next_component(),
-            Action::ToggleSpecularTexture => switches.specular_texture ^= true,
-            Action::ToggleNormalizedTbn => switches.normalize_tbn ^= true,
-            Action::NextTangentSource => {
-                return self.set_tangent_source(self.tangent_source.next());
-            }
-            Action::NextCompareMode => {
-                let view = &mut self.compare_view;
-                match (self.comparison.is_some(), view.mode) {
-                    (false, _) => {
-                        view.mode = CompareMode::Split;
-                        let current = self.tangent_source;
-                        let sources = self.compare_sources.unwrap_or([current, current.next()]);
-                        self.start_comparison(sources)?;
-                    }
-                    (true, CompareMode::Split) => view.mode = CompareMode::Difference,
-                    (true, CompareMode::Difference) => self.stop_comparison(),
-                }
-            }
-            Action::MoveSplitLeft | Action::MoveSplitRight => {
-                let view = &mut self.compare_view;
-                let step = if action == Action::MoveSplitLeft {
-                    -0.05
-                } else {
-                    0.05
-                };
-                view.split = (view.split + step).clamp(0.0, 1.0);
-            }
-            Action::ToggleGreenDown => switches.convention.green_down ^= true,
-            Action::ToggleExactExpansion => switches.convention.exact_expansion ^= true,
-            Action::ToggleTwoChannel => switches.convention.two_channel ^= true,
-            Action::ToggleNormalizeBeforeSum => mesh.indexing.normalize_before_sum ^= true,
-            Action::ToggleGramSchmidt => mesh.tangents.gram_schmidt ^= true,
-            Action::ToggleHandedness => mesh.tangents.handedness ^= true,
+    /// The path the lines are drawn with (or will be, once shown).
+    fn shown_line_mode(&self) -> LineMode {
+        match self.line_mode().or(self.line_mode) {
+            Some(LineMode::Legacy) | None if self.legacy.is_ok() => LineMode::Legacy,
+            _ => LineMode::Shader,
         }
+    }
+
+    /// Draws the lines with `mode` (immediate mode falls back to the line shader, with a notice,
+    /// where the context has none).
+    pub fn set_line_mode(&mut self, mode: LineMode) -> Result<()> {
+        self.line_mode = Some(mode);
+        if let Some(lines) = &mut self.lines {
+            lines.set_mode(mode)?;
+        }
+        Ok(())
+    }
+
+    /// Runs the CPU pipeline again with `mesh` (the compare view's meshes too), if it changed.
+    pub fn set_mesh_options(&mut self, mesh: MeshOptions) -> Result<()> {
         if mesh != self.mesh_options {
             self.rebuild_mesh(self.tangent_source, mesh)?;
             self.mesh_options = mesh;
@@ -554,6 +740,75 @@ impl Cylinder {
             }
         }
         Ok(())
+    }
+
+    /// The compare view `name` (one of [`COMPARE_NAMES`]): off, or on in that mode, comparing
+    /// `--compare`'s sources, else the current one and the next. A comparison of a colour view
+    /// with the per-pixel frame, which draws none, is not started.
+    fn set_compare(&mut self, name: &str) -> Result<()> {
+        let mode = match name {
+            "side by side" => CompareMode::Split,
+            "difference" => CompareMode::Difference,
+            _ => {
+                self.stop_comparison();
+                return Ok(());
+            }
+        };
+        if self.comparison.is_none() {
+            if self.unlike_comparison().is_some() {
+                return Ok(());
+            }
+            self.compare_view.mode = mode;
+            self.start_comparison(self.sources_to_compare())?;
+        }
+        self.compare_view.mode = mode;
+        Ok(())
+    }
+
+    /// The sources the compare key compares.
+    fn sources_to_compare(&self) -> [TangentSource; 2] {
+        let current = self.tangent_source;
+        let compared = self.comparison.as_ref().map(|(sources, _)| *sources);
+        compared
+            .or(self.compare_sources)
+            .unwrap_or([current, current.next()])
+    }
+
+    /// Why the compare view would not compare like with like: a colour view on, and a side drawn
+    /// with the per-pixel frame, which draws the lit picture only.
+    fn unlike_comparison(&self) -> Option<&'static str> {
+        let colour_view = self.switches.view != ColorView::default();
+        let derivative = self
+            .sources_to_compare()
+            .contains(&TangentSource::Derivative);
+        (colour_view && derivative).then_some(
+            "a colour view is on (V) and a side is the per-pixel frame, which draws none: the two \
+             sides would not show the same thing",
+        )
+    }
+
+    /// Moves the compare view's split line by `step` of the width.
+    fn move_split(&mut self, step: f32) -> Result<()> {
+        let view = &mut self.compare_view;
+        view.split = (view.split + step).clamp(0.0, 1.0);
+        Ok(())
+    }
+}
+
+impl PointLight for Cylinder {
+    /// The light (world space) and the panel's light power.
+    fn light(&self) -> (Vec3, f32) {
+        (
+            self.tutorial.light_position_worldspace,
+            self.knobs.light_power,
+        )
+    }
+    fn light_start(&self) -> (Vec3, f32) {
+        (self.light_start, Knobs::TUTORIAL.light_power)
+    }
+    fn set_light(&mut self, position: Vec3, power: f32) -> Result<()> {
+        self.knobs.light_power = power;
+        self.move_light(position)
     }
 }
 
@@ -664,7 +919,7 @@ impl Cylinder {
     }
 
     /// Moves the light (world space): the lighting's and the debug lines' cross.
-    pub fn set_light(&mut self, light_position_worldspace: Vec3) -> Result<()> {
+    pub fn move_light(&mut self, light_position_worldspace: Vec3) -> Result<()> {
         self.tutorial.light_position_worldspace = light_position_worldspace;
         if let Some(lines) = &mut self.lines {
             let (_, length) = lines.shape();
@@ -710,10 +965,6 @@ impl Scene for Cylinder {
             .draw_with(program, frame.projection, frame.view, lines);
     }
 
-    fn key(&mut self, key: char) -> Result<bool> {
-        handle_key(&BINDINGS, key, |action| self.apply(action))
-    }
-
     /// A model is placed on the tutorial's cylinder's bounding sphere; the camera starts framing it.
     /// The tutorial's own cylinder keeps the tutorial's start.
     fn framing(&self) -> Option<(Vec3, f32)> {
@@ -746,152 +997,6 @@ impl Scene for Cylinder {
         self.derivative_program = derivative;
         self.derivative_knobs = derivative_knobs;
         Ok(())
-    }
-
-    fn switches(&self) -> Vec<Switch> {
-        let sw = self.switches;
-        let mesh = self.mesh_options;
-        let on = |key, label, on| Switch {
-            key,
-            label,
-            state: SwitchState::On(on),
-        };
-        let step = |key, label, current: String, choices: &[&str]| Switch {
-            key,
-            label,
-            state: SwitchState::Step {
-                current,
-                choices: choices.iter().map(|c| c.to_string()).collect(),
-            },
-        };
-        let line_mode = match self.line_mode().or(self.line_mode) {
-            Some(LineMode::Legacy) | None if self.legacy.is_ok() => LineMode::Legacy,
-            _ => LineMode::Shader,
-        };
-        let view_names: Vec<String> = ColorView::CYCLE
-            .iter()
-            .map(|&(vector, mapped)| ColorView::default().with_vector(vector, mapped).to_string())
-            .collect();
-        let view_names: Vec<&str> = view_names.iter().map(String::as_str).collect();
-        let view = ColorView {
-            component: None,
-            ..sw.view
-        };
-        let component = match sw.view.component {
-            None => "all",
-            Some(0) => "x",
-            Some(1) => "y",
-            Some(_) => "z",
-        };
-        let sources = crate::choices::names::<TangentSource>();
-        let sources: Vec<&str> = sources.iter().map(String::as_str).collect();
-        let compare = match (&self.comparison, self.compare_view.mode) {
-            (None, _) => "off",
-            (Some(_), CompareMode::Split) => "side by side",
-            (Some(_), CompareMode::Difference) => "difference",
-        };
-        vec![
-            on('L', "TBN debug lines", self.show_lines),
-            step(
-                'M',
-                "lines drawn with",
-                line_mode_name(line_mode).into(),
-                // A core context has no immediate mode to choose (M falls back with a notice).
-                match self.legacy {
-                    Ok(_) => &LINE_MODE_NAMES,
-                    Err(_) => &LINE_MODE_NAMES[1..],
-                },
-            ),
-            step('V', "colour view", view.to_string(), &view_names),
-            step('C', "component", component.into(), &["all", "x", "y", "z"]),
-            on(
-                'N',
-                "normalize before summing",
-                mesh.indexing.normalize_before_sum,
-            ),
-            on('G', "Gram-Schmidt", mesh.tangents.gram_schmidt),
-            on('H', "handedness fix", mesh.tangents.handedness),
-            on('S', "specular texture", sw.specular_texture),
-            on('T', "normalized TBN (article)", sw.normalize_tbn),
-            step(
-                'F',
-                "tangent frame",
-                self.tangent_source.to_string(),
-                &sources,
-            ),
-            step(
-                'K',
-                "compare view",
-                compare.into(),
-                &["off", "side by side", "difference"],
-            ),
-            on('Y', "green down (DirectX)", sw.convention.green_down),
-            on('E', "exact expansion", sw.convention.exact_expansion),
-            on('Z', "two channels", sw.convention.two_channel),
-        ]
-    }
-
-    /// The light (world space), its power, the normal map's strength, the TBN lines' length and
-    /// the compare view's split.
-    fn sliders(&self) -> Vec<Slider> {
-        let light = self.tutorial.light_position_worldspace;
-        // Room around the tutorial's cylinder (radius 1, height 2, light 4 away) or the model
-        // placed on its bounding sphere.
-        let power = self.knobs.light_power;
-        let tutorial = Knobs::TUTORIAL.light_power;
-        let mut sliders = point_light_sliders(light, self.light_start, power, tutorial, 200.0);
-        let split = self.compare_view.split;
-        sliders.extend([
-            Slider {
-                name: "normal strength",
-                value: self.knobs.normal_strength,
-                start: Knobs::TUTORIAL.normal_strength,
-                range: (0.0, 4.0),
-            },
-            Slider {
-                name: "TBN line length",
-                value: self.line_length,
-                start: LINE_LENGTH,
-                range: (0.01, 1.0),
-            },
-            Slider {
-                name: "compare split",
-                value: split,
-                start: self.compare_start_split,
-                range: (0.0, 1.0),
-            },
-        ]);
-        sliders
-    }
-
-    fn set_slider(&mut self, name: &str, value: f32) {
-        let Some(value) = clamp_to_slider(&self.sliders(), name, value) else {
-            return;
-        };
-        let light = slide_light(self.tutorial.light_position_worldspace, name, value);
-        let done = match (light, name) {
-            (Some(light), _) => self.set_light(light),
-            (None, LIGHT_POWER) => {
-                self.knobs.light_power = value;
-                Ok(())
-            }
-            (None, "normal strength") => {
-                self.knobs.normal_strength = value;
-                Ok(())
-            }
-            (None, "TBN line length") => self.set_line_length(value),
-            (None, "compare split") => {
-                self.compare_view.split = value;
-                Ok(())
-            }
-            (None, other) => {
-                log::warn!("the cylinder has no slider {other:?}");
-                Ok(())
-            }
-        };
-        if let Err(e) = done {
-            log::error!("{e}");
-        }
     }
 
     /// The program each side draws with (and the lines' program when they are shown).
@@ -939,12 +1044,10 @@ impl Scene for Cylinder {
     }
 
     /// The colour view, the lines and the tangent frame (and the compare view or model if on).
+    /// Those the table names in the title, where they apply (with the per-pixel frame, neither
+    /// view nor lines).
     fn short_status(&self) -> String {
-        let lines = if self.show_lines { "on" } else { "off" };
-        let mut text = format!(
-            "view {}, lines {lines}, tangents {}",
-            self.switches.view, self.tangent_source
-        );
+        let mut text = self.title_status().join(", ");
         if let Some((sources, _)) = &self.comparison {
             text += &format!(", compare {} | {}", sources[0], sources[1]);
         }
@@ -955,7 +1058,8 @@ impl Scene for Cylinder {
         text
     }
 
-    /// View, lines, and every experiment switch.
+    /// View, lines, and every experiment switch (those that do nothing now left out: the
+    /// per-pixel frame draws neither colour views, lines nor the shader's experiments).
     fn status(&self) -> String {
         let on = |b: bool| if b { "on" } else { "off" };
         let sw = self.switches;
@@ -965,23 +1069,38 @@ impl Scene for Cylinder {
             (true, _) => "line shader",
             (false, _) => "off",
         };
-        let model = match &self.soup_source {
-            SoupSource::Model(model) => format!("model {} | ", model.path.display()),
-            SoupSource::Tutorial(_) => String::new(),
+        let shader = per_pixel(self).is_none();
+        let tbn = match sw.normalize_tbn {
+            true => "normalized (article)",
+            false => "as summed (repository)",
         };
-        model
-            + &format!(
-            "view {} | lines {lines} | Gram-Schmidt {} | handedness {} | normalize before sum {} | \
-             specular texture {} | TBN {} | normal map {} | tangents {}",
-            sw.view,
-            on(mesh.tangents.gram_schmidt),
-            on(mesh.tangents.handedness),
-            on(mesh.indexing.normalize_before_sum),
-            on(sw.specular_texture),
-            if sw.normalize_tbn { "normalized (article)" } else { "as summed (repository)" },
-            sw.convention,
-            self.tangent_source,
-        ) + &self.compare_status()
+        let mut parts = Vec::new();
+        if let SoupSource::Model(model) = &self.soup_source {
+            parts.push(format!("model {}", model.path.display()));
+        }
+        if shader {
+            parts.push(format!("view {}", sw.view));
+        }
+        if no_lines(self).is_none() {
+            parts.push(format!("lines {lines}"));
+        }
+        parts.extend([
+            format!("Gram-Schmidt {}", on(mesh.tangents.gram_schmidt)),
+            format!("handedness {}", on(mesh.tangents.handedness)),
+            format!(
+                "normalize before sum {}",
+                on(mesh.indexing.normalize_before_sum)
+            ),
+        ]);
+        if shader {
+            parts.extend([
+                format!("specular texture {}", on(sw.specular_texture)),
+                format!("TBN {tbn}"),
+                format!("normal map {}", sw.convention),
+            ]);
+        }
+        parts.push(format!("tangents {}", self.tangent_source));
+        parts.join(" | ") + &self.compare_status()
     }
 }
 
