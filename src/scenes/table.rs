@@ -37,7 +37,7 @@ pub enum Kind<S> {
     },
     /// A value within `range`, starting at the tutorial's (or the article's) `start`.
     Slider {
-        range: (f32, f32),
+        range: fn(&S) -> (f32, f32),
         start: fn(&S) -> f32,
         get: fn(&S) -> f32,
         set: fn(&mut S, f32) -> Result<()>,
@@ -88,7 +88,7 @@ impl<S> Control<S> {
     /// A slider without a key.
     pub const fn slider(
         label: &'static str,
-        range: (f32, f32),
+        range: fn(&S) -> (f32, f32),
         start: fn(&S) -> f32,
         get: fn(&S) -> f32,
         set: fn(&mut S, f32) -> Result<()>,
@@ -144,7 +144,7 @@ impl<S> Control<S> {
             } => ControlValue::Slider {
                 value: get(scene),
                 start: start(scene),
-                range: *range,
+                range: range(scene),
             },
             Kind::Press { .. } => ControlValue::Press,
         };
@@ -173,7 +173,8 @@ impl<S> Control<S> {
                 }
             }
             (Kind::Slider { range, set, .. }, SetTo::Slider(value)) => {
-                set(scene, value.clamp(range.0, range.1))
+                let (lo, hi) = range(scene);
+                set(scene, value.clamp(lo, hi))
             }
             (Kind::Press { press }, SetTo::Press) => press(scene),
             (_, to) => {
@@ -368,6 +369,13 @@ pub trait PointLight {
     fn light_start(&self) -> (glam::Vec3, f32);
     /// Moves the light and sets its power.
     fn set_light(&mut self, position: glam::Vec3, power: f32) -> Result<()>;
+    /// The box the position's sliders move it in (lowest and highest corner): 10 either way
+    /// unless the scene says otherwise.
+    fn light_range(&self) -> (glam::Vec3, glam::Vec3) {
+        (glam::Vec3::splat(-10.0), glam::Vec3::splat(10.0))
+    }
+    /// The power slider's highest value.
+    const POWER_MAX: f32;
 }
 
 /// The labels of the light's three sliders ([`light_slider`]).
@@ -376,8 +384,12 @@ pub const LIGHT_AXES: [&str; 3] = ["light x", "light y", "light z"];
 /// The label of the light's power slider ([`power_slider`]).
 pub const LIGHT_POWER: &str = "light power";
 
-/// The slider of the light's axis `AXIS` (0, 1, 2: x, y, z), within `reach` of the origin.
-pub const fn light_slider<S: PointLight, const AXIS: usize>(reach: f32) -> Control<S> {
+/// The slider of the light's axis `AXIS` (0, 1, 2: x, y, z), within [`PointLight::light_range`].
+pub const fn light_slider<S: PointLight, const AXIS: usize>() -> Control<S> {
+    fn range<S: PointLight, const AXIS: usize>(scene: &S) -> (f32, f32) {
+        let (lo, hi) = scene.light_range();
+        (lo[AXIS], hi[AXIS])
+    }
     fn get<S: PointLight, const AXIS: usize>(scene: &S) -> f32 {
         scene.light().0[AXIS]
     }
@@ -391,15 +403,18 @@ pub const fn light_slider<S: PointLight, const AXIS: usize>(reach: f32) -> Contr
     }
     Control::slider(
         LIGHT_AXES[AXIS],
-        (-reach, reach),
+        range::<S, AXIS>,
         start::<S, AXIS>,
         get::<S, AXIS>,
         set::<S, AXIS>,
     )
 }
 
-/// The slider of the light's power, from 0 to `max`.
-pub const fn power_slider<S: PointLight>(max: f32) -> Control<S> {
+/// The slider of the light's power, from 0 to [`PointLight::POWER_MAX`].
+pub const fn power_slider<S: PointLight>() -> Control<S> {
+    fn range<S: PointLight>(_: &S) -> (f32, f32) {
+        (0.0, S::POWER_MAX)
+    }
     fn get<S: PointLight>(scene: &S) -> f32 {
         scene.light().1
     }
@@ -410,5 +425,5 @@ pub const fn power_slider<S: PointLight>(max: f32) -> Control<S> {
         let (position, _) = scene.light();
         scene.set_light(position, power)
     }
-    Control::slider(LIGHT_POWER, (0.0, max), start::<S>, get::<S>, set::<S>)
+    Control::slider(LIGHT_POWER, range::<S>, start::<S>, get::<S>, set::<S>)
 }

@@ -194,7 +194,7 @@ fn keys_find_their_controls_in_either_case() {
     let none = |_: &mut u8| Ok(());
     let table: [Control<u8>; 3] = [
         Control::press('L', "lines", "lines", none),
-        Control::slider("slider", (0.0, 1.0), |_| 0.0, |_| 0.0, |_, _| Ok(())),
+        Control::slider("slider", |_| (0.0, 1.0), |_| 0.0, |_| 0.0, |_, _| Ok(())),
         Control::press('7', "seven", "seven", none),
     ];
     let find = |key| control_for_key(&table, key);

@@ -222,3 +222,52 @@ fn flags_the_per_pixel_frame_ignores_are_warned_of() {
     let options = derivative_options(|c| c.switches.convention.green_down = true);
     assert!(render(&options) == plain);
 }
+
+/// A quad of side 4 facing +z around x = 10 in a model's own coordinates (placed elsewhere in the
+/// world), with normals and texture coordinates.
+const OFF_CENTRE_QUAD: &str = "v 8 -2 0\nv 12 -2 0\nv 12 2 0\nv 8 2 0\n\
+    vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n\
+    f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n";
+
+// Fails if the light's sliders of a model are not in the model's own coordinates, as --light is
+// (--light 3,0,2 must show 3, 0, 2), or if moving one to a value does not give the frame of
+// --light with that value bit for bit, or if the tutorial's values do not give the first frame.
+#[test]
+fn a_models_light_sliders_are_in_the_space_of_light() {
+    let dir = scratch("table-model-light");
+    let model = dir.join("quad.obj");
+    std::fs::write(&model, OFF_CENTRE_QUAD).unwrap();
+    let with_light = |light: [f32; 3]| {
+        let mut options = HeadlessOptions::default();
+        let cylinder = cylinder_options(&mut options);
+        cylinder.model = Some(model.clone());
+        cylinder.light = Some(light.into());
+        options
+    };
+    // Rendered first: each renderer has a context of its own, current while it is built.
+    let expected = render(&with_light([3.0, 1.5, 2.0]));
+    let mut renderer = renderer(&with_light([3.0, 0.0, 2.0]));
+    let first = frame(&mut renderer);
+    let axes = ["light x", "light y", "light z"];
+    let index = axes.map(|a| renderer.scene.control_index(a).unwrap());
+    let shown = index.map(|i| match renderer.scene.controls()[i].value {
+        ControlValue::Slider { value, start, .. } => (value, start),
+        _ => panic!("no slider"),
+    });
+    assert_eq!(shown, [(3.0, 3.0), (0.0, 0.0), (2.0, 2.0)]);
+    renderer
+        .scene
+        .set_control(index[1], SetTo::Slider(1.5))
+        .unwrap();
+    let moved = frame(&mut renderer);
+    assert!(
+        differing_pixels(&moved, &first) > 0,
+        "the light did not move"
+    );
+    assert_eq!(differing_pixels(&moved, &expected), 0);
+    renderer
+        .scene
+        .set_control(index[1], SetTo::Slider(0.0))
+        .unwrap();
+    assert!(frame(&mut renderer) == first);
+}

@@ -61,10 +61,10 @@ const CONTROLS: &[C] = &[
         },
     )
     .in_title("normal mapping"),
-    light_slider::<Cube, 0>(10.0),
-    light_slider::<Cube, 1>(10.0),
-    light_slider::<Cube, 2>(10.0),
-    power_slider::<Cube>(4.0),
+    light_slider::<Cube, 0>(),
+    light_slider::<Cube, 1>(),
+    light_slider::<Cube, 2>(),
+    power_slider::<Cube>(),
 ];
 
 /// A control of this scene.
@@ -257,6 +257,8 @@ impl SceneType for Cube {
 }
 
 impl PointLight for Cube {
+    const POWER_MAX: f32 = 4.0;
+
     fn light(&self) -> (Vec3, f32) {
         (self.light_position_worldspace, self.light_power)
     }

@@ -379,15 +379,13 @@ const CONTROLS: &[C] = &[
         |c, on| switch(c, |sw| sw.convention.two_channel = on),
     )
     .inert_when(per_pixel),
-    // Room around the tutorial's cylinder (radius 1, height 2, light 4 away) or the model placed on
-    // its bounding sphere.
-    light_slider::<Cylinder, 0>(10.0),
-    light_slider::<Cylinder, 1>(10.0),
-    light_slider::<Cylinder, 2>(10.0),
-    power_slider::<Cylinder>(200.0),
+    light_slider::<Cylinder, 0>(),
+    light_slider::<Cylinder, 1>(),
+    light_slider::<Cylinder, 2>(),
+    power_slider::<Cylinder>(),
     C::slider(
         "normal strength",
-        (0.0, 4.0),
+        |_| (0.0, 4.0),
         |_| Knobs::TUTORIAL.normal_strength,
         |c| c.knobs.normal_strength,
         |c, value| {
@@ -397,7 +395,7 @@ const CONTROLS: &[C] = &[
     ),
     C::slider(
         "TBN line length",
-        (0.01, 1.0),
+        |_| (0.01, 1.0),
         |_| LINE_LENGTH,
         |c| c.line_length,
         Cylinder::set_line_length,
@@ -408,7 +406,7 @@ const CONTROLS: &[C] = &[
     }),
     C::slider(
         "compare split",
-        (0.0, 1.0),
+        |_| (0.0, 1.0),
         |c| c.compare_start_split,
         |c| c.compare_view.split,
         |c, value| {
@@ -446,8 +444,12 @@ pub struct Cylinder {
     pub knobs: Knobs,
     /// The compare view's split at the start (`--compare`'s, or the middle).
     compare_start_split: f32,
-    /// The light where the scene started (`--light`, or the tutorial's), for the panel.
+    /// The light as the panel shows it, in the space `--light` uses (the model's own coordinates
+    /// with `--model`, else world space): set there, it is placed as `--light` is, to the bit.
+    light: Vec3,
+    /// Where it started (`--light`, or the tutorial's), in that space and in world space.
     light_start: Vec3,
+    light_start_world: Vec3,
     /// The TBN lines' length (the tutorial's [`LINE_LENGTH`] unless the panel moved it).
     line_length: f32,
     /// Where the tangent frame comes from.
@@ -484,6 +486,15 @@ enum SoupSource {
 }
 
 impl SoupSource {
+    /// A point of the space `--light` uses (the model's own coordinates, or the tutorial's world
+    /// space) where the program draws it.
+    fn to_world(&self, p: Vec3) -> Vec3 {
+        match self {
+            SoupSource::Model(model) => model.placement.to_world(p),
+            SoupSource::Tutorial(_) => p,
+        }
+    }
+
     fn soup(&self) -> Result<std::borrow::Cow<'_, TriangleSoup>> {
         Ok(match self {
             SoupSource::Tutorial(path) => std::borrow::Cow::Owned(load_obj(path)?),
@@ -532,11 +543,15 @@ impl SceneType for Cylinder {
             }
         };
         if let Some(light) = cylinder.light {
-            tutorial.light_position_worldspace = match &soup_source {
-                SoupSource::Model(model) => model.placement.to_world(light),
-                SoupSource::Tutorial(_) => light,
-            };
+            tutorial.light_position_worldspace = soup_source.to_world(light);
         }
+        // The panel shows the light where `--light` puts it: in the model's own coordinates.
+        let light_start_world = tutorial.light_position_worldspace;
+        let light_start = match (cylinder.light, &soup_source) {
+            (Some(light), _) => light,
+            (None, SoupSource::Model(model)) => model.placement.to_file(light_start_world),
+            (None, SoupSource::Tutorial(_)) => light_start_world,
+        };
         let debug_program = DebugProgram::load(gl, shader_dir)?;
         let [vertex_shader, fragment_shader] = DERIVATIVE_SHADERS;
         let derivative_program =
@@ -547,7 +562,9 @@ impl SceneType for Cylinder {
             derivative_knobs: KnobUniforms::locate(&derivative_program.program)?,
             derivative_program,
             knobs: Knobs::TUTORIAL,
-            light_start: tutorial.light_position_worldspace,
+            light: light_start,
+            light_start,
+            light_start_world,
             line_length: LINE_LENGTH,
             compare_start_split: cylinder.compare.map_or(0.5, |c| c.split.clamp(0.0, 1.0)),
             tangent_source: TangentSource::Tutorial,
@@ -796,19 +813,36 @@ impl Cylinder {
 }
 
 impl PointLight for Cylinder {
-    /// The light (world space) and the panel's light power.
+    const POWER_MAX: f32 = 200.0;
+
+    /// The light (in the space `--light` uses) and the panel's light power.
     fn light(&self) -> (Vec3, f32) {
-        (
-            self.tutorial.light_position_worldspace,
-            self.knobs.light_power,
-        )
+        (self.light, self.knobs.light_power)
     }
     fn light_start(&self) -> (Vec3, f32) {
         (self.light_start, Knobs::TUTORIAL.light_power)
     }
+    /// Room around the tutorial's cylinder (radius 1, height 2, light 4 away), or around the model
+    /// placed on its bounding sphere, in the model's own coordinates.
+    fn light_range(&self) -> (Vec3, Vec3) {
+        let world = (Vec3::splat(-10.0), Vec3::splat(10.0));
+        match &self.soup_source {
+            SoupSource::Model(model) => {
+                let [a, b] = [world.0, world.1].map(|p| model.placement.to_file(p));
+                (a.min(b), a.max(b))
+            }
+            SoupSource::Tutorial(_) => world,
+        }
+    }
+    /// Back at its start, the light is where the scene started, whatever the placement rounds.
     fn set_light(&mut self, position: Vec3, power: f32) -> Result<()> {
         self.knobs.light_power = power;
-        self.move_light(position)
+        self.light = position;
+        let world = match position == self.light_start {
+            true => self.light_start_world,
+            false => self.soup_source.to_world(position),
+        };
+        self.move_light(world)
     }
 }
 
@@ -919,7 +953,7 @@ impl Cylinder {
     }
 
     /// Moves the light (world space): the lighting's and the debug lines' cross.
-    pub fn move_light(&mut self, light_position_worldspace: Vec3) -> Result<()> {
+    fn move_light(&mut self, light_position_worldspace: Vec3) -> Result<()> {
         self.tutorial.light_position_worldspace = light_position_worldspace;
         if let Some(lines) = &mut self.lines {
             let (_, length) = lines.shape();

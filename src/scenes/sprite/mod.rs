@@ -138,7 +138,7 @@ const CONTROLS: &[C] = &[
     // The light's height (its x and y follow the mouse).
     C::slider(
         "light height",
-        (Z_MIN, Z_MAX),
+        |_| (Z_MIN, Z_MAX),
         |sprite| sprite.start_height,
         |sprite| sprite.light.z,
         |sprite, z| {

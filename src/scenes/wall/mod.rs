@@ -104,10 +104,10 @@ const CONTROLS: &[C] = &[
             Ok(())
         },
     ),
-    light_slider::<Wall, 0>(10.0),
-    light_slider::<Wall, 1>(10.0),
-    light_slider::<Wall, 2>(10.0),
-    power_slider::<Wall>(200.0),
+    light_slider::<Wall, 0>(),
+    light_slider::<Wall, 1>(),
+    light_slider::<Wall, 2>(),
+    power_slider::<Wall>(),
 ];
 
 /// A control of this scene.
@@ -209,6 +209,8 @@ fn square() -> TriangleSoup {
 }
 
 impl PointLight for Wall {
+    const POWER_MAX: f32 = 200.0;
+
     /// The light's position and intensity.
     fn light(&self) -> (Vec3, f32) {
         (self.light_position_worldspace, self.light_intensity)
