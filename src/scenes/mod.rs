@@ -12,6 +12,8 @@
 
 pub mod cube;
 pub mod cylinder;
+mod descriptor;
+mod options;
 mod scene;
 pub mod sprite;
 pub mod table;
@@ -19,10 +21,15 @@ pub mod wall;
 
 use clap::parser::ValueSource;
 
+// Where a scene's asset files are found: re-exported for the tests and tools that used them here.
+pub use crate::assets::{crate_assets_dir, find_assets, taken_from_crate, AssetFiles};
+pub use descriptor::{SceneDescriptor, SceneType};
+pub use options::{
+    read_args, OwnOptions, PerScene, SceneArgs, SceneOption, SceneOptions, SharedArgs,
+};
 pub use scene::{
-    crate_assets_dir, drawing_program, find_assets, read_args, taken_from_crate, AsAny, AssetFiles,
-    CompareLabels, DrawingProgram, FrameInput, MouseMode, PerScene, Scene, SceneArgs, SceneContext,
-    SceneDescriptor, SceneOption, SceneOptions, SceneType, SharedArgs,
+    drawing_program, AsAny, CompareLabels, DrawingProgram, FrameInput, MouseMode, Scene,
+    SceneContext,
 };
 pub use table::{
     control_for_key, key_count, key_help, Control, ControlState, ControlValue, KeyHelp, Kind,

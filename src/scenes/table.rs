@@ -132,7 +132,7 @@ impl<S> Control<S> {
     }
 
     /// Its state in `scene` now.
-    fn state(&self, index: usize, scene: &S) -> ControlState {
+    pub(super) fn state(&self, index: usize, scene: &S) -> ControlState {
         let value = match &self.kind {
             Kind::Toggle { get, .. } => ControlValue::Toggle(get(scene)),
             Kind::Choice { choices, get, .. } => ControlValue::Choice {
@@ -160,7 +160,7 @@ impl<S> Control<S> {
     }
 
     /// Sets it in `scene` to `to`; a value of another kind changes nothing.
-    fn set(&self, scene: &mut S, to: SetTo) -> Result<()> {
+    pub(super) fn set(&self, scene: &mut S, to: SetTo) -> Result<()> {
         match (&self.kind, to) {
             (Kind::Toggle { set, .. }, SetTo::Toggle(on)) => set(scene, on),
             (Kind::Choice { choices, set, .. }, SetTo::Choice(name)) => {
@@ -185,7 +185,7 @@ impl<S> Control<S> {
     }
 
     /// What its key does: flips it, steps it to the next choice, or presses it.
-    fn key_press(&self, scene: &S) -> SetTo {
+    pub(super) fn key_press(&self, scene: &S) -> SetTo {
         match &self.kind {
             Kind::Toggle { get, .. } => SetTo::Toggle(!get(scene)),
             Kind::Choice { choices, get, .. } => {
@@ -328,35 +328,6 @@ pub trait SceneControls {
     /// addresses controls by index).
     fn control_index(&self, label: &str) -> Option<usize> {
         self.controls().iter().position(|c| c.label == label)
-    }
-}
-
-impl<S: super::scene::SceneType> SceneControls for S {
-    fn controls(&self) -> Vec<ControlState> {
-        S::CONTROLS
-            .iter()
-            .enumerate()
-            .map(|(i, c)| c.state(i, self))
-            .collect()
-    }
-
-    fn set_control(&mut self, index: usize, to: SetTo) -> Result<()> {
-        let Some(control) = S::CONTROLS.get(index) else {
-            log::warn!("no control {index}");
-            return Ok(());
-        };
-        if let Some(reason) = (control.inert)(self) {
-            log::warn!("{}: changes nothing now: {reason}", control.label);
-        }
-        control.set(self, to)
-    }
-
-    fn press_key(&mut self, key: char) -> Result<bool> {
-        let Some(index) = control_for_key(S::CONTROLS, key) else {
-            return Ok(false);
-        };
-        let to = S::CONTROLS[index].key_press(self);
-        self.set_control(index, to).map(|()| true)
     }
 }
 

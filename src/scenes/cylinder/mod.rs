@@ -31,9 +31,10 @@ use crate::progress::Progress;
 use crate::tangents::TangentSource;
 use crate::Result;
 
+use super::descriptor::{SceneDescriptor, SceneType};
+use super::options::SceneOptions;
 use super::scene::{
     drawing_program, CompareLabels, DrawingProgram, FrameInput, Scene, SceneContext,
-    SceneDescriptor, SceneOptions, SceneType,
 };
 use super::table::{
     key_count, key_help, light_slider, power_slider, Control, KeyHelp, PointLight, SceneControls,

@@ -38,10 +38,9 @@ use crate::gl::state::GlState;
 use crate::gl::{Gl, Maps};
 use crate::Result;
 
-use super::scene::{
-    drawing_program, DrawingProgram, FrameInput, MouseMode, Scene, SceneContext, SceneDescriptor,
-    SceneOptions, SceneType,
-};
+use super::descriptor::{SceneDescriptor, SceneType};
+use super::options::SceneOptions;
+use super::scene::{drawing_program, DrawingProgram, FrameInput, MouseMode, Scene, SceneContext};
 use super::table::{key_count, key_help, Control, KeyHelp};
 pub use args::SpriteArgs;
 

@@ -27,10 +27,9 @@ use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
 use assets::FILES;
 
-use super::scene::{
-    drawing_program, DrawingProgram, FrameInput, Scene, SceneContext, SceneDescriptor,
-    SceneOptions, SceneType,
-};
+use super::descriptor::{SceneDescriptor, SceneType};
+use super::options::SceneOptions;
+use super::scene::{drawing_program, DrawingProgram, FrameInput, Scene, SceneContext};
 use super::table::{key_count, key_help, light_slider, power_slider, Control, KeyHelp, PointLight};
 pub use args::WallOptions;
 
