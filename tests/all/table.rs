@@ -58,7 +58,7 @@ fn choosing_a_tangent_frame_on_the_panel_builds_only_its_mesh() {
     // The list is open: its third row is "derivative".
     click(&mut renderer, PanelWidget::Choice('F', 2));
     let cylinder = renderer.scene_ref::<Cylinder>();
-    assert_eq!(cylinder.tangent_source, TangentSource::Derivative);
+    assert_eq!(cylinder.tangent_source(), TangentSource::Derivative);
     assert_eq!(cylinder.meshes_built(), [TangentSource::Derivative]);
     // The same through the table, from the per-pixel frame back to the tutorial's.
     let f = renderer.scene.control_index("tangent frame").unwrap();

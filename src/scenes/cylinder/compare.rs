@@ -12,10 +12,10 @@ use super::Cylinder;
 impl Cylinder {
     /// Shows `sources` in the compare view (each drawn whole, the first left of the split).
     pub fn start_comparison(&mut self, sources: [TangentSource; 2]) -> Result<()> {
-        let soup = self.soup_source.soup()?;
-        self.meshes_built.extend(sources);
+        let soup = self.mesh.soup.soup()?;
+        self.mesh.built.extend(sources);
         let upload = |source: TangentSource| -> Result<MeshBuffers> {
-            MeshBuffers::new(&self.gl, &source.mesh(&soup, self.mesh_options)?)
+            MeshBuffers::new(&self.gl, &source.mesh(&soup, self.mesh.options)?)
         };
         self.comparison = Some((sources, [upload(sources[0])?, upload(sources[1])?]));
         Ok(())
@@ -74,7 +74,7 @@ impl Cylinder {
 
     /// The sources the compare key compares.
     fn sources_to_compare(&self) -> [TangentSource; 2] {
-        let current = self.tangent_source;
+        let current = self.mesh.source;
         let compared = self.comparison.as_ref().map(|(sources, _)| *sources);
         compared
             .or(self.compare_sources)

@@ -51,14 +51,14 @@ pub(super) const PER_PIXEL: &str =
 /// Whether the per-pixel frame draws (alone: the compare view draws each side's own).
 pub(super) fn per_pixel(cylinder: &Cylinder) -> Option<&'static str> {
     let alone = cylinder.comparison.is_none();
-    (alone && cylinder.tangent_source == TangentSource::Derivative).then_some(PER_PIXEL)
+    (alone && cylinder.mesh.source == TangentSource::Derivative).then_some(PER_PIXEL)
 }
 
 /// Why the TBN lines are not drawn, if they cannot be.
 pub(super) fn no_lines(cylinder: &Cylinder) -> Option<&'static str> {
     if cylinder.comparison.is_some() {
         Some("the compare view draws no TBN lines")
-    } else if cylinder.tangent_source == TangentSource::Derivative {
+    } else if cylinder.mesh.source == TangentSource::Derivative {
         Some("the per-pixel frame (F = derivative) has no vertex tangents to draw lines from")
     } else {
         None
@@ -82,7 +82,7 @@ fn switch(cylinder: &mut Cylinder, change: impl FnOnce(&mut ShaderSwitches)) -> 
 
 /// Runs the CPU pipeline again with `change` made to its switches.
 fn mesh_switch(cylinder: &mut Cylinder, change: impl FnOnce(&mut MeshOptions)) -> Result<()> {
-    let mut mesh = cylinder.mesh_options;
+    let mut mesh = cylinder.mesh.options;
     change(&mut mesh);
     cylinder.set_mesh_options(mesh)
 }
@@ -176,21 +176,21 @@ pub(super) const CONTROLS: &[C] = &[
         'N',
         "normalize before summing",
         "normalize tangents before summing them (exercise 1)",
-        |c| c.mesh_options.indexing.normalize_before_sum,
+        |c| c.mesh.options.indexing.normalize_before_sum,
         |c, on| mesh_switch(c, |m| m.indexing.normalize_before_sum = on),
     ),
     C::toggle(
         'G',
         "Gram-Schmidt",
         "Gram-Schmidt on / off",
-        |c| c.mesh_options.tangents.gram_schmidt,
+        |c| c.mesh.options.tangents.gram_schmidt,
         |c, on| mesh_switch(c, |m| m.tangents.gram_schmidt = on),
     ),
     C::toggle(
         'H',
         "handedness fix",
         "handedness fix on / off",
-        |c| c.mesh_options.tangents.handedness,
+        |c| c.mesh.options.tangents.handedness,
         |c, on| mesh_switch(c, |m| m.tangents.handedness = on),
     ),
     C::toggle(
@@ -214,7 +214,7 @@ pub(super) const CONTROLS: &[C] = &[
         "tangent frame",
         "tangent frame: tutorial, MikkTSpace, per-pixel derivatives",
         |_| crate::choices::names::<TangentSource>(),
-        |c| c.tangent_source.to_string(),
+        |c| c.mesh.source.to_string(),
         |c, name| match crate::choices::by_name(name) {
             Some(source) => c.set_tangent_source(source),
             None => Ok(()),
@@ -338,7 +338,7 @@ impl PointLight for Cylinder {
     /// placed on its bounding sphere, in the model's own coordinates.
     fn light_range(&self) -> (Vec3, Vec3) {
         let world = (Vec3::splat(-10.0), Vec3::splat(10.0));
-        match &self.soup_source {
+        match &self.mesh.soup {
             SoupSource::Model(model) => {
                 let [a, b] = [world.0, world.1].map(|p| model.placement.to_file(p));
                 (a.min(b), a.max(b))
@@ -352,7 +352,7 @@ impl PointLight for Cylinder {
         self.light = position;
         let world = match position == self.light_start {
             true => self.light_start_world,
-            false => self.soup_source.to_world(position),
+            false => self.mesh.soup.to_world(position),
         };
         self.move_light(world)
     }

@@ -57,28 +57,46 @@ impl SoupSource {
     }
 }
 
+/// What the scene's mesh is made from, in one place (the mesh itself, built and uploaded, is the
+/// tutorial's: `Tutorial13::mesh`).
+pub(super) struct MeshState {
+    /// Where the CPU pipeline's soup comes from when a switch re-runs it.
+    pub(super) soup: SoupSource,
+    /// The CPU pipeline's switches.
+    pub(super) options: MeshOptions,
+    /// Where the tangent frame comes from.
+    pub(super) source: TangentSource,
+    /// The tangent source of every mesh the CPU pipeline built since the scene was loaded.
+    pub(super) built: Vec<TangentSource>,
+}
+
 impl Cylinder {
+    /// Where the tangent frame comes from.
+    pub fn tangent_source(&self) -> TangentSource {
+        self.mesh.source
+    }
+
     /// The CPU pipeline's current switches.
     pub fn mesh_options(&self) -> MeshOptions {
-        self.mesh_options
+        self.mesh.options
     }
 
     /// The tangent source of every mesh the CPU pipeline built since the scene was loaded (the
     /// first one aside), in order.
     pub fn meshes_built(&self) -> &[TangentSource] {
-        &self.meshes_built
+        &self.mesh.built
     }
 
     /// Draws with another tangent source: the mesh is rebuilt (with the tutorial's tangents,
     /// MikkTSpace's, or none for the per-pixel frame) and the lines with it.
     pub fn set_tangent_source(&mut self, source: TangentSource) -> Result<()> {
-        if source == self.tangent_source {
+        if source == self.mesh.source {
             return Ok(());
         }
-        self.rebuild_mesh(source, self.mesh_options)?;
-        self.tangent_source = source;
+        self.rebuild_mesh(source, self.mesh.options)?;
+        self.mesh.source = source;
         // Lines shown with the per-pixel frame were dropped: built again from the new mesh.
-        if self.show_lines && self.lines.is_none() {
+        if self.show_lines && self.lines.built().is_none() {
             self.set_show_lines(true)?;
         }
         Ok(())
@@ -92,8 +110,8 @@ impl Cylinder {
         source: TangentSource,
         options: MeshOptions,
     ) -> Result<()> {
-        self.meshes_built.push(source);
-        match (&self.soup_source, source) {
+        self.mesh.built.push(source);
+        match (&self.mesh.soup, source) {
             (SoupSource::Tutorial(path), TangentSource::Tutorial) => {
                 self.tutorial.reload_mesh(path, options)?
             }
@@ -103,8 +121,8 @@ impl Cylinder {
             }
         }
         if source == TangentSource::Derivative {
-            self.lines = None;
-        } else if let Some(lines) = &mut self.lines {
+            self.lines.drop_built();
+        } else if let Some(lines) = self.lines.built_mut() {
             lines.rebuild(&self.tutorial.mesh)?;
         }
         Ok(())
@@ -112,9 +130,9 @@ impl Cylinder {
 
     /// Runs the CPU pipeline again with `mesh` (the compare view's meshes too), if it changed.
     pub fn set_mesh_options(&mut self, mesh: MeshOptions) -> Result<()> {
-        if mesh != self.mesh_options {
-            self.rebuild_mesh(self.tangent_source, mesh)?;
-            self.mesh_options = mesh;
+        if mesh != self.mesh.options {
+            self.rebuild_mesh(self.mesh.source, mesh)?;
+            self.mesh.options = mesh;
             if let Some((sources, _)) = self.comparison {
                 self.start_comparison(sources)?;
             }

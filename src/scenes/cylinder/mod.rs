@@ -21,7 +21,7 @@ use glam::Vec3;
 
 use crate::common::shader::shader_paths;
 use crate::debug::compare::{CompareMode, CompareView};
-use crate::debug::lines::{DebugLines, LegacyGl, LineMode, LINE_LENGTH, LINE_SHADERS};
+use crate::debug::lines::{LegacyGl, LineMode, LINE_LENGTH, LINE_SHADERS};
 use crate::debug::views::ShaderSwitches;
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::state::GlState;
@@ -41,8 +41,9 @@ use super::table::{Control, SceneControls};
 pub use args::CylinderArgs;
 pub use controls::KEYS;
 use controls::{flags_without_effect, no_lines, per_pixel, CONTROLS, PER_PIXEL};
+use lines::TbnLines;
 use maps::{model_texture_sets, override_tutorial_maps};
-use mesh::{warn_of_merged_corners, SoupSource};
+use mesh::{warn_of_merged_corners, MeshState, SoupSource};
 pub use programs::{DebugProgram, Knobs, DEBUG_SHADERS, DERIVATIVE_SHADERS};
 use programs::{Drawing, Programs};
 use tutorial13::{NormalMappingProgram, Tutorial13, CLEAR_COLOR, SHADERS};
@@ -111,9 +112,8 @@ pub struct CylinderOptions {
 /// Tutorial 13 and the state of its debugging aids.
 pub struct Cylinder {
     // Field order is drop order; all hold GL objects of the same context.
-    /// Built the first time they are shown, so that a run without them neither loads their shader
-    /// nor prints the core-profile notice.
-    lines: Option<DebugLines>,
+    /// The TBN lines (built the first time they are shown), or the path they are to be drawn with.
+    lines: TbnLines,
     /// The debugging and per-pixel programs.
     programs: Programs,
     /// The panel's light power and normal strength (the tutorial's unless moved).
@@ -128,8 +128,8 @@ pub struct Cylinder {
     light_start_world: Vec3,
     /// The TBN lines' length (the tutorial's [`LINE_LENGTH`] unless the panel moved it).
     line_length: f32,
-    /// Where the tangent frame comes from.
-    pub tangent_source: TangentSource,
+    /// What the mesh is made from: the soup, the CPU pipeline's switches, the tangent source.
+    mesh: MeshState,
     /// The two sources compared, with their meshes uploaded, while the compare view is on.
     comparison: Option<([TangentSource; 2], [MeshBuffers; 2])>,
     /// The sources the compare key compares (`--compare`, else the current one and the next).
@@ -142,16 +142,10 @@ pub struct Cylinder {
     /// Draw through `NormalMappingDebug` even with the tutorial's switches (to compare the two
     /// programs, which must give the same frame).
     pub use_debug_program: bool,
-    mesh_options: MeshOptions,
     show_lines: bool,
     /// The immediate-mode entry points, or why this context has none.
     legacy: std::result::Result<LegacyGl, String>,
-    line_mode: Option<LineMode>,
-    /// Where the CPU pipeline's soup comes from when a switch re-runs it.
-    soup_source: SoupSource,
     shader_dir: Option<PathBuf>,
-    /// The tangent source of every mesh the CPU pipeline built since the scene was loaded.
-    meshes_built: Vec<TangentSource>,
 }
 
 impl SceneType for Cylinder {
@@ -204,7 +198,7 @@ impl SceneType for Cylinder {
             (None, SoupSource::Tutorial(_)) => light_start_world,
         };
         let mut scene = Cylinder {
-            lines: None,
+            lines: TbnLines::Wanted(cylinder.line_mode),
             programs: Programs::load(gl, shader_dir)?,
             knobs: Knobs::TUTORIAL,
             light: light_start,
@@ -212,7 +206,12 @@ impl SceneType for Cylinder {
             light_start_world,
             line_length: LINE_LENGTH,
             compare_start_split: cylinder.compare.map_or(0.5, |c| c.split.clamp(0.0, 1.0)),
-            tangent_source: TangentSource::Tutorial,
+            mesh: MeshState {
+                soup: soup_source,
+                options: cylinder.mesh,
+                source: TangentSource::Tutorial,
+                built: Vec::new(),
+            },
             comparison: None,
             compare_sources: cylinder.compare.map(|c| c.sources),
             compare_view: CompareView::new(
@@ -226,13 +225,9 @@ impl SceneType for Cylinder {
             gl: gl.clone(),
             switches: cylinder.switches,
             use_debug_program: false,
-            mesh_options: cylinder.mesh,
             show_lines: false,
             legacy: LegacyGl::load_or_reason(context.info, context.loader),
-            line_mode: cylinder.line_mode,
-            soup_source,
             shader_dir: shader_dir.map(Path::to_path_buf),
-            meshes_built: Vec::new(),
         };
         scene.set_tangent_source(cylinder.tangents)?;
         if let Some(compare) = cylinder.compare {
@@ -287,9 +282,9 @@ impl Scene for Cylinder {
         // The per-pixel frame has no vertex tangents to draw lines from.
         let lines = self
             .lines
-            .as_ref()
-            .filter(|_| self.show_lines && self.tangent_source != TangentSource::Derivative);
-        let program = drawer.program(self.tangent_source);
+            .built()
+            .filter(|_| self.show_lines && self.mesh.source != TangentSource::Derivative);
+        let program = drawer.program(self.mesh.source);
         self.tutorial
             .draw_with(program, frame.projection, frame.view, lines);
     }
@@ -297,7 +292,7 @@ impl Scene for Cylinder {
     /// A model is placed on the tutorial's cylinder's bounding sphere; the camera starts framing it.
     /// The tutorial's own cylinder keeps the tutorial's start.
     fn framing(&self) -> Option<(Vec3, f32)> {
-        match self.soup_source {
+        match self.mesh.soup {
             SoupSource::Model(_) => Some((TUTORIAL_CYLINDER_CENTER, TUTORIAL_CYLINDER_RADIUS)),
             SoupSource::Tutorial(_) => None,
         }
@@ -315,7 +310,7 @@ impl Scene for Cylinder {
         let [vertex_shader, fragment_shader] = SHADERS;
         let program = NormalMappingProgram::load(&self.gl, vertex_shader, fragment_shader, dir)?;
         let programs = Programs::load(&self.gl, dir)?;
-        if let Some(lines) = &mut self.lines {
+        if let Some(lines) = self.lines.built_mut() {
             lines.reload_shaders()?;
         }
         self.tutorial.program = program;
@@ -333,7 +328,7 @@ impl Scene for Cylinder {
         );
         let sources = match &self.comparison {
             Some((sources, _)) => sources.to_vec(),
-            None => vec![self.tangent_source],
+            None => vec![self.mesh.source],
         };
         let mut drawings: Vec<Drawing> = sources.iter().map(|&s| drawer.drawing(s)).collect();
         drawings.dedup();
@@ -347,7 +342,7 @@ impl Scene for Cylinder {
             .collect();
         let lines_drawn = self.show_lines
             && self.comparison.is_none()
-            && self.tangent_source != TangentSource::Derivative;
+            && self.mesh.source != TangentSource::Derivative;
         match self.line_mode().filter(|_| lines_drawn) {
             Some(LineMode::Legacy) => programs.push(DrawingProgram {
                 name: "TBN lines: immediate mode (glBegin/glEnd, no shader)".into(),
@@ -380,7 +375,7 @@ impl Scene for Cylinder {
         if let Some((sources, _)) = &self.comparison {
             text += &format!(", compare {} | {}", sources[0], sources[1]);
         }
-        if let SoupSource::Model(model) = &self.soup_source {
+        if let SoupSource::Model(model) = &self.mesh.soup {
             let name = model.path.file_name().unwrap_or(model.path.as_os_str());
             text += &format!(", model {}", name.to_string_lossy());
         }
@@ -392,7 +387,7 @@ impl Scene for Cylinder {
     fn status(&self) -> String {
         let on = |b: bool| if b { "on" } else { "off" };
         let sw = self.switches;
-        let mesh = self.mesh_options;
+        let mesh = self.mesh.options;
         let lines = match (self.show_lines, self.line_mode()) {
             (true, Some(LineMode::Legacy)) => "immediate mode",
             (true, _) => "line shader",
@@ -404,7 +399,7 @@ impl Scene for Cylinder {
             false => "as summed (repository)",
         };
         let mut parts = Vec::new();
-        if let SoupSource::Model(model) = &self.soup_source {
+        if let SoupSource::Model(model) = &self.mesh.soup {
             parts.push(format!("model {}", model.path.display()));
         }
         if shader {
@@ -428,7 +423,7 @@ impl Scene for Cylinder {
                 format!("normal map {}", sw.convention),
             ]);
         }
-        parts.push(format!("tangents {}", self.tangent_source));
+        parts.push(format!("tangents {}", self.mesh.source));
         parts.join(" | ") + &self.compare_status()
     }
 }
