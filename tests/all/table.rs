@@ -189,7 +189,8 @@ fn the_compare_view_compares_like_with_like() {
 
 // Fails if the command line combines --tangents derivative with flags the per-pixel frame ignores
 // without a warning naming them, or if such a run does not draw the per-pixel frame of `lit` (exit
-// 0, the same picture as without the flags).
+// 0, the same picture as without the flags); or if --compare of a colour view against the
+// per-pixel frame (which draws none) does not say so.
 #[test]
 fn flags_the_per_pixel_frame_ignores_are_warned_of() {
     let dir = scratch("table-derivative-flags");
@@ -218,6 +219,25 @@ fn flags_the_per_pixel_frame_ignores_are_warned_of() {
     );
     let flags = image::open(&shot).unwrap().to_rgb8();
     assert!(flags == plain, "the flags changed the per-pixel frame");
+    // A compare view of a colour view against the per-pixel frame says it compares unlike pictures.
+    let out = run(tutorial13()
+        .args([
+            "--headless",
+            "--screenshot",
+            "compare.png",
+            "--view",
+            "normal",
+        ])
+        .args(["--compare", "mikktspace,derivative"])
+        .current_dir(&dir));
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr
+            .lines()
+            .any(|l| l.contains("--compare: a colour view is on")),
+        "{stderr}"
+    );
     // Green down alone, through the options: the same warning's cause, nothing else.
     let options = derivative_options(|c| c.switches.convention.green_down = true);
     assert!(render(&options) == plain);
