@@ -21,3 +21,9 @@ pub fn name<T: ValueEnum>(value: &T) -> String {
 pub fn names<T: ValueEnum>() -> Vec<String> {
     T::value_variants().iter().map(name).collect()
 }
+
+/// The value whose command-line name is `name`, if any.
+pub fn by_name<T: ValueEnum + Clone>(name: &str) -> Option<T> {
+    let all = T::value_variants();
+    all.iter().find(|v| self::name(*v) == name).cloned()
+}

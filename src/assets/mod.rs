@@ -35,6 +35,11 @@
 
 use std::path::{Path, PathBuf};
 
+mod fallback;
+
+pub(crate) use fallback::say_taken_from_crate;
+pub use fallback::{crate_assets_dir, find_assets, taken_from_crate, AssetFiles};
+
 use crate::files::write_bytes_atomically;
 use crate::normalmap::{normal_map, HeightMap, Kernel, NormalMapOptions};
 use crate::{Error, Result};

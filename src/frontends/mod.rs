@@ -86,7 +86,7 @@ pub fn keys_markdown() -> String {
          *Generated from the scenes' key bindings by `keys_markdown` (src/frontends/mod.rs); do not \
          edit: the test `docs::keys_md_matches_the_code` (tests/all/docs.rs) fails when this file \
          differs, and rewrites it when run with `TUTORIAL13_UPDATE_DOCS=1`.*\n\n\
-         The window prints the same list when a scene starts, and `--help` prints every scene's.\n",
+         The window prints the same list when a scene starts, and `--scene NAME --help` prints that scene's.\n",
     );
     for scene in crate::scenes::SCENES {
         text.push_str(&format!(

@@ -14,7 +14,7 @@ use glow::HasContext;
 use super::{key_rows, WINDOW_KEYS};
 use crate::gl::offscreen::{ColorBuffer, OffscreenTarget};
 use crate::gl::{ContextInfo, Gl};
-use crate::scenes::{Scene, SceneDescriptor, Slider, SwitchState};
+use crate::scenes::{ControlState, ControlValue, Scene, SceneDescriptor, SetTo};
 use crate::{Error, Result};
 
 /// Width of the panel, in points.
@@ -24,12 +24,10 @@ pub const PANEL_WIDTH: f32 = 330.0;
 /// that the scene is not borrowed while egui runs.
 #[derive(Debug, Clone, PartialEq)]
 pub enum PanelAction {
-    /// Press this key of the scene (a checkbox, or a button beside a key that is no switch).
+    /// Press this key of the scene (a button beside a key that is no switch).
     Key(char),
-    /// Press this key until the switch shows this value (a choice).
-    Choose(char, String),
-    /// Move a slider.
-    Slide(&'static str, f32),
+    /// Set the control of this index in the scene's table (a checkbox, a choice, a slider).
+    Set(usize, SetTo),
     /// Every slider back to its start value.
     StartValues,
 }
@@ -40,8 +38,10 @@ pub enum PanelAction {
 pub enum PanelWidget {
     /// The checkbox, choice or button of a scene key.
     Key(char),
-    /// A slider, by name.
-    Slider(&'static str),
+    /// A slider, by its index in the scene's table.
+    Slider(usize),
+    /// Choice `n` of a scene key's list, while the list is open.
+    Choice(char, usize),
     /// The "tutorial's values" button.
     StartValues,
 }
@@ -358,41 +358,25 @@ impl Drop for Panel {
     }
 }
 
-/// Presses keys of `scene` as the panel's action asks.
+/// Does to `scene` what the panel's action asks.
 fn apply(scene: &mut dyn Scene, action: &PanelAction) {
-    let press = |scene: &mut dyn Scene, key: char| {
-        if let Err(e) = scene.key(key) {
-            log::error!("{e}");
-        }
+    let done = match action {
+        PanelAction::Key(key) => scene.key(*key).map(|_| ()),
+        PanelAction::Set(index, to) => scene.set_control(*index, to.clone()),
+        PanelAction::StartValues => scene
+            .controls()
+            .into_iter()
+            .try_for_each(|c| match c.value {
+                ControlValue::Slider { start, .. } => {
+                    scene.set_control(c.index, SetTo::Slider(start))
+                }
+                _ => Ok(()),
+            }),
     };
-    match action {
-        PanelAction::Key(key) => press(scene, *key),
-        PanelAction::Choose(key, wanted) => {
-            // The key steps through the choices in a cycle: at most one press per choice (fewer
-            // reach it, unless the scene cannot take that value here, which then is not forced).
-            let step = |scene: &dyn Scene| {
-                let now = scene.switches().into_iter().find(|s| s.key == *key);
-                match now.map(|s| s.state) {
-                    Some(SwitchState::Step { current, choices }) => Some((current, choices.len())),
-                    _ => None,
-                }
-            };
-            let presses = step(scene).map_or(0, |(_, n)| n);
-            for _ in 0..presses {
-                match step(scene) {
-                    Some((current, _)) if current != *wanted => press(scene, *key),
-                    _ => break,
-                }
-            }
-        }
-        PanelAction::Slide(name, value) => scene.set_slider(name, *value),
-        PanelAction::StartValues => {
-            for slider in scene.sliders() {
-                scene.set_slider(slider.name, slider.start);
-            }
-        }
+    if let Err(e) = done {
+        log::error!("{e}");
     }
-    if !matches!(action, PanelAction::Slide(..)) {
+    if !matches!(action, PanelAction::Set(_, SetTo::Slider(_))) {
         log::info!("{}", scene.status());
     }
 }
@@ -415,8 +399,7 @@ impl Record<'_> {
 #[derive(Debug, Clone, PartialEq)]
 struct SceneView {
     descriptor: &'static SceneDescriptor,
-    switches: Vec<crate::scenes::Switch>,
-    sliders: Vec<Slider>,
+    controls: Vec<ControlState>,
     programs: Vec<crate::scenes::DrawingProgram>,
     compare: Option<crate::scenes::CompareLabels>,
 }
@@ -425,8 +408,7 @@ impl SceneView {
     fn of(descriptor: &'static SceneDescriptor, scene: &dyn Scene) -> Self {
         SceneView {
             descriptor,
-            switches: scene.switches(),
-            sliders: scene.sliders(),
+            controls: scene.controls(),
             programs: scene.drawing_programs(),
             compare: scene.compare_labels(),
         }
@@ -445,7 +427,7 @@ impl SceneView {
         // them), so that a click on one never shifts the next one a learner aims at.
         ui.separator();
         self.show_keys(ui, record, true);
-        if !self.sliders.is_empty() {
+        if self.sliders().next().is_some() {
             ui.separator();
             self.show_sliders(ui, record);
         }
@@ -469,8 +451,15 @@ impl SceneView {
         ui.small("F1 hides this panel");
     }
 
-    /// The key list (the rows `--help` prints): the scene's own keys, each with its switch or a
-    /// button, or the mouse's and the window's.
+    /// The controls that are sliders, in the table's order.
+    fn sliders(&self) -> impl Iterator<Item = &ControlState> {
+        let is_slider = |c: &&ControlState| matches!(c.value, ControlValue::Slider { .. });
+        self.controls.iter().filter(is_slider)
+    }
+
+    /// The key list (the rows `--help` prints): the scene's own keys, each with its control (a
+    /// checkbox, a choice or a button, greyed with the reason as hover text where it does nothing
+    /// now), or the mouse's and the window's.
     fn show_keys(&self, ui: &mut egui::Ui, record: &mut Record, scene_keys: bool) {
         egui::Grid::new(("keys", scene_keys))
             .num_columns(2)
@@ -478,38 +467,16 @@ impl SceneView {
             .show(ui, |ui| {
                 let rows = panel_key_rows(self.descriptor).into_iter();
                 for row in rows.filter(|r| r.scene_key.is_some() == scene_keys) {
-                    let switch = row
+                    let control = row
                         .scene_key
-                        .and_then(|k| self.switches.iter().find(|s| s.key == k));
-                    match (row.scene_key, switch) {
-                        (Some(key), Some(switch)) => match &switch.state {
-                            SwitchState::On(on) => {
-                                let mut checked = *on;
-                                let response = ui.checkbox(&mut checked, row.key.clone());
-                                if record.widget(PanelWidget::Key(key), &response) {
-                                    record.actions.push(PanelAction::Key(key));
-                                }
+                        .and_then(|k| self.controls.iter().find(|c| c.key == Some(k)));
+                    match (row.scene_key, control) {
+                        (Some(key), Some(control)) => {
+                            let response = show_control(ui, record, key, &row.key, control);
+                            if let Some(reason) = control.inert {
+                                response.on_disabled_hover_text(reason);
                             }
-                            SwitchState::Step { current, choices } => {
-                                let combo = egui::ComboBox::from_id_salt(("switch", key))
-                                    .selected_text(format!("{}: {current}", row.key))
-                                    .show_ui(ui, |ui| {
-                                        for choice in choices {
-                                            let chosen = choice == current;
-                                            if ui.selectable_label(chosen, choice).clicked()
-                                                && !chosen
-                                            {
-                                                record
-                                                    .actions
-                                                    .push(PanelAction::Choose(key, choice.clone()));
-                                            }
-                                        }
-                                    });
-                                record
-                                    .widgets
-                                    .push((PanelWidget::Key(key), combo.response.rect));
-                            }
-                        },
+                        }
                         (Some(key), None) => {
                             let response = ui.button(row.key.clone());
                             if record.widget(PanelWidget::Key(key), &response) {
@@ -527,25 +494,41 @@ impl SceneView {
             });
     }
 
-    /// One slider per value, each saying when it is away from its start; a button puts all back.
+    /// One slider per value, each saying when it is away from its start (greyed, with the reason as
+    /// hover text, where it does nothing now); a button puts all back.
     fn show_sliders(&self, ui: &mut egui::Ui, record: &mut Record) {
-        for slider in &self.sliders {
-            let mut value = slider.value;
-            let (lo, hi) = slider.range;
+        for control in self.sliders() {
+            let ControlValue::Slider {
+                value: now,
+                start,
+                range: (lo, hi),
+            } = control.value
+            else {
+                continue;
+            };
+            let mut value = now;
             // Away from its start the name says so, on the same row (the layout stays put).
-            let text = if slider.value != slider.start {
-                let text = format!("{} (was {})", slider.name, slider.start);
+            let text = if now != start {
+                let text = format!("{} (was {start})", control.label);
                 egui::RichText::new(text).color(egui::Color32::YELLOW)
             } else {
-                egui::RichText::new(slider.name)
+                egui::RichText::new(control.label)
             };
-            let response = ui.add(egui::Slider::new(&mut value, lo..=hi).text(text));
-            let moved = record.widget(PanelWidget::Slider(slider.name), &response);
-            if moved && value != slider.value {
-                record.actions.push(PanelAction::Slide(slider.name, value));
+            let slider = egui::Slider::new(&mut value, lo..=hi).text(text);
+            let mut response = ui.add_enabled(control.inert.is_none(), slider);
+            if let Some(reason) = control.inert {
+                response = response.on_disabled_hover_text(reason);
+            }
+            let moved = record.widget(PanelWidget::Slider(control.index), &response);
+            if moved && value != now {
+                let to = SetTo::Slider(value);
+                record.actions.push(PanelAction::Set(control.index, to));
             }
         }
-        let any_moved = self.sliders.iter().any(|s| s.value != s.start);
+        let any_moved = self.sliders().any(|c| match c.value {
+            ControlValue::Slider { value, start, .. } => value != start,
+            _ => false,
+        });
         let response = ui.add_enabled(any_moved, egui::Button::new("tutorial's values"));
         if record.widget(PanelWidget::StartValues, &response) {
             record.actions.push(PanelAction::StartValues);
@@ -586,6 +569,61 @@ impl SceneView {
                     text,
                 );
             }
+        }
+    }
+}
+
+/// The widget of `control` on `key` (listed as `listed`): a checkbox, a choice of its values, or a
+/// button for a plain press, greyed where the control does nothing now. A click sets the control
+/// to what was clicked.
+fn show_control(
+    ui: &mut egui::Ui,
+    record: &mut Record,
+    key: char,
+    listed: &str,
+    control: &ControlState,
+) -> egui::Response {
+    let set = |to| PanelAction::Set(control.index, to);
+    let enabled = control.inert.is_none();
+    match &control.value {
+        ControlValue::Toggle(on) => {
+            let mut checked = *on;
+            let response = ui.add_enabled(enabled, egui::Checkbox::new(&mut checked, listed));
+            if record.widget(PanelWidget::Key(key), &response) {
+                record.actions.push(set(SetTo::Toggle(!on)));
+            }
+            response
+        }
+        // Greyed, the choice's value only (a combo box cannot be disabled in place in a grid).
+        ControlValue::Choice { current, .. } if !enabled => {
+            let text = format!("{listed}: {current}");
+            let response = ui.add_enabled(false, egui::Button::new(text));
+            record.widget(PanelWidget::Key(key), &response);
+            response
+        }
+        ControlValue::Choice { current, choices } => {
+            let combo = egui::ComboBox::from_id_salt(("switch", key))
+                .selected_text(format!("{listed}: {current}"))
+                .show_ui(ui, |ui| {
+                    for (n, choice) in choices.iter().enumerate() {
+                        let chosen = choice == current;
+                        let response = ui.selectable_label(chosen, choice);
+                        if record.widget(PanelWidget::Choice(key, n), &response) && !chosen {
+                            record.actions.push(set(SetTo::Choice(choice.clone())));
+                        }
+                    }
+                });
+            record
+                .widgets
+                .push((PanelWidget::Key(key), combo.response.rect));
+            combo.response
+        }
+        ControlValue::Slider { .. } | ControlValue::Press => {
+            let response = ui.add_enabled(enabled, egui::Button::new(listed));
+            if record.widget(PanelWidget::Key(key), &response) {
+                record.actions.push(PanelAction::Key(key));
+            }
+            response
         }
     }
 }

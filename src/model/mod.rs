@@ -140,6 +140,15 @@ impl Placement {
             (p.as_dvec3() - self.center.as_dvec3()) * scale + TUTORIAL_CYLINDER_CENTER.as_dvec3();
         placed.as_vec3()
     }
+
+    /// A point where the program draws it, in the file's coordinates ([`Placement::to_world`]
+    /// undone, up to rounding).
+    pub fn to_file(&self, p: Vec3) -> Vec3 {
+        let scale = TUTORIAL_CYLINDER_RADIUS as f64 / self.radius as f64;
+        let file =
+            (p.as_dvec3() - TUTORIAL_CYLINDER_CENTER.as_dvec3()) / scale + self.center.as_dvec3();
+        file.as_vec3()
+    }
 }
 
 /// A model, read and placed, its maps named but not yet decoded.

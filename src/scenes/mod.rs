@@ -12,19 +12,28 @@
 
 pub mod cube;
 pub mod cylinder;
+mod descriptor;
+mod options;
 mod scene;
 pub mod sprite;
+pub mod table;
 pub mod wall;
 
 use clap::parser::ValueSource;
 
-pub use scene::{
-    action_for_key, crate_assets_dir, find_assets, handle_key, key_help, read_args,
-    taken_from_crate, AsAny, AssetFiles, Binding, CompareLabels, DrawingProgram, FrameInput,
-    KeyHelp, MouseMode, PerScene, Scene, SceneArgs, SceneContext, SceneDescriptor, SceneOption,
-    SceneOptions, SharedArgs, Slider, Switch, SwitchState,
+// Where a scene's asset files are found: re-exported for the tests and tools that used them here.
+pub use crate::assets::{crate_assets_dir, find_assets, taken_from_crate, AssetFiles};
+pub use descriptor::{SceneDescriptor, SceneType};
+pub use options::{
+    read_args, OwnOptions, PerScene, SceneArgs, SceneOption, SceneOptions, SharedArgs,
 };
-pub use scene::{clamp_to_slider, drawing_program, light_sliders, slide_light, LIGHT_AXES};
+pub use scene::{
+    drawing_program, CompareLabels, DrawingProgram, FrameInput, MouseMode, Scene, SceneContext,
+};
+pub use table::{
+    control_for_key, key_count, key_help, Control, ControlState, ControlValue, KeyHelp, Kind,
+    SceneControls, SetTo,
+};
 
 /// Every scene, in the order the Enter key steps through them; the first is the default. Adding a
 /// scene is its folder, one line here, and its tests.

@@ -1,363 +1,16 @@
-//! The seam between the front ends and a program: what a scene is built on, what it gets each frame,
-//! what it must answer, and how it describes itself ([`SceneDescriptor`]). The list of scenes
-//! ([`super::SCENES`]) sits above the scenes and this file below them, so no scene imports the module
-//! that imports it.
+//! The seam between the front ends and a program: what a scene is built on, what it gets each frame
+//! and what it must answer ([`Scene`]). How it describes itself is [`super::descriptor`], what it
+//! is built with [`super::options`], its controls [`super::table`].
 
 use std::any::Any;
 use std::ffi::{c_void, CStr};
-use std::fmt;
-use std::io;
 use std::path::{Path, PathBuf};
-use std::sync::{Mutex, PoisonError};
 
 use glam::{Mat4, Vec2};
 
+use super::table::SceneControls;
 use crate::gl::{ContextInfo, Gl};
-use crate::{Error, Result};
-
-/// All the rest of the program knows of a scene: each scene's folder defines one (`SCENE`), and one
-/// line in [`super::SCENES`] adds it to the command line, the Enter key, `--help` and `docs/keys.md`.
-pub struct SceneDescriptor {
-    /// The `--scene` name.
-    pub name: &'static str,
-    /// One line for `--help`, the README and the title: what the scene shows and where it comes from.
-    pub description: &'static str,
-    /// Mouse look (the tutorial's) or a free cursor.
-    pub mouse_mode: MouseMode,
-    /// The scene's keys, from the same bindings its key handler reads.
-    pub keys: &'static [KeyHelp],
-    /// What the mouse, wheel and click do in a scene with [`MouseMode::Cursor`] (mouse-look scenes
-    /// have the window's mouse look and list nothing here).
-    pub mouse_help: &'static [(&'static str, &'static str)],
-    /// The scene's command-line arguments: its [`SceneArgs`] struct, under a heading of its own.
-    pub args: fn(clap::Command) -> clap::Command,
-    /// Which of the flags several scenes read ([`SharedArgs`]) this one reads, by argument id.
-    pub shared_args: &'static [&'static str],
-    /// Reads the scene's arguments from the parsed command line into [`SceneOptions`].
-    pub read_args: fn(&clap::ArgMatches, &mut SceneOptions) -> std::result::Result<(), clap::Error>,
-    /// Loads the scene on the current context, with its options from `options` (its defaults where
-    /// `options` holds none).
-    pub build: fn(&SceneContext, &SceneOptions) -> Result<Box<dyn Scene>>,
-    /// The files `make-assets` generates for the scene: paths under the assets folder, and bytes.
-    pub generate_assets: fn() -> Result<crate::assets::GeneratedFiles>,
-    /// A file dropped on the window: puts it into the scene's options and returns `true` if the
-    /// scene opens files of its kind (the cylinder opens an `.obj` as `--model`).
-    pub open_file: fn(&Path, &mut SceneOptions) -> bool,
-}
-
-impl SceneDescriptor {
-    /// The descriptor of scene type `S`: mouse look, no mouse help, no shared flags, no generated
-    /// files (a scene that differs sets those fields over this one).
-    pub const fn of<S: SceneType>(
-        name: &'static str,
-        description: &'static str,
-        keys: &'static [KeyHelp],
-    ) -> Self {
-        SceneDescriptor {
-            name,
-            description,
-            mouse_mode: MouseMode::Look,
-            keys,
-            mouse_help: &[],
-            args: <S::Args as clap::Args>::augment_args,
-            shared_args: &[],
-            read_args: read_args::<S::Args>,
-            build: build::<S>,
-            generate_assets: || Ok(Vec::new()),
-            open_file: |_, _| false,
-        }
-    }
-}
-
-/// A scene's type as its folder defines it: its arguments, and how it loads.
-pub trait SceneType: Scene + Sized + 'static {
-    /// The scene's command-line arguments, and through them its options type.
-    type Args: SceneArgs;
-
-    /// Loads the scene on the current context: its files from `files` (`--assets`, `--shaders`),
-    /// its switches from `options`.
-    fn new(
-        context: &SceneContext,
-        files: &SceneOptions,
-        options: <Self::Args as SceneArgs>::Options,
-    ) -> Result<Self>;
-}
-
-/// [`SceneDescriptor::build`] of scene type `S`, with its options from `options`.
-fn build<S: SceneType>(context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
-    Ok(Box::new(S::new(context, options, options.get())?))
-}
-
-impl PartialEq for SceneDescriptor {
-    fn eq(&self, other: &Self) -> bool {
-        self.name == other.name
-    }
-}
-
-impl Eq for SceneDescriptor {}
-
-impl fmt::Debug for SceneDescriptor {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "SceneDescriptor({})", self.name)
-    }
-}
-
-impl fmt::Display for SceneDescriptor {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name)
-    }
-}
-
-/// A scene's command-line arguments (a `clap::Args` struct in its folder) and the options they give.
-pub trait SceneArgs: clap::Args + clap::FromArgMatches {
-    /// What the scene is built with; its `Default` is the scene without any flag.
-    type Options: SceneOption + Clone + Default;
-
-    /// The options these arguments (and the flags several scenes share) ask for, or why they
-    /// cannot be (a value this scene cannot use: the message names the flag).
-    fn options(&self, shared: &SharedArgs) -> std::result::Result<Self::Options, String>;
-}
-
-/// Arguments that are the scene's options as they are (a scene whose every switch is a flag).
-pub trait OwnOptions: clap::Args + clap::FromArgMatches + SceneOption + Clone + Default {}
-
-impl<T: OwnOptions> SceneArgs for T {
-    type Options = T;
-
-    fn options(&self, _shared: &SharedArgs) -> std::result::Result<T, String> {
-        Ok(self.clone())
-    }
-}
-
-/// [`SceneDescriptor::read_args`] for a scene whose arguments are `A`.
-pub fn read_args<A: SceneArgs>(
-    matches: &clap::ArgMatches,
-    options: &mut SceneOptions,
-) -> std::result::Result<(), clap::Error> {
-    let shared = <SharedArgs as clap::FromArgMatches>::from_arg_matches(matches)?;
-    let args = A::from_arg_matches(matches)?;
-    let value = args.options(&shared).map_err(|message| {
-        clap::Error::raw(clap::error::ErrorKind::ValueValidation, message + "\n")
-    })?;
-    options.set(value);
-    Ok(())
-}
-
-// Flags that mean the same in several scenes: each scene's descriptor names those it reads, so that
-// one given to a scene that does not read it is an error, not ignored. (A plain comment: clap would
-// make a doc comment the program's `about`.)
-#[derive(clap::Args, Debug, Clone, Default)]
-#[command(next_help_heading = "Several scenes")]
-pub struct SharedArgs {
-    /// Normal map's green channel: up the picture (OpenGL, the tutorial's) or down (DirectX) (key Y)
-    #[arg(long, value_enum, value_name = "DIR", default_value_t = crate::normalmap::Green::Up)]
-    pub green: crate::normalmap::Green,
-
-    /// Where the light is. cylinder: X,Y,Z in world space [default: the tutorial's lightPos 0,0,4],
-    /// or in the model's own coordinates with --model [default: where the tutorial's light is
-    /// beside its cylinder, scaled to the model]. sprite: X,Y across the window (0 to 1, y up) and
-    /// the height Z > 0 [default: 0.4,0.6,0.075]; in the window the mouse takes over once it moves
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
-    pub light: Option<glam::Vec3>,
-}
-
-/// `X,Y,Z` of three finite numbers.
-pub fn parse_vec3(s: &str) -> std::result::Result<glam::Vec3, String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    let [x, y, z] = parts[..] else {
-        return Err(format!("'{s}' is not X,Y,Z, e.g. 0,0,4"));
-    };
-    let parse = |v: &str| {
-        v.parse::<f32>()
-            .ok()
-            .filter(|n| n.is_finite())
-            .ok_or_else(|| format!("'{v}' is not a finite number"))
-    };
-    Ok(glam::Vec3::new(parse(x)?, parse(y)?, parse(z)?))
-}
-
-/// A value a scene is built with (its options type): any plain data.
-pub trait SceneOption: Any + fmt::Debug + Send + Sync {
-    fn clone_box(&self) -> Box<dyn SceneOption>;
-    fn option_any(&self) -> &dyn Any;
-    fn option_any_mut(&mut self) -> &mut dyn Any;
-}
-
-impl<T: Any + Clone + fmt::Debug + Send + Sync> SceneOption for T {
-    fn clone_box(&self) -> Box<dyn SceneOption> {
-        Box::new(self.clone())
-    }
-    fn option_any(&self) -> &dyn Any {
-        self
-    }
-    fn option_any_mut(&mut self) -> &mut dyn Any {
-        self
-    }
-}
-
-impl Clone for Box<dyn SceneOption> {
-    fn clone(&self) -> Self {
-        // `(**self)`: the boxed value's clone, not the blanket impl's clone of the box itself.
-        (**self).clone_box()
-    }
-}
-
-/// Where the scenes' files come from, and each scene's options (by type: a scene that finds none of
-/// its type starts with its defaults). A new scene needs no field here.
-#[derive(Debug, Clone, Default)]
-pub struct SceneOptions {
-    /// `--assets DIR`; `None` = the crate's own assets/ folder.
-    pub assets: Option<PathBuf>,
-    /// `--shaders DIR`; `None` = the crate's shaders/ folder, else the copies built into the binary.
-    pub shaders: Option<PathBuf>,
-    /// Each scene's options, by type (through [`SceneOptions::get`] and [`SceneOptions::set`]).
-    pub per_scene: PerScene,
-}
-
-/// The scenes' options, one value of each type (see [`SceneOptions`]).
-#[derive(Debug, Clone, Default)]
-pub struct PerScene(Vec<Box<dyn SceneOption>>);
-
-impl SceneOptions {
-    /// The asset files `names` (paths under the assets folder) for one scene load: each from
-    /// `--assets` where it is there, else the crate's own copy, with one notice naming the files
-    /// taken from the crate (each file once per process, so that Enter cycling through the scenes
-    /// does not repeat it). A file that is there but broken is its loader's error, naming it.
-    pub fn asset_files<const N: usize>(&self, names: [&str; N]) -> Result<[PathBuf; N]> {
-        let Some(dir) = &self.assets else {
-            return Ok(names.map(|name| crate_assets_dir().join(name)));
-        };
-        let found = find_assets(dir, &crate_assets_dir(), names)?;
-        say_taken_from_crate(dir, &found.missing);
-        Ok(found.paths)
-    }
-
-    /// The shader folder given on the command line, if any.
-    pub fn shader_dir(&self) -> Option<&Path> {
-        self.shaders.as_deref()
-    }
-
-    /// The options of type `T`, or `T`'s defaults.
-    pub fn get<T: SceneOption + Clone + Default>(&self) -> T {
-        self.find::<T>().cloned().unwrap_or_default()
-    }
-
-    /// The options of type `T` to change (set to `T`'s defaults first if there were none).
-    pub fn get_mut<T: SceneOption + Default>(&mut self) -> &mut T {
-        let i = match self.position::<T>() {
-            Some(i) => i,
-            None => {
-                self.per_scene.0.push(Box::new(T::default()));
-                self.per_scene.0.len() - 1
-            }
-        };
-        let any = (*self.per_scene.0[i]).option_any_mut();
-        any.downcast_mut().expect("found by its type")
-    }
-
-    /// Replaces the options of `value`'s type.
-    pub fn set<T: SceneOption + Default>(&mut self, value: T) {
-        *self.get_mut::<T>() = value;
-    }
-
-    /// These options with `value` set.
-    pub fn with<T: SceneOption + Default>(mut self, value: T) -> Self {
-        self.set(value);
-        self
-    }
-
-    fn position<T: SceneOption>(&self) -> Option<usize> {
-        self.per_scene
-            .0
-            .iter()
-            .position(|o| (**o).option_any().is::<T>())
-    }
-
-    fn find<T: SceneOption>(&self) -> Option<&T> {
-        let i = self.position::<T>()?;
-        (*self.per_scene.0[i]).option_any().downcast_ref()
-    }
-}
-
-/// The crate's own assets/ folder, wherever the binary is started from.
-pub fn crate_assets_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets")
-}
-
-/// Where one scene load's asset files are (see [`find_assets`]).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct AssetFiles<const N: usize> {
-    /// Each file: in the `--assets` folder where it is there, else the crate's copy.
-    pub paths: [PathBuf; N],
-    /// The files the `--assets` folder lacks (their paths in it), whose crate's copies `paths` holds.
-    pub missing: Vec<PathBuf>,
-}
-
-/// Finds each of `names` in `dir` (the `--assets` folder), else in `crate_dir`. A file in neither is
-/// an error naming the one in `dir` (what the user asked for) and saying the crate's is missing too;
-/// a file that `dir` has is taken as it is, readable or not (its loader names it if it is broken).
-pub fn find_assets<const N: usize>(
-    dir: &Path,
-    crate_dir: &Path,
-    names: [&str; N],
-) -> Result<AssetFiles<N>> {
-    let mut missing = Vec::new();
-    let mut paths = Vec::with_capacity(N);
-    for name in names {
-        let (asked, own) = (dir.join(name), crate_dir.join(name));
-        // `dir` being the crate's folder, its loader says what is wrong with the file.
-        if own == asked || asked.try_exists().map_err(|e| Error::io(&asked, e))? {
-            paths.push(asked);
-        } else if own.is_file() {
-            missing.push(asked);
-            paths.push(own);
-        } else {
-            let reason = format!(
-                "no such file, and the crate's own {} is missing too (make-assets writes it)",
-                own.display()
-            );
-            let error = io::Error::new(io::ErrorKind::NotFound, reason);
-            return Err(Error::io(asked, error));
-        }
-    }
-    let paths = paths.try_into().expect("one path per name");
-    Ok(AssetFiles { paths, missing })
-}
-
-/// Every file of an `--assets` folder that this process took from the crate's assets/ instead, in
-/// the order they were first missed: each is said once (see [`SceneOptions::asset_files`]).
-static TAKEN_FROM_CRATE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
-
-/// The files (their paths in an `--assets` folder) taken from the crate's assets/ so far in this
-/// process: those the notices have named.
-pub fn taken_from_crate() -> Vec<PathBuf> {
-    TAKEN_FROM_CRATE
-        .lock()
-        .unwrap_or_else(PoisonError::into_inner)
-        .clone()
-}
-
-/// One notice for a scene load: the files of `missing` (in `dir`) not said before in this process.
-fn say_taken_from_crate(dir: &Path, missing: &[PathBuf]) {
-    let mut taken = TAKEN_FROM_CRATE
-        .lock()
-        .unwrap_or_else(PoisonError::into_inner);
-    let mut new = Vec::new();
-    for path in missing {
-        if !taken.contains(path) {
-            taken.push(path.clone());
-            new.push(path.strip_prefix(dir).unwrap_or(path).display().to_string());
-        }
-    }
-    if !new.is_empty() {
-        log::warn!(
-            "--assets {} has no {}: using the crate's own from {} (made by make-assets)",
-            dir.display(),
-            new.join(", "),
-            crate_assets_dir().display()
-        );
-    }
-}
+use crate::Result;
 
 /// Everything a scene is built on: the GL function table, what the context is, and the context's
 /// entry-point loader (for what glow does not load, such as the immediate-mode functions).
@@ -391,69 +44,33 @@ pub enum MouseMode {
     Cursor,
 }
 
-/// One line of a scene's key list: the key as printed ("L") and what it does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct KeyHelp {
-    pub key: char,
-    pub help: &'static str,
-}
-
-/// One key of a scene: the key as listed, the scene's action, and what it does.
-pub type Binding<A> = (char, A, &'static str);
-
-/// The key list of a scene's bindings, in their order (a `const` so that `--help` can list a
-/// scene's keys without building it). Two bindings of one key stop the build: the second could never
-/// be reached.
-pub const fn key_help<A: Copy, const N: usize>(bindings: &[Binding<A>; N]) -> [KeyHelp; N] {
-    let mut keys = [KeyHelp { key: ' ', help: "" }; N];
-    let mut i = 0;
-    while i < N {
-        let mut j = 0;
-        while j < i {
-            assert!(bindings[j].0 != bindings[i].0, "two bindings share a key");
-            j += 1;
-        }
-        keys[i] = KeyHelp {
-            key: bindings[i].0,
-            help: bindings[i].2,
-        };
-        i += 1;
-    }
-    keys
-}
-
-/// [`Scene::key`] for a scene whose keys are `bindings`: runs `apply` with the key's action.
-pub fn handle_key<A: Copy>(
-    bindings: &[Binding<A>],
-    key: char,
-    apply: impl FnOnce(A) -> Result<()>,
-) -> Result<bool> {
-    action_for_key(bindings, key).map_or(Ok(false), |action| apply(action).map(|()| true))
-}
-
-/// The action bound to `key` (letters either case).
-pub fn action_for_key<A: Copy>(bindings: &[Binding<A>], key: char) -> Option<A> {
-    bindings
-        .iter()
-        .find(|(k, _, _)| *k == key.to_ascii_uppercase())
-        .map(|&(_, action, _)| action)
-}
-
 /// The seam between the front ends and a program.
-pub trait Scene: AsAny {
+/// `Any`: a scene is a plain `'static` value, so that [`crate::frontends::host::SceneHost::scene_as`]
+/// can give tests and tools a particular scene's own type (by trait upcasting; nothing more is
+/// asked of a scene for it).
+pub trait Scene: Any + SceneControls {
     /// Draws one frame into the bound framebuffer (the front end has set the viewport): the scene
     /// clears it itself, as the tutorial's loop does.
     fn draw(&mut self, frame: &FrameInput);
 
-    /// A key of the scene's list was pressed (letters upper-case). `Ok(false)`: not one of its keys.
-    fn key(&mut self, key: char) -> Result<bool>;
+    /// A key of the scene's list was pressed (letters either case). `Ok(false)`: not one of its
+    /// keys. The key of each control of the scene's table ([`SceneType::CONTROLS`]).
+    fn key(&mut self, key: char) -> Result<bool> {
+        self.press_key(key)
+    }
 
     /// One line for the log: the scene's current switches.
     fn status(&self) -> String;
 
-    /// The two or three most important of them, for the title bar (the panel shows the rest).
+    /// The two or three most important of them, for the title bar (the panel shows the rest):
+    /// the controls the table names in the title, where they apply (the whole status where it
+    /// names none).
     fn short_status(&self) -> String {
-        self.status()
+        let title = self.title_status();
+        match title.is_empty() {
+            true => self.status(),
+            false => title.join(", "),
+        }
     }
 
     /// The sphere (centre, radius; world space) the camera starts by framing, and goes back to
@@ -489,19 +106,6 @@ pub trait Scene: AsAny {
     /// uses it.
     fn scroll(&mut self, _notches: f32) {}
 
-    /// The scene's switches with their state, for the panel (each one is also a key of its list).
-    fn switches(&self) -> Vec<Switch> {
-        Vec::new()
-    }
-
-    /// The values the panel offers to move.
-    fn sliders(&self) -> Vec<Slider> {
-        Vec::new()
-    }
-
-    /// Moves the slider `name` (one of [`Scene::sliders`]) to `value`, clamped to its range.
-    fn set_slider(&mut self, _name: &str, _value: f32) {}
-
     /// The programs drawing the frame now, and the files they read.
     fn drawing_programs(&self) -> Vec<DrawingProgram> {
         Vec::new()
@@ -515,111 +119,6 @@ pub trait Scene: AsAny {
     /// A left click in a scene with [`MouseMode::Cursor`] (with mouse look, a click grabs the cursor
     /// instead). Ignored unless the scene uses it.
     fn click(&mut self) {}
-}
-
-/// A switch of a scene as the panel shows it: the key that flips or steps it, and its state now.
-/// The panel changes it only by pressing that key ([`Scene::key`]), so the two cannot disagree.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Switch {
-    pub key: char,
-    /// A few words: what is switched.
-    pub label: &'static str,
-    pub state: SwitchState,
-}
-
-/// On or off (a checkbox), or one of several values the key steps through in order (a choice).
-#[derive(Debug, Clone, PartialEq)]
-pub enum SwitchState {
-    On(bool),
-    /// `choices` in the order the key steps through them; `current` is one of them.
-    Step {
-        current: String,
-        choices: Vec<String>,
-    },
-}
-
-/// A value a learner may want to move (the light, a strength, a length), with the tutorial's (or
-/// the article's) value it starts from.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Slider {
-    /// Names it on the panel and in [`Scene::set_slider`].
-    pub name: &'static str,
-    pub value: f32,
-    /// The value the scene starts with.
-    pub start: f32,
-    pub range: (f32, f32),
-}
-
-/// The three sliders of a light's position (world space), each within `reach` of the origin.
-pub fn light_sliders(light: glam::Vec3, start: glam::Vec3, reach: f32) -> [Slider; 3] {
-    let axis = |name, value, start| Slider {
-        name,
-        value,
-        start,
-        range: (-reach, reach),
-    };
-    [
-        axis(LIGHT_AXES[0], light.x, start.x),
-        axis(LIGHT_AXES[1], light.y, start.y),
-        axis(LIGHT_AXES[2], light.z, start.z),
-    ]
-}
-
-/// A point light's sliders: its position ([`light_sliders`]) and its power, up to `power_max`.
-pub fn point_light_sliders(
-    light: glam::Vec3,
-    start: glam::Vec3,
-    power: f32,
-    power_start: f32,
-    power_max: f32,
-) -> Vec<Slider> {
-    let mut sliders = light_sliders(light, start, 10.0).to_vec();
-    sliders.push(Slider {
-        name: LIGHT_POWER,
-        value: power,
-        start: power_start,
-        range: (0.0, power_max),
-    });
-    sliders
-}
-
-/// The name of the power slider of [`point_light_sliders`].
-pub const LIGHT_POWER: &str = "light power";
-
-/// Moves slider `name` of `sliders` (made by [`point_light_sliders`]) to `value`, clamped to its
-/// range: an axis of `light`, or `power`. Any other name changes nothing.
-pub fn slide_point_light(
-    sliders: &[Slider],
-    name: &str,
-    value: f32,
-    light: &mut glam::Vec3,
-    power: &mut f32,
-) {
-    let Some(value) = clamp_to_slider(sliders, name, value) else {
-        return;
-    };
-    match slide_light(*light, name, value) {
-        Some(moved) => *light = moved,
-        None if name == LIGHT_POWER => *power = value,
-        None => {}
-    }
-}
-
-/// The names of [`light_sliders`].
-pub const LIGHT_AXES: [&str; 3] = ["light x", "light y", "light z"];
-
-/// `light` with the axis that slider `name` moves set to `value`; `None` if `name` is no light axis.
-pub fn slide_light(light: glam::Vec3, name: &str, value: f32) -> Option<glam::Vec3> {
-    let axis = LIGHT_AXES.iter().position(|&a| a == name)?;
-    let mut light = light;
-    light[axis] = value;
-    Some(light)
-}
-
-/// The slider `name` of `sliders`, with `value` clamped to its range.
-pub fn clamp_to_slider(sliders: &[Slider], name: &str, value: f32) -> Option<f32> {
-    let slider = sliders.iter().find(|s| s.name == name)?;
-    Some(value.clamp(slider.range.0, slider.range.1))
 }
 
 /// The program of `names` (vertex and fragment shader, read from `dir` as the scene reads them) as
@@ -658,19 +157,4 @@ pub struct CompareLabels {
     pub split: Option<f32>,
     pub left: String,
     pub right: String,
-}
-
-/// For tests and tools that reach into a particular scene: every scene has it, none writes it.
-pub trait AsAny: Any {
-    fn as_any(&self) -> &dyn Any;
-    fn as_any_mut(&mut self) -> &mut dyn Any;
-}
-
-impl<T: Any> AsAny for T {
-    fn as_any(&self) -> &dyn Any {
-        self
-    }
-    fn as_any_mut(&mut self) -> &mut dyn Any {
-        self
-    }
 }

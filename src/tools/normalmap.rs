@@ -36,10 +36,10 @@ pub struct NormalmapOptions {
     pub kernel: Kernel,
     /// Turn the map by 180° (red and green negated): the tutorial's own cylinder (scene
     /// cylinder without --model) shows every map that way round, so white looks raised there
-    /// only with this. Not for --model, the wall or other programs (README: "Which way is up")
+    /// only with this. Not for --model, the wall or other programs (docs/model.md: "Which way is up")
     #[arg(long)]
     pub invert: bool,
-    /// Guess the relief from one photo instead, CrazyBump's way (a guess: see the README)
+    /// Guess the relief from one photo instead, CrazyBump's way (a guess: see docs/tools.md)
     ///
     /// The photo's luminance (sRGB decoded to linear light) minus a wide blur of it (--radius)
     /// is taken as the height: brighter than its surroundings = higher. It reads brightness, not

@@ -30,6 +30,7 @@ mod scene_cube;
 mod scene_sprite;
 mod scene_wall;
 mod scenes;
+mod table;
 mod tangent_overflow;
 mod tangent_sources;
 mod texture;

@@ -184,16 +184,22 @@ fn a_flag_of_another_scene_is_an_error_naming_its_scene() {
     );
 }
 
-// Fails if a key is found in the wrong case only, an unbound key finds an action, or a scene lists
-// one key twice (the second binding could never be reached; `key_help` also refuses it when the
-// crate is built).
+// Fails if a key is found in the wrong case only, an unbound key (or a slider, which has none)
+// finds a control, or a scene lists one key twice (the second control could never be reached;
+// `key_help` also refuses it when the crate is built).
 #[test]
-fn keys_find_their_actions_in_either_case() {
-    let bindings: [tutorial13::scenes::Binding<u8>; 2] = [('L', 1, "lines"), ('7', 2, "seven")];
-    let find = |key| tutorial13::scenes::action_for_key(&bindings, key);
+fn keys_find_their_controls_in_either_case() {
+    use tutorial13::scenes::{control_for_key, Control};
+    let none = |_: &mut u8| Ok(());
+    let table: [Control<u8>; 3] = [
+        Control::press('L', "lines", "lines", none),
+        Control::slider("slider", |_| (0.0, 1.0), |_| 0.0, |_| 0.0, |_, _| Ok(())),
+        Control::press('7', "seven", "seven", none),
+    ];
+    let find = |key| control_for_key(&table, key);
     assert_eq!(
         (find('l'), find('L'), find('7')),
-        (Some(1), Some(1), Some(2))
+        (Some(0), Some(0), Some(2))
     );
     assert_eq!(find('Q'), None);
     for scene in SCENES {

@@ -245,10 +245,10 @@ fn the_source_key_cycles_and_comes_back_to_the_tutorials_frame() {
     for _ in 0..3 {
         let cylinder = r.scene_mut::<tutorial13::scenes::cylinder::Cylinder>();
         assert!(tutorial13::scenes::Scene::key(cylinder, 'F').unwrap());
-        seen.push(cylinder.tangent_source);
+        seen.push(cylinder.tangent_source());
         let status = tutorial13::scenes::Scene::status(cylinder);
         assert!(
-            status.ends_with(&format!("tangents {}", cylinder.tangent_source)),
+            status.ends_with(&format!("tangents {}", cylinder.tangent_source())),
             "{status}"
         );
         frame(&mut r);

@@ -15,7 +15,6 @@ use tutorial13::gl::Profile;
 use tutorial13::mesh::grid_cylinder_obj_text;
 use tutorial13::pipeline::obj_parse::load_obj;
 use tutorial13::scenes::cylinder::tutorial13::LIGHT_POS;
-use tutorial13::scenes::cylinder::Action;
 use tutorial13::scenes::cylinder::Cylinder;
 
 fn view(name: &str) -> ColorView {
@@ -256,8 +255,8 @@ fn handedness_switch_changes_only_the_mirrored_half() {
 
     let mut renderer = renderer(&options(dir, Profile::Core));
     let fixed = frame(&mut renderer);
+    assert!(renderer.scene.key('H').unwrap(), "H: the handedness fix");
     let cylinder = renderer.scene_mut::<Cylinder>();
-    cylinder.apply(Action::ToggleHandedness).unwrap();
     assert_eq!(cylinder.mesh_options().tangents, no_fix);
     let unfixed = frame(&mut renderer);
     // Columns one segment either side of the seam (world x = 0).
@@ -304,23 +303,15 @@ fn handedness_switch_changes_only_the_mirrored_half() {
 fn every_switch_renders_without_gl_errors_in_both_profiles() {
     // Lighting switches first, while the lit view shows them; the normalized TBN after the mesh
     // switches (it hides the tangents' lengths, which normalizing before the sum changes); views last.
-    let actions = [
-        Action::ToggleLines,
-        Action::ToggleLineMode,
-        Action::ToggleSpecularTexture,
-        Action::ToggleNormalizeBeforeSum,
-        Action::ToggleGramSchmidt,
-        Action::ToggleHandedness,
-        Action::ToggleNormalizedTbn,
-        Action::NextView,
-        Action::NextComponent,
-    ];
+    // Lines, line mode, specular texture, normalize before sum, Gram-Schmidt, handedness,
+    // normalized TBN, colour view, component.
+    let actions = ['L', 'M', 'S', 'N', 'G', 'H', 'T', 'V', 'C'];
     for profile in [Profile::Core, Profile::Compat] {
         let mut renderer = renderer(&options(own_assets(), profile));
         let start = frame(&mut renderer);
         let mut previous = start.clone();
         for action in actions {
-            renderer.scene_mut::<Cylinder>().apply(action).unwrap();
+            assert!(renderer.scene.key(action).unwrap());
             let switched = frame(&mut renderer);
             let changed = differing_pixels(&previous, &switched);
             println!(
@@ -328,7 +319,7 @@ fn every_switch_renders_without_gl_errors_in_both_profiles() {
                 renderer.scene.status()
             );
             // Both line paths draw the same pixels; every other action changes the frame.
-            if action != Action::ToggleLineMode {
+            if action != 'M' {
                 assert!(changed > 0, "{action:?} in {profile:?} changed nothing");
             }
             previous = switched;
@@ -336,12 +327,12 @@ fn every_switch_renders_without_gl_errors_in_both_profiles() {
         // Undo: the cycles of NextView (7) and NextComponent (4) need more presses to come back.
         for action in actions {
             let presses = match action {
-                Action::NextView => ColorView::CYCLE.len() - 1,
-                Action::NextComponent => 3,
+                'V' => ColorView::CYCLE.len() - 1,
+                'C' => 3,
                 _ => 1,
             };
             for _ in 0..presses {
-                renderer.scene_mut::<Cylinder>().apply(action).unwrap();
+                assert!(renderer.scene.key(action).unwrap());
             }
         }
         assert_eq!(

@@ -196,11 +196,12 @@ fn panel_layout() -> PanelLayout {
     layout.render_frames(1).unwrap();
     let panel = layout.panel.as_ref().unwrap();
     let at = |w: PanelWidget| panel.widget_rect(&w).unwrap();
+    let light_x = layout.scene.control_index("light x").unwrap();
     PanelLayout {
         rect: panel.rect().unwrap(),
         lines_checkbox: at(PanelWidget::Key('L')).center(),
         // Near the left end of the slider's rail.
-        light_x_rail: at(PanelWidget::Slider("light x")).left_center() + egui::vec2(12.0, 0.0),
+        light_x_rail: at(PanelWidget::Slider(light_x)).left_center() + egui::vec2(12.0, 0.0),
         start_values: at(PanelWidget::StartValues).center(),
     }
 }

@@ -1,6 +1,6 @@
 //! The cube scene's command-line arguments, which are its options as they are.
 
-use crate::scenes::scene::OwnOptions;
+use crate::scenes::options::OwnOptions;
 
 // The cube's switches, as the command line sets them. (A plain comment: clap would make a doc
 // comment on an Args struct the whole program's `about`.)

@@ -28,11 +28,10 @@ use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
 use assets::FILES;
 
-use super::scene::{
-    action_for_key, drawing_program, key_help, point_light_sliders, slide_point_light, Binding,
-    DrawingProgram, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor, SceneOptions,
-    SceneType, Slider, Switch, SwitchState,
-};
+use super::descriptor::{SceneDescriptor, SceneType};
+use super::options::SceneOptions;
+use super::scene::{drawing_program, DrawingProgram, FrameInput, Scene, SceneContext};
+use super::table::{key_count, key_help, light_slider, power_slider, Control, KeyHelp, PointLight};
 pub use args::CubeOptions;
 
 /// The scene as the rest of the program knows it.
@@ -48,22 +47,30 @@ pub static SCENE: SceneDescriptor = SceneDescriptor {
 /// Drawn in the tutorial's state, applied every frame (another scene may have drawn since).
 const GL_STATE: GlState = GlState::TUTORIAL;
 
-/// What a key (or a test) can change while the program runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Action {
-    /// The article's `flag`.
-    ToggleNormalMapping,
-}
+/// The scene's switch and sliders, in the order they are listed.
+const CONTROLS: &[C] = &[
+    C::toggle(
+        'N',
+        "normal mapping",
+        "normal mapping on / off (the article's flag)",
+        |cube| cube.normal_mapping,
+        |cube, on| {
+            cube.normal_mapping = on;
+            Ok(())
+        },
+    )
+    .in_title("normal mapping"),
+    light_slider::<Cube, 0>(),
+    light_slider::<Cube, 1>(),
+    light_slider::<Cube, 2>(),
+    power_slider::<Cube>(),
+];
 
-/// The scene's keys and their actions, in the order they are listed.
-const BINDINGS: [Binding<Action>; 1] = [(
-    'N',
-    Action::ToggleNormalMapping,
-    "normal mapping on / off (the article's flag)",
-)];
+/// A control of this scene.
+type C = Control<Cube>;
 
 /// The key list `--help` and the window print.
-pub const KEYS: &[KeyHelp] = &key_help(&BINDINGS);
+pub const KEYS: &[KeyHelp] = &key_help::<Cube, { key_count(CONTROLS) }>(CONTROLS);
 
 /// The scene's two shader files.
 pub const SHADERS: [&str; 2] = [
@@ -224,6 +231,7 @@ pub struct Cube {
 
 impl SceneType for Cube {
     type Args = CubeOptions;
+    const CONTROLS: &'static [Control<Self>] = CONTROLS;
 
     /// Loads `cube/diffuse.bmp` and `cube/normal.bmp` from `assets` and the shaders from
     /// `shader_dir` (or the crate's), and builds the cube.
@@ -247,11 +255,18 @@ impl SceneType for Cube {
     }
 }
 
-impl Cube {
-    pub fn apply(&mut self, action: Action) {
-        match action {
-            Action::ToggleNormalMapping => self.normal_mapping ^= true,
-        }
+impl PointLight for Cube {
+    const POWER_MAX: f32 = 4.0;
+
+    fn light(&self) -> (Vec3, f32) {
+        (self.light_position_worldspace, self.light_power)
+    }
+    fn light_start(&self) -> (Vec3, f32) {
+        (LIGHT_POSITION_WORLDSPACE, 1.0)
+    }
+    fn set_light(&mut self, position: Vec3, power: f32) -> Result<()> {
+        (self.light_position_worldspace, self.light_power) = (position, power);
+        Ok(())
     }
 }
 
@@ -283,12 +298,6 @@ impl Scene for Cube {
         self.buffers.draw();
     }
 
-    fn key(&mut self, key: char) -> Result<bool> {
-        let action = action_for_key(&BINDINGS, key);
-        action.inspect(|&action| self.apply(action));
-        Ok(action.is_some())
-    }
-
     fn status(&self) -> String {
         let on = if self.normal_mapping { "on" } else { "off" };
         format!("normal mapping {on}")
@@ -296,26 +305,6 @@ impl Scene for Cube {
 
     fn shader_files(&self) -> Vec<PathBuf> {
         shader_paths(SHADERS, self.shader_dir.as_deref())
-    }
-
-    fn switches(&self) -> Vec<Switch> {
-        vec![Switch {
-            key: 'N',
-            label: "normal mapping",
-            state: SwitchState::On(self.normal_mapping),
-        }]
-    }
-
-    /// The light's position and power.
-    fn sliders(&self) -> Vec<Slider> {
-        let (light, power) = (self.light_position_worldspace, self.light_power);
-        point_light_sliders(light, LIGHT_POSITION_WORLDSPACE, power, 1.0, 4.0)
-    }
-
-    fn set_slider(&mut self, name: &str, value: f32) {
-        let sliders = self.sliders();
-        let (light, power) = (&mut self.light_position_worldspace, &mut self.light_power);
-        slide_point_light(&sliders, name, value, light, power);
     }
 
     fn drawing_programs(&self) -> Vec<DrawingProgram> {

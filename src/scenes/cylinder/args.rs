@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use crate::mesh::MeshOptions;
 use crate::model::MapOverrides;
 use crate::normalmap::Green;
-use crate::scenes::scene::{SceneArgs, SharedArgs};
+use crate::scenes::options::{SceneArgs, SharedArgs};
 use crate::tangents::TangentSource;
 
 use super::{CompareOptions, CylinderOptions};

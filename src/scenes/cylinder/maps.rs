@@ -42,7 +42,7 @@ pub fn model_texture_sets(gl: &Gl, model: &Model) -> Result<Vec<TextureSet>> {
 /// for its slot (DDS diffuse and specular, BMP normal map) goes through the tutorial's loader, so
 /// that naming the tutorial's own files changes nothing; any other picture is decoded and uploaded
 /// the way the tutorial's negated V reads it. A height map is turned by 180° first (its strength
-/// negated), because the tutorial's frame on its cylinder is (see the README).
+/// negated), because the tutorial's frame on its cylinder is (see docs/model.md, "Which way is up").
 pub fn override_tutorial_maps(
     gl: &Gl,
     set: &mut TextureSet,

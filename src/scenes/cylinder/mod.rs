@@ -6,38 +6,46 @@
 //! the TBN debug lines (immediate mode, or the line shader).
 
 pub mod args;
+mod compare;
+mod controls;
+mod lines;
 pub mod maps;
+mod mesh;
+mod programs;
 pub mod tutorial13;
 
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
 use glam::Vec3;
-use glow::HasContext;
 
 use crate::common::shader::shader_paths;
 use crate::debug::compare::{CompareMode, CompareView};
-use crate::debug::lines::{DebugLines, LegacyGl, LineMode, LINE_LENGTH, LINE_SHADERS};
-use crate::debug::views::{ColorView, ShaderSwitches};
+use crate::debug::lines::{LegacyGl, LineMode, LINE_LENGTH, LINE_SHADERS};
+use crate::debug::views::ShaderSwitches;
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::state::GlState;
 use crate::gl::Gl;
 use crate::mesh::MeshOptions;
-use crate::model::{
-    load_model, MapOverrides, Model, TUTORIAL_CYLINDER_CENTER, TUTORIAL_CYLINDER_RADIUS,
-};
+use crate::model::{load_model, MapOverrides, TUTORIAL_CYLINDER_CENTER, TUTORIAL_CYLINDER_RADIUS};
 use crate::progress::Progress;
 use crate::tangents::TangentSource;
 use crate::Result;
-use crate::{common::objloader::TriangleSoup, pipeline::obj_parse::load_obj};
 
+use super::descriptor::{SceneDescriptor, SceneType};
+use super::options::SceneOptions;
 use super::scene::{
-    clamp_to_slider, drawing_program, handle_key, key_help, point_light_sliders, slide_light,
-    Binding, CompareLabels, DrawingProgram, FrameInput, KeyHelp, Scene, SceneContext,
-    SceneDescriptor, SceneOptions, SceneType, Slider, Switch, SwitchState, LIGHT_POWER,
+    drawing_program, CompareLabels, DrawingProgram, FrameInput, Scene, SceneContext,
 };
+use super::table::{Control, SceneControls};
 pub use args::CylinderArgs;
+pub use controls::KEYS;
+use controls::{flags_without_effect, no_lines, per_pixel, CONTROLS, PER_PIXEL};
+use lines::TbnLines;
 use maps::{model_texture_sets, override_tutorial_maps};
+use mesh::{warn_of_merged_corners, MeshState, SoupSource};
+pub use programs::{DebugProgram, Knobs, DEBUG_SHADERS, DERIVATIVE_SHADERS};
+use programs::{Drawing, Programs};
 use tutorial13::{NormalMappingProgram, Tutorial13, CLEAR_COLOR, SHADERS};
 
 /// The scene as the rest of the program knows it.
@@ -52,24 +60,6 @@ pub static SCENE: SceneDescriptor = SceneDescriptor {
         KEYS,
     )
 };
-
-/// `indexVBO_TBN` merges a corner into an earlier vertex within 0.01 of it (position, UV and normal,
-/// in the tutorial's units): on a model much denser than the tutorial's cylinder that moves corners.
-/// Says so once, with how many moved, since the model then looks coarser than it is.
-fn warn_of_merged_corners(model: &Model, mesh: &crate::common::vboindexer::IndexedMesh) {
-    let moved = (0..mesh.indices.len())
-        .filter(|&i| mesh.vertices[mesh.indices.get(i) as usize] != model.soup.vertices[i])
-        .count();
-    if moved > 0 {
-        log::warn!(
-            "{}: indexVBO_TBN's 0.01 tolerance moved {moved} of {} corners onto a neighbour (the \
-             tutorial's indexer, on a model denser than its cylinder); F switches to MikkTSpace, \
-             which merges only equal corners",
-            model.path.display(),
-            mesh.indices.len()
-        );
-    }
-}
 
 /// A dropped `.obj` file is opened as `--model` (the other options stay as they were).
 fn open_model(path: &Path, options: &mut SceneOptions) -> bool {
@@ -119,139 +109,27 @@ pub struct CylinderOptions {
     pub light: Option<Vec3>,
 }
 
-/// What a key (or a test) can change while the program runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Action {
-    /// Show or hide the TBN debug lines.
-    ToggleLines,
-    /// Immediate mode ↔ line shader.
-    ToggleLineMode,
-    /// Next colour view (lit, light, eye, texture normal; raw and (v+1)/2).
-    NextView,
-    /// All components → x → y → z.
-    NextComponent,
-    /// Exercise 1: normalize tangents before summing them (CPU pipeline re-run).
-    ToggleNormalizeBeforeSum,
-    /// Gram-Schmidt on/off (CPU pipeline re-run).
-    ToggleGramSchmidt,
-    /// Handedness fix on/off (CPU pipeline re-run).
-    ToggleHandedness,
-    /// Specular texture ↔ constant 0.3.
-    ToggleSpecularTexture,
-    /// The article's normalized TBN ↔ the repository shader's.
-    ToggleNormalizedTbn,
-    /// Tutorial → MikkTSpace → per-pixel derivative tangents.
-    NextTangentSource,
-    /// Compare view off → split → difference → off.
-    NextCompareMode,
-    /// The compare view's split line 5 % of the width to the left, or to the right.
-    MoveSplitLeft,
-    MoveSplitRight,
-    /// Normal map green up ↔ down.
-    ToggleGreenDown,
-    /// `2c − 1` ↔ `c × 255/127 − 128/127`.
-    ToggleExactExpansion,
-    /// Three channels ↔ two (z rebuilt).
-    ToggleTwoChannel,
-}
-
-/// The scene's keys and their actions, in the order they are listed.
-const BINDINGS: [Binding<Action>; 16] = [
-    (
-        'L',
-        Action::ToggleLines,
-        "TBN debug lines on / off (normals blue, tangents red, bitangents green)",
-    ),
-    (
-        'M',
-        Action::ToggleLineMode,
-        "debug lines: immediate mode (compatibility profile) / line shader",
-    ),
-    (
-        'V',
-        Action::NextView,
-        "colour view: lit, light, light01, eye, eye01, normal, normal01",
-    ),
-    (
-        'C',
-        Action::NextComponent,
-        "colour view component: all, x, y, z",
-    ),
-    (
-        'N',
-        Action::ToggleNormalizeBeforeSum,
-        "normalize tangents before summing them (exercise 1)",
-    ),
-    ('G', Action::ToggleGramSchmidt, "Gram-Schmidt on / off"),
-    ('H', Action::ToggleHandedness, "handedness fix on / off"),
-    (
-        'S',
-        Action::ToggleSpecularTexture,
-        "specular texture / constant 0.3",
-    ),
-    (
-        'T',
-        Action::ToggleNormalizedTbn,
-        "TBN as summed (repository shader) / normalized (article)",
-    ),
-    (
-        'F',
-        Action::NextTangentSource,
-        "tangent frame: tutorial, MikkTSpace, per-pixel derivatives",
-    ),
-    (
-        'K',
-        Action::NextCompareMode,
-        "compare two tangent frames: off, side by side, difference heat map",
-    ),
-    ('A', Action::MoveSplitLeft, "compare view: split line left"),
-    (
-        'D',
-        Action::MoveSplitRight,
-        "compare view: split line right",
-    ),
-    (
-        'Y',
-        Action::ToggleGreenDown,
-        "normal map green up (OpenGL) / down (DirectX)",
-    ),
-    (
-        'E',
-        Action::ToggleExactExpansion,
-        "normal map expansion 2c-1 / c*255/127-128/127 (exact 0 at 128)",
-    ),
-    (
-        'Z',
-        Action::ToggleTwoChannel,
-        "normal map of three channels / two (z rebuilt)",
-    ),
-];
-
-/// The key list `--help` and the window print.
-pub const KEYS: &[KeyHelp] = &key_help(&BINDINGS);
-
 /// Tutorial 13 and the state of its debugging aids.
 pub struct Cylinder {
     // Field order is drop order; all hold GL objects of the same context.
-    /// Built the first time they are shown, so that a run without them neither loads their shader
-    /// nor prints the core-profile notice.
-    lines: Option<DebugLines>,
-    /// `NormalMappingDebug`: the same lighting with the experiments and colour views as uniforms.
-    debug_program: DebugProgram,
-    /// `NormalMappingDerivative`: the per-pixel tangent frame, for [`TangentSource::Derivative`].
-    derivative_program: NormalMappingProgram,
-    /// Its light power and normal strength.
-    derivative_knobs: KnobUniforms,
+    /// The TBN lines (built the first time they are shown), or the path they are to be drawn with.
+    lines: TbnLines,
+    /// The debugging and per-pixel programs.
+    programs: Programs,
     /// The panel's light power and normal strength (the tutorial's unless moved).
     pub knobs: Knobs,
     /// The compare view's split at the start (`--compare`'s, or the middle).
     compare_start_split: f32,
-    /// The light where the scene started (`--light`, or the tutorial's), for the panel.
+    /// The light as the panel shows it, in the space `--light` uses (the model's own coordinates
+    /// with `--model`, else world space): set there, it is placed as `--light` is, to the bit.
+    light: Vec3,
+    /// Where it started (`--light`, or the tutorial's), in that space and in world space.
     light_start: Vec3,
+    light_start_world: Vec3,
     /// The TBN lines' length (the tutorial's [`LINE_LENGTH`] unless the panel moved it).
     line_length: f32,
-    /// Where the tangent frame comes from.
-    pub tangent_source: TangentSource,
+    /// What the mesh is made from: the soup, the CPU pipeline's switches, the tangent source.
+    mesh: MeshState,
     /// The two sources compared, with their meshes uploaded, while the compare view is on.
     comparison: Option<([TangentSource; 2], [MeshBuffers; 2])>,
     /// The sources the compare key compares (`--compare`, else the current one and the next).
@@ -264,34 +142,15 @@ pub struct Cylinder {
     /// Draw through `NormalMappingDebug` even with the tutorial's switches (to compare the two
     /// programs, which must give the same frame).
     pub use_debug_program: bool,
-    mesh_options: MeshOptions,
     show_lines: bool,
     /// The immediate-mode entry points, or why this context has none.
     legacy: std::result::Result<LegacyGl, String>,
-    line_mode: Option<LineMode>,
-    /// Where the CPU pipeline's soup comes from when a switch re-runs it.
-    soup_source: SoupSource,
     shader_dir: Option<PathBuf>,
-}
-
-/// The mesh the scene draws: the tutorial's `cylinder.obj` (read again by `loadOBJ` whenever the
-/// pipeline re-runs, as an edit of the tutorial would), or a learner's model, read once.
-enum SoupSource {
-    Tutorial(PathBuf),
-    Model(Rc<Model>),
-}
-
-impl SoupSource {
-    fn soup(&self) -> Result<std::borrow::Cow<'_, TriangleSoup>> {
-        Ok(match self {
-            SoupSource::Tutorial(path) => std::borrow::Cow::Owned(load_obj(path)?),
-            SoupSource::Model(model) => std::borrow::Cow::Borrowed(&model.soup),
-        })
-    }
 }
 
 impl SceneType for Cylinder {
     type Args = CylinderArgs;
+    const CONTROLS: &'static [Control<Self>] = CONTROLS;
 
     /// Loads the tutorial's four files from `assets` and the shaders from `shader_dir` (or the
     /// crate's), and starts with `cylinder`'s switches.
@@ -329,25 +188,30 @@ impl SceneType for Cylinder {
             }
         };
         if let Some(light) = cylinder.light {
-            tutorial.light_position_worldspace = match &soup_source {
-                SoupSource::Model(model) => model.placement.to_world(light),
-                SoupSource::Tutorial(_) => light,
-            };
+            tutorial.light_position_worldspace = soup_source.to_world(light);
         }
-        let debug_program = DebugProgram::load(gl, shader_dir)?;
-        let [vertex_shader, fragment_shader] = DERIVATIVE_SHADERS;
-        let derivative_program =
-            NormalMappingProgram::load(gl, vertex_shader, fragment_shader, shader_dir)?;
+        // The panel shows the light where `--light` puts it: in the model's own coordinates.
+        let light_start_world = tutorial.light_position_worldspace;
+        let light_start = match (cylinder.light, &soup_source) {
+            (Some(light), _) => light,
+            (None, SoupSource::Model(model)) => model.placement.to_file(light_start_world),
+            (None, SoupSource::Tutorial(_)) => light_start_world,
+        };
         let mut scene = Cylinder {
-            lines: None,
-            debug_program,
-            derivative_knobs: KnobUniforms::locate(&derivative_program.program)?,
-            derivative_program,
+            lines: TbnLines::Wanted(cylinder.line_mode),
+            programs: Programs::load(gl, shader_dir)?,
             knobs: Knobs::TUTORIAL,
-            light_start: tutorial.light_position_worldspace,
+            light: light_start,
+            light_start,
+            light_start_world,
             line_length: LINE_LENGTH,
             compare_start_split: cylinder.compare.map_or(0.5, |c| c.split.clamp(0.0, 1.0)),
-            tangent_source: TangentSource::Tutorial,
+            mesh: MeshState {
+                soup: soup_source,
+                options: cylinder.mesh,
+                source: TangentSource::Tutorial,
+                built: Vec::new(),
+            },
             comparison: None,
             compare_sources: cylinder.compare.map(|c| c.sources),
             compare_view: CompareView::new(
@@ -361,11 +225,8 @@ impl SceneType for Cylinder {
             gl: gl.clone(),
             switches: cylinder.switches,
             use_debug_program: false,
-            mesh_options: cylinder.mesh,
             show_lines: false,
             legacy: LegacyGl::load_or_reason(context.info, context.loader),
-            line_mode: cylinder.line_mode,
-            soup_source,
             shader_dir: shader_dir.map(Path::to_path_buf),
         };
         scene.set_tangent_source(cylinder.tangents)?;
@@ -373,311 +234,29 @@ impl SceneType for Cylinder {
             scene.start_comparison(compare.sources)?;
         }
         scene.set_show_lines(cylinder.debug_lines)?;
+        let flags = flags_without_effect(&cylinder);
+        if !flags.is_empty() {
+            log::warn!(
+                "--tangents derivative: {PER_PIXEL}: {} change nothing",
+                flags.join(", ")
+            );
+        }
+        if let Some(reason) = scene.comparison.as_ref().and(scene.unlike_comparison()) {
+            log::warn!("--compare: {reason}");
+        }
         Ok(scene)
-    }
-}
-
-impl Cylinder {
-    /// The CPU pipeline's current switches.
-    pub fn mesh_options(&self) -> MeshOptions {
-        self.mesh_options
-    }
-
-    /// Whether the TBN lines are shown.
-    pub fn show_lines(&self) -> bool {
-        self.show_lines
-    }
-
-    /// Draws with another tangent source: the mesh is rebuilt (with the tutorial's tangents,
-    /// MikkTSpace's, or none for the per-pixel frame) and the lines with it.
-    pub fn set_tangent_source(&mut self, source: TangentSource) -> Result<()> {
-        if source == self.tangent_source {
-            return Ok(());
-        }
-        self.rebuild_mesh(source, self.mesh_options)?;
-        self.tangent_source = source;
-        Ok(())
-    }
-
-    /// Shows `sources` in the compare view (each drawn whole, the first left of the split).
-    pub fn start_comparison(&mut self, sources: [TangentSource; 2]) -> Result<()> {
-        let soup = self.soup_source.soup()?;
-        let upload = |source: TangentSource| -> Result<MeshBuffers> {
-            MeshBuffers::new(&self.gl, &source.mesh(&soup, self.mesh_options)?)
-        };
-        self.comparison = Some((sources, [upload(sources[0])?, upload(sources[1])?]));
-        Ok(())
-    }
-
-    /// Back to one frame.
-    pub fn stop_comparison(&mut self) {
-        self.comparison = None;
-    }
-
-    /// The compare view's state, while it is on.
-    pub fn compare_view(&self) -> Option<&CompareView> {
-        self.comparison.as_ref().map(|_| &self.compare_view)
-    }
-
-    /// " | compare A | B at 50 %" or " | compare A − B: N pixels differ, max M levels", or nothing.
-    fn compare_status(&self) -> String {
-        let (Some((sources, _)), view) = (&self.comparison, &self.compare_view) else {
-            return String::new();
-        };
-        let [a, b] = sources;
-        match (view.mode, view.difference) {
-            (CompareMode::Split, _) => {
-                format!(" | compare {a} | {b} at {:.0} %", view.split * 100.0)
-            }
-            (CompareMode::Difference, Some(d)) => format!(
-                " | compare {a} - {b}: {} pixels differ, max {} levels",
-                d.pixels, d.max
-            ),
-            (CompareMode::Difference, None) => format!(" | compare {a} - {b}"),
-        }
-    }
-
-    /// Runs the CPU pipeline of `source` with `options` and uploads the result; the lines follow
-    /// (the per-pixel frame has no vertex tangents to show, so they are dropped until another source).
-    fn rebuild_mesh(&mut self, source: TangentSource, options: MeshOptions) -> Result<()> {
-        match (&self.soup_source, source) {
-            (SoupSource::Tutorial(path), TangentSource::Tutorial) => {
-                self.tutorial.reload_mesh(path, options)?
-            }
-            (soup_source, _) => {
-                let soup = soup_source.soup()?;
-                self.tutorial.set_mesh(source.mesh(&soup, options)?)?;
-            }
-        }
-        if source == TangentSource::Derivative {
-            self.lines = None;
-        } else if let Some(lines) = &mut self.lines {
-            lines.rebuild(&self.tutorial.mesh)?;
-        } else if self.show_lines {
-            self.tangent_source = source;
-            self.set_show_lines(true)?;
-        }
-        Ok(())
-    }
-
-    /// Shows or hides the TBN lines, building them (from the current mesh) the first time. With the
-    /// per-pixel frame there are no vertex tangents to draw: the switch is kept, nothing is drawn.
-    pub fn set_show_lines(&mut self, show: bool) -> Result<()> {
-        let has_tangents = self.tangent_source != TangentSource::Derivative;
-        if show && has_tangents && self.lines.is_none() {
-            let lines = DebugLines::with_legacy(
-                &self.gl,
-                self.legacy.clone(),
-                &self.tutorial.mesh,
-                self.tutorial.light_position_worldspace,
-                self.line_mode,
-                self.shader_dir.as_deref(),
-            )?;
-            self.lines = Some(lines);
-            self.set_line_length(self.line_length)?;
-        }
-        self.show_lines = show;
-        Ok(())
-    }
-
-    /// The path the lines are drawn with, once they have been shown.
-    pub fn line_mode(&self) -> Option<LineMode> {
-        self.lines.as_ref().map(DebugLines::mode)
-    }
-
-    /// Why immediate mode is not used, if it was wanted and is not.
-    pub fn line_notice(&self) -> Option<&str> {
-        self.lines.as_ref().and_then(DebugLines::notice)
-    }
-
-    /// Applies one switch, redoing only what it needs: a uniform for shader switches, the CPU
-    /// pipeline and the vertex uploads for mesh switches.
-    pub fn apply(&mut self, action: Action) -> Result<()> {
-        let mut mesh = self.mesh_options;
-        let switches = &mut self.switches;
-        match action {
-            Action::ToggleLines => self.set_show_lines(!self.show_lines)?,
-            Action::ToggleLineMode => {
-                let current = self.line_mode().or(self.line_mode);
-                let next = match current {
-                    Some(LineMode::Shader) => LineMode::Legacy,
-                    // Immediate mode is the default where the context has it.
-                    _ if self.legacy.is_err() => LineMode::Legacy,
-                    _ => LineMode::Shader,
-                };
-                self.line_mode = Some(next);
-                if let Some(lines) = &mut self.lines {
-                    lines.set_mode(next)?;
-                }
-            }
-            Action::NextView => switches.view = switches.view.next_vector(),
-            Action::NextComponent => switches.view = switches.view.next_component(),
-            Action::ToggleSpecularTexture => switches.specular_texture ^= true,
-            Action::ToggleNormalizedTbn => switches.normalize_tbn ^= true,
-            Action::NextTangentSource => {
-                return self.set_tangent_source(self.tangent_source.next());
-            }
-            Action::NextCompareMode => {
-                let view = &mut self.compare_view;
-                match (self.comparison.is_some(), view.mode) {
-                    (false, _) => {
-                        view.mode = CompareMode::Split;
-                        let current = self.tangent_source;
-                        let sources = self.compare_sources.unwrap_or([current, current.next()]);
-                        self.start_comparison(sources)?;
-                    }
-                    (true, CompareMode::Split) => view.mode = CompareMode::Difference,
-                    (true, CompareMode::Difference) => self.stop_comparison(),
-                }
-            }
-            Action::MoveSplitLeft | Action::MoveSplitRight => {
-                let view = &mut self.compare_view;
-                let step = if action == Action::MoveSplitLeft {
-                    -0.05
-                } else {
-                    0.05
-                };
-                view.split = (view.split + step).clamp(0.0, 1.0);
-            }
-            Action::ToggleGreenDown => switches.convention.green_down ^= true,
-            Action::ToggleExactExpansion => switches.convention.exact_expansion ^= true,
-            Action::ToggleTwoChannel => switches.convention.two_channel ^= true,
-            Action::ToggleNormalizeBeforeSum => mesh.indexing.normalize_before_sum ^= true,
-            Action::ToggleGramSchmidt => mesh.tangents.gram_schmidt ^= true,
-            Action::ToggleHandedness => mesh.tangents.handedness ^= true,
-        }
-        if mesh != self.mesh_options {
-            self.rebuild_mesh(self.tangent_source, mesh)?;
-            self.mesh_options = mesh;
-            if let Some((sources, _)) = self.comparison {
-                self.start_comparison(sources)?;
-            }
-        }
-        Ok(())
-    }
-}
-
-/// Which program draws a tangent source's frame.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Drawing {
-    /// `NormalMapping.*`, the tutorial's, as it is.
-    Tutorial,
-    /// `NormalMappingDebug.*`: an experiment, a colour view or a panel slider is away from the
-    /// tutorial's.
-    Debug,
-    /// `NormalMappingDerivative.*`: the per-pixel frame.
-    Derivative,
-}
-
-impl Drawing {
-    /// The program's name and its two files.
-    fn shaders(self) -> (&'static str, [&'static str; 2]) {
-        match self {
-            Drawing::Tutorial => ("NormalMapping (the tutorial's)", SHADERS),
-            Drawing::Debug => ("NormalMappingDebug (the experiments)", DEBUG_SHADERS),
-            Drawing::Derivative => (
-                "NormalMappingDerivative (per-pixel frame)",
-                DERIVATIVE_SHADERS,
-            ),
-        }
-    }
-}
-
-/// What draws one tangent source's frame: the tutorial with the program that the source and the
-/// switches need. Borrowed from the scene's fields, apart from its compare view (which calls it).
-struct SourceDrawer<'a> {
-    tutorial: &'a Tutorial13,
-    debug_program: &'a DebugProgram,
-    derivative_program: &'a NormalMappingProgram,
-    derivative_knobs: &'a KnobUniforms,
-    switches: ShaderSwitches,
-    knobs: Knobs,
-    use_debug_program: bool,
-}
-
-impl SourceDrawer<'_> {
-    /// The tutorial's own program unless an experiment, a colour view or a slider asks for the
-    /// debug one; the per-pixel frame has a program of its own (without the experiments).
-    fn drawing(&self, source: TangentSource) -> Drawing {
-        if source == TangentSource::Derivative {
-            Drawing::Derivative
-        } else if self.switches == ShaderSwitches::default()
-            && self.knobs == Knobs::TUTORIAL
-            && !self.use_debug_program
-        {
-            Drawing::Tutorial
-        } else {
-            Drawing::Debug
-        }
-    }
-
-    /// The program for `source`, current and with its switches set.
-    fn program(&self, source: TangentSource) -> &NormalMappingProgram {
-        match self.drawing(source) {
-            Drawing::Tutorial => &self.tutorial.program,
-            Drawing::Debug => {
-                self.debug_program.set_switches(self.switches, self.knobs);
-                &self.debug_program.program
-            }
-            Drawing::Derivative => {
-                let program = self.derivative_program;
-                self.knobs
-                    .set(&self.debug_program.gl, program, self.derivative_knobs);
-                program
-            }
-        }
-    }
-
-    /// One frame of `source` from `buffers`.
-    fn draw(&self, source: TangentSource, buffers: &MeshBuffers, frame: &FrameInput) {
-        let (projection, view) = (frame.projection, frame.view);
-        let program = self.program(source);
-        self.tutorial
-            .draw_mesh_with(program, buffers, projection, view, None);
-    }
-}
-
-/// The scene's [`SourceDrawer`], borrowing only the fields it names (a macro, not a method, so
-/// that the compare view can be borrowed mutably beside it).
-macro_rules! drawer {
-    ($scene:expr) => {
-        SourceDrawer {
-            tutorial: &$scene.tutorial,
-            debug_program: &$scene.debug_program,
-            derivative_program: &$scene.derivative_program,
-            derivative_knobs: &$scene.derivative_knobs,
-            switches: $scene.switches,
-            knobs: $scene.knobs,
-            use_debug_program: $scene.use_debug_program,
-        }
-    };
-}
-
-impl Cylinder {
-    /// Makes every TBN line `length` long (the tutorial's is [`LINE_LENGTH`]).
-    pub fn set_line_length(&mut self, length: f32) -> Result<()> {
-        self.line_length = length;
-        match &mut self.lines {
-            Some(lines) => lines.reshape(self.tutorial.light_position_worldspace, length),
-            None => Ok(()),
-        }
-    }
-
-    /// Moves the light (world space): the lighting's and the debug lines' cross.
-    pub fn set_light(&mut self, light_position_worldspace: Vec3) -> Result<()> {
-        self.tutorial.light_position_worldspace = light_position_worldspace;
-        if let Some(lines) = &mut self.lines {
-            let (_, length) = lines.shape();
-            lines.reshape(light_position_worldspace, length)?;
-        }
-        Ok(())
     }
 }
 
 impl Scene for Cylinder {
     fn draw(&mut self, frame: &FrameInput) {
         GL_STATE.apply(&self.gl);
-        let drawer = drawer!(self);
+        let drawer = (self.programs).drawer(
+            &self.tutorial,
+            self.switches,
+            self.knobs,
+            self.use_debug_program,
+        );
         if let Some((sources, buffers)) = &self.comparison {
             let view = &mut self.compare_view;
             let before = view.difference;
@@ -703,21 +282,17 @@ impl Scene for Cylinder {
         // The per-pixel frame has no vertex tangents to draw lines from.
         let lines = self
             .lines
-            .as_ref()
-            .filter(|_| self.show_lines && self.tangent_source != TangentSource::Derivative);
-        let program = drawer.program(self.tangent_source);
+            .built()
+            .filter(|_| self.show_lines && self.mesh.source != TangentSource::Derivative);
+        let program = drawer.program(self.mesh.source);
         self.tutorial
             .draw_with(program, frame.projection, frame.view, lines);
-    }
-
-    fn key(&mut self, key: char) -> Result<bool> {
-        handle_key(&BINDINGS, key, |action| self.apply(action))
     }
 
     /// A model is placed on the tutorial's cylinder's bounding sphere; the camera starts framing it.
     /// The tutorial's own cylinder keeps the tutorial's start.
     fn framing(&self) -> Option<(Vec3, f32)> {
-        match self.soup_source {
+        match self.mesh.soup {
             SoupSource::Model(_) => Some((TUTORIAL_CYLINDER_CENTER, TUTORIAL_CYLINDER_RADIUS)),
             SoupSource::Tutorial(_) => None,
         }
@@ -734,172 +309,26 @@ impl Scene for Cylinder {
         let dir = self.shader_dir.as_deref();
         let [vertex_shader, fragment_shader] = SHADERS;
         let program = NormalMappingProgram::load(&self.gl, vertex_shader, fragment_shader, dir)?;
-        let debug_program = DebugProgram::load(&self.gl, dir)?;
-        let [vertex_shader, fragment_shader] = DERIVATIVE_SHADERS;
-        let derivative = NormalMappingProgram::load(&self.gl, vertex_shader, fragment_shader, dir)?;
-        let derivative_knobs = KnobUniforms::locate(&derivative.program)?;
-        if let Some(lines) = &mut self.lines {
+        let programs = Programs::load(&self.gl, dir)?;
+        if let Some(lines) = self.lines.built_mut() {
             lines.reload_shaders()?;
         }
         self.tutorial.program = program;
-        self.debug_program = debug_program;
-        self.derivative_program = derivative;
-        self.derivative_knobs = derivative_knobs;
+        self.programs = programs;
         Ok(())
-    }
-
-    fn switches(&self) -> Vec<Switch> {
-        let sw = self.switches;
-        let mesh = self.mesh_options;
-        let on = |key, label, on| Switch {
-            key,
-            label,
-            state: SwitchState::On(on),
-        };
-        let step = |key, label, current: String, choices: &[&str]| Switch {
-            key,
-            label,
-            state: SwitchState::Step {
-                current,
-                choices: choices.iter().map(|c| c.to_string()).collect(),
-            },
-        };
-        let line_mode = match self.line_mode().or(self.line_mode) {
-            Some(LineMode::Legacy) | None if self.legacy.is_ok() => LineMode::Legacy,
-            _ => LineMode::Shader,
-        };
-        let view_names: Vec<String> = ColorView::CYCLE
-            .iter()
-            .map(|&(vector, mapped)| ColorView::default().with_vector(vector, mapped).to_string())
-            .collect();
-        let view_names: Vec<&str> = view_names.iter().map(String::as_str).collect();
-        let view = ColorView {
-            component: None,
-            ..sw.view
-        };
-        let component = match sw.view.component {
-            None => "all",
-            Some(0) => "x",
-            Some(1) => "y",
-            Some(_) => "z",
-        };
-        let sources = crate::choices::names::<TangentSource>();
-        let sources: Vec<&str> = sources.iter().map(String::as_str).collect();
-        let compare = match (&self.comparison, self.compare_view.mode) {
-            (None, _) => "off",
-            (Some(_), CompareMode::Split) => "side by side",
-            (Some(_), CompareMode::Difference) => "difference",
-        };
-        vec![
-            on('L', "TBN debug lines", self.show_lines),
-            step(
-                'M',
-                "lines drawn with",
-                line_mode_name(line_mode).into(),
-                // A core context has no immediate mode to choose (M falls back with a notice).
-                match self.legacy {
-                    Ok(_) => &LINE_MODE_NAMES,
-                    Err(_) => &LINE_MODE_NAMES[1..],
-                },
-            ),
-            step('V', "colour view", view.to_string(), &view_names),
-            step('C', "component", component.into(), &["all", "x", "y", "z"]),
-            on(
-                'N',
-                "normalize before summing",
-                mesh.indexing.normalize_before_sum,
-            ),
-            on('G', "Gram-Schmidt", mesh.tangents.gram_schmidt),
-            on('H', "handedness fix", mesh.tangents.handedness),
-            on('S', "specular texture", sw.specular_texture),
-            on('T', "normalized TBN (article)", sw.normalize_tbn),
-            step(
-                'F',
-                "tangent frame",
-                self.tangent_source.to_string(),
-                &sources,
-            ),
-            step(
-                'K',
-                "compare view",
-                compare.into(),
-                &["off", "side by side", "difference"],
-            ),
-            on('Y', "green down (DirectX)", sw.convention.green_down),
-            on('E', "exact expansion", sw.convention.exact_expansion),
-            on('Z', "two channels", sw.convention.two_channel),
-        ]
-    }
-
-    /// The light (world space), its power, the normal map's strength, the TBN lines' length and
-    /// the compare view's split.
-    fn sliders(&self) -> Vec<Slider> {
-        let light = self.tutorial.light_position_worldspace;
-        // Room around the tutorial's cylinder (radius 1, height 2, light 4 away) or the model
-        // placed on its bounding sphere.
-        let power = self.knobs.light_power;
-        let tutorial = Knobs::TUTORIAL.light_power;
-        let mut sliders = point_light_sliders(light, self.light_start, power, tutorial, 200.0);
-        let split = self.compare_view.split;
-        sliders.extend([
-            Slider {
-                name: "normal strength",
-                value: self.knobs.normal_strength,
-                start: Knobs::TUTORIAL.normal_strength,
-                range: (0.0, 4.0),
-            },
-            Slider {
-                name: "TBN line length",
-                value: self.line_length,
-                start: LINE_LENGTH,
-                range: (0.01, 1.0),
-            },
-            Slider {
-                name: "compare split",
-                value: split,
-                start: self.compare_start_split,
-                range: (0.0, 1.0),
-            },
-        ]);
-        sliders
-    }
-
-    fn set_slider(&mut self, name: &str, value: f32) {
-        let Some(value) = clamp_to_slider(&self.sliders(), name, value) else {
-            return;
-        };
-        let light = slide_light(self.tutorial.light_position_worldspace, name, value);
-        let done = match (light, name) {
-            (Some(light), _) => self.set_light(light),
-            (None, LIGHT_POWER) => {
-                self.knobs.light_power = value;
-                Ok(())
-            }
-            (None, "normal strength") => {
-                self.knobs.normal_strength = value;
-                Ok(())
-            }
-            (None, "TBN line length") => self.set_line_length(value),
-            (None, "compare split") => {
-                self.compare_view.split = value;
-                Ok(())
-            }
-            (None, other) => {
-                log::warn!("the cylinder has no slider {other:?}");
-                Ok(())
-            }
-        };
-        if let Err(e) = done {
-            log::error!("{e}");
-        }
     }
 
     /// The program each side draws with (and the lines' program when they are shown).
     fn drawing_programs(&self) -> Vec<DrawingProgram> {
-        let drawer = drawer!(self);
+        let drawer = (self.programs).drawer(
+            &self.tutorial,
+            self.switches,
+            self.knobs,
+            self.use_debug_program,
+        );
         let sources = match &self.comparison {
             Some((sources, _)) => sources.to_vec(),
-            None => vec![self.tangent_source],
+            None => vec![self.mesh.source],
         };
         let mut drawings: Vec<Drawing> = sources.iter().map(|&s| drawer.drawing(s)).collect();
         drawings.dedup();
@@ -913,7 +342,7 @@ impl Scene for Cylinder {
             .collect();
         let lines_drawn = self.show_lines
             && self.comparison.is_none()
-            && self.tangent_source != TangentSource::Derivative;
+            && self.mesh.source != TangentSource::Derivative;
         match self.line_mode().filter(|_| lines_drawn) {
             Some(LineMode::Legacy) => programs.push(DrawingProgram {
                 name: "TBN lines: immediate mode (glBegin/glEnd, no shader)".into(),
@@ -939,168 +368,62 @@ impl Scene for Cylinder {
     }
 
     /// The colour view, the lines and the tangent frame (and the compare view or model if on).
+    /// Those the table names in the title, where they apply (with the per-pixel frame, neither
+    /// view nor lines).
     fn short_status(&self) -> String {
-        let lines = if self.show_lines { "on" } else { "off" };
-        let mut text = format!(
-            "view {}, lines {lines}, tangents {}",
-            self.switches.view, self.tangent_source
-        );
+        let mut text = self.title_status().join(", ");
         if let Some((sources, _)) = &self.comparison {
             text += &format!(", compare {} | {}", sources[0], sources[1]);
         }
-        if let SoupSource::Model(model) = &self.soup_source {
+        if let SoupSource::Model(model) = &self.mesh.soup {
             let name = model.path.file_name().unwrap_or(model.path.as_os_str());
             text += &format!(", model {}", name.to_string_lossy());
         }
         text
     }
 
-    /// View, lines, and every experiment switch.
+    /// View, lines, and every experiment switch (those that do nothing now left out: the
+    /// per-pixel frame draws neither colour views, lines nor the shader's experiments).
     fn status(&self) -> String {
         let on = |b: bool| if b { "on" } else { "off" };
         let sw = self.switches;
-        let mesh = self.mesh_options;
+        let mesh = self.mesh.options;
         let lines = match (self.show_lines, self.line_mode()) {
             (true, Some(LineMode::Legacy)) => "immediate mode",
             (true, _) => "line shader",
             (false, _) => "off",
         };
-        let model = match &self.soup_source {
-            SoupSource::Model(model) => format!("model {} | ", model.path.display()),
-            SoupSource::Tutorial(_) => String::new(),
+        let shader = per_pixel(self).is_none();
+        let tbn = match sw.normalize_tbn {
+            true => "normalized (article)",
+            false => "as summed (repository)",
         };
-        model
-            + &format!(
-            "view {} | lines {lines} | Gram-Schmidt {} | handedness {} | normalize before sum {} | \
-             specular texture {} | TBN {} | normal map {} | tangents {}",
-            sw.view,
-            on(mesh.tangents.gram_schmidt),
-            on(mesh.tangents.handedness),
-            on(mesh.indexing.normalize_before_sum),
-            on(sw.specular_texture),
-            if sw.normalize_tbn { "normalized (article)" } else { "as summed (repository)" },
-            sw.convention,
-            self.tangent_source,
-        ) + &self.compare_status()
-    }
-}
-
-/// The line paths' names on the panel: [`LineMode::Legacy`], [`LineMode::Shader`].
-const LINE_MODE_NAMES: [&str; 2] = ["immediate mode", "line shader"];
-
-fn line_mode_name(mode: LineMode) -> &'static str {
-    match mode {
-        LineMode::Legacy => LINE_MODE_NAMES[0],
-        LineMode::Shader => LINE_MODE_NAMES[1],
-    }
-}
-
-/// The per-pixel tangent frame's program.
-pub const DERIVATIVE_SHADERS: [&str; 2] = [
-    "NormalMappingDerivative.vertexshader",
-    "NormalMappingDerivative.fragmentshader",
-];
-
-/// The debugging program's two files.
-pub const DEBUG_SHADERS: [&str; 2] = [
-    "NormalMappingDebug.vertexshader",
-    "NormalMappingDebug.fragmentshader",
-];
-
-crate::uniforms! {
-    /// `NormalMappingDebug.*`'s switches, beside the tutorial's handles.
-    pub struct DebugUniforms {
-        normalize_tbn: "NormalizeTBN",
-        specular_texture: "UseSpecularTexture",
-        green_down: "GreenDown",
-        exact_expansion: "ExactExpansion",
-        two_channel: "TwoChannel",
-        debug_view: "DebugView",
-        debug_mapped: "DebugMapped",
-        debug_component: "DebugComponent",
-    }
-}
-
-crate::uniforms! {
-    /// The panel's light power and normal strength, in the debugging and per-pixel programs (the
-    /// tutorial's shader has them as constants).
-    pub struct KnobUniforms {
-        light_power: "LightPower",
-        normal_strength: "NormalStrength",
-    }
-}
-
-/// The panel's sliders that only the debugging programs read: with the tutorial's values the
-/// tutorial's own program draws.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Knobs {
-    /// `LightPower`, 40 in the tutorial's shader.
-    pub light_power: f32,
-    /// A factor on the normal map's x and y before normalizing (1: the map as it is).
-    pub normal_strength: f32,
-}
-
-impl Knobs {
-    pub const TUTORIAL: Knobs = Knobs {
-        light_power: 40.0,
-        normal_strength: 1.0,
-    };
-
-    /// Makes `program` current and sets its two uniforms.
-    fn set(&self, gl: &Gl, program: &NormalMappingProgram, uniforms: &KnobUniforms) {
-        // SAFETY: the program and its uniforms belong to this context.
-        unsafe {
-            gl.use_program(Some(program.program.id));
-            gl.uniform_1_f32(uniforms.light_power.as_ref(), self.light_power);
-            gl.uniform_1_f32(uniforms.normal_strength.as_ref(), self.normal_strength);
+        let mut parts = Vec::new();
+        if let SoupSource::Model(model) = &self.mesh.soup {
+            parts.push(format!("model {}", model.path.display()));
         }
-    }
-}
-
-/// `NormalMappingDebug`: the tutorial's uniforms plus one per switch.
-pub struct DebugProgram {
-    gl: Gl,
-    pub program: NormalMappingProgram,
-    switches: DebugUniforms,
-    knobs: KnobUniforms,
-}
-
-impl DebugProgram {
-    pub fn load(gl: &Gl, shader_dir: Option<&Path>) -> Result<Self> {
-        let [vertex_shader, fragment_shader] = DEBUG_SHADERS;
-        let program = NormalMappingProgram::load(gl, vertex_shader, fragment_shader, shader_dir)?;
-        Ok(DebugProgram {
-            gl: gl.clone(),
-            switches: DebugUniforms::locate(&program.program)?,
-            knobs: KnobUniforms::locate(&program.program)?,
-            program,
-        })
-    }
-
-    /// Makes the program current and sets its switches and the panel's sliders (the caller then
-    /// draws with it).
-    pub fn set_switches(&self, switches: ShaderSwitches, knobs: Knobs) {
-        knobs.set(&self.gl, &self.program, &self.knobs);
-        let gl = &self.gl;
-        let view = switches.view;
-        let u = &self.switches;
-        // SAFETY: the program and its uniforms belong to this context.
-        unsafe {
-            gl.use_program(Some(self.program.program.id));
-            gl.uniform_1_i32(u.normalize_tbn.as_ref(), switches.normalize_tbn as i32);
-            gl.uniform_1_i32(
-                u.specular_texture.as_ref(),
-                switches.specular_texture as i32,
-            );
-            let convention = switches.convention;
-            gl.uniform_1_i32(u.green_down.as_ref(), convention.green_down as i32);
-            let exact = convention.exact_expansion as i32;
-            gl.uniform_1_i32(u.exact_expansion.as_ref(), exact);
-            gl.uniform_1_i32(u.two_channel.as_ref(), convention.two_channel as i32);
-            gl.uniform_1_i32(u.debug_view.as_ref(), view.vector as i32);
-            gl.uniform_1_i32(u.debug_mapped.as_ref(), view.mapped as i32);
-            let component = view.component.map_or(-1, i32::from);
-            gl.uniform_1_i32(u.debug_component.as_ref(), component);
+        if shader {
+            parts.push(format!("view {}", sw.view));
         }
+        if no_lines(self).is_none() {
+            parts.push(format!("lines {lines}"));
+        }
+        parts.extend([
+            format!("Gram-Schmidt {}", on(mesh.tangents.gram_schmidt)),
+            format!("handedness {}", on(mesh.tangents.handedness)),
+            format!(
+                "normalize before sum {}",
+                on(mesh.indexing.normalize_before_sum)
+            ),
+        ]);
+        if shader {
+            parts.extend([
+                format!("specular texture {}", on(sw.specular_texture)),
+                format!("TBN {tbn}"),
+                format!("normal map {}", sw.convention),
+            ]);
+        }
+        parts.push(format!("tangents {}", self.mesh.source));
+        parts.join(" | ") + &self.compare_status()
     }
 }

@@ -2,7 +2,7 @@
 //!
 //! Set-up, in the C++'s order: the GL state, the program and its uniform handles, the three textures,
 //! the CPU pipeline (`loadOBJ`, `computeTangentBasis`, `indexVBO_TBN`), the buffers. Then the frame
-//! ([`Tutorial13::draw`]): clear, matrices, uniforms, textures, the draw, and the immediate-mode debug
+//! ([`Tutorial13::draw_with`]): clear, matrices, uniforms, textures, the draw, and the immediate-mode debug
 //! lines. The window and the GLFW loop are the front ends' (`frontends/`); the learner's switches,
 //! colour views and keys are the cylinder scene's ([`super`]).
 
@@ -191,11 +191,6 @@ impl Tutorial13 {
         self.buffers = MeshBuffers::new(&self.gl, &mesh)?;
         self.mesh = Rc::new(mesh);
         Ok(())
-    }
-
-    /// One pass of the loop's body with the tutorial's program.
-    pub fn draw(&self, projection_matrix: Mat4, view_matrix: Mat4, lines: Option<&DebugLines>) {
-        self.draw_with(&self.program, projection_matrix, view_matrix, lines);
     }
 
     /// One pass of the loop's body, drawing with `program` (the tutorial's, or the debugging one with

@@ -1,7 +1,7 @@
 //! The sprite scene's command-line arguments.
 
 use crate::normalmap::Green;
-use crate::scenes::scene::{SceneArgs, SharedArgs};
+use crate::scenes::options::{SceneArgs, SharedArgs};
 
 use super::SpriteOptions;
 

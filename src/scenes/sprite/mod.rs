@@ -5,7 +5,7 @@
 //! `<assets>/sprite/diffuse.bmp` and `normal.bmp` (made by `make-assets`, see
 //! [`assets`]).
 //!
-//! Decisions where the article leaves a choice (also in the README and the shader):
+//! Decisions where the article leaves a choice (also in docs/differences.md and the shader):
 //! - The sprite is drawn at its own size, one texel per pixel, centred, as the article draws its rock
 //!   at its own size; a window too small for it (less than [`SPRITE_FIT`] of its smaller side) gets
 //!   it scaled down, square, to that fraction. Its corners sit on whole pixels.
@@ -38,11 +38,10 @@ use crate::gl::state::GlState;
 use crate::gl::{Gl, Maps};
 use crate::Result;
 
-use super::scene::{
-    clamp_to_slider, drawing_program, handle_key, key_help, Binding, DrawingProgram, FrameInput,
-    KeyHelp, MouseMode, Scene, SceneContext, SceneDescriptor, SceneOptions, SceneType, Slider,
-    Switch, SwitchState,
-};
+use super::descriptor::{SceneDescriptor, SceneType};
+use super::options::SceneOptions;
+use super::scene::{drawing_program, DrawingProgram, FrameInput, MouseMode, Scene, SceneContext};
+use super::table::{key_count, key_help, Control, KeyHelp};
 pub use args::SpriteArgs;
 
 /// The scene as the rest of the program knows it.
@@ -113,26 +112,38 @@ impl Default for SpriteOptions {
     }
 }
 
-/// What a key (or a test) can change.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Action {
-    /// The normal map's green channel as made, or flipped (the article's "FlipY").
-    ToggleFlipGreen,
-    /// Falloff in window heights (the article's), or in the sprite's own pixels.
-    ToggleIndependentFalloff,
-}
-
-/// The scene's keys and their actions, in the order they are listed.
-const BINDINGS: [Binding<Action>; 2] = [
-    (
+/// The scene's switches and slider, in the order they are listed.
+const CONTROLS: &[C] = &[
+    C::toggle(
         'Y',
-        Action::ToggleFlipGreen,
+        "green flipped",
         "normal map's green channel up (as made) / down (flipped: the article's FlipY problem)",
+        |sprite| sprite.flip_green,
+        |sprite, on| {
+            sprite.flip_green = on;
+            Ok(())
+        },
     ),
-    (
+    C::toggle(
         'I',
-        Action::ToggleIndependentFalloff,
+        "resolution-independent falloff",
         "falloff in window heights (article) / resolution-independent (the sprite's own pixels)",
+        |sprite| sprite.independent_falloff,
+        |sprite, on| {
+            sprite.independent_falloff = on;
+            Ok(())
+        },
+    ),
+    // The light's height (its x and y follow the mouse).
+    C::slider(
+        "light height",
+        |_| (Z_MIN, Z_MAX),
+        |sprite| sprite.start_height,
+        |sprite| sprite.light.z,
+        |sprite, z| {
+            sprite.light.z = z;
+            Ok(())
+        },
     ),
 ];
 
@@ -149,8 +160,11 @@ pub const MOUSE_HELP: &[(&str, &str)] = &[
     ("left click", "light back to the article's height, 0.075"),
 ];
 
+/// A control of this scene.
+type C = Control<Sprite>;
+
 /// The key list `--help` and the window print.
-pub const KEYS: &[KeyHelp] = &key_help(&BINDINGS);
+pub const KEYS: &[KeyHelp] = &key_help::<Sprite, { key_count(CONTROLS) }>(CONTROLS);
 
 /// Where the sprite is drawn in a `width × height` window: its lower-left corner and side, in whole
 /// pixels (y up).
@@ -220,6 +234,7 @@ pub struct Sprite {
 
 impl SceneType for Sprite {
     type Args = SpriteArgs;
+    const CONTROLS: &'static [Control<Self>] = CONTROLS;
 
     /// Loads `sprite/diffuse.bmp` and `sprite/normal.bmp` from `assets`, and the shaders from
     /// `shader_dir` (or the crate's).
@@ -229,7 +244,7 @@ impl SceneType for Sprite {
         let program = SpriteProgram::load(gl, shader_dir)?;
         // The tutorial's loadBMP_custom, as for every scene's BMP: mipmaps, trilinear filtering and
         // REPEAT, where the article's code samples with LINEAR and CLAMP_TO_EDGE. Kept on purpose (a
-        // departure listed in the README): it changes pixels only when the window scales the sprite
+        // departure listed in docs/differences.md): it changes pixels only when the window scales the sprite
         // below its 512 px (42 450 pixels at 400×300, by up to 16 levels).
         let maps = Maps::load(gl, &files.asset_files(FILES.names())?)?;
         // Texture row 0 (t = 0) is the BMP's bottom row: at the bottom of the square, the picture
@@ -270,14 +285,6 @@ impl SceneType for Sprite {
 }
 
 impl Sprite {
-    /// Applies one switch.
-    pub fn apply(&mut self, action: Action) {
-        match action {
-            Action::ToggleFlipGreen => self.flip_green ^= true,
-            Action::ToggleIndependentFalloff => self.independent_falloff ^= true,
-        }
-    }
-
     /// Whether the light follows the cursor yet.
     pub fn following(&self) -> bool {
         self.following
@@ -338,13 +345,6 @@ impl Scene for Sprite {
         self.quad.draw();
     }
 
-    fn key(&mut self, key: char) -> Result<bool> {
-        handle_key(&BINDINGS, key, |action| {
-            self.apply(action);
-            Ok(())
-        })
-    }
-
     /// The light and both switches (short enough for the title as it is).
     fn status(&self) -> String {
         let l = self.light;
@@ -375,37 +375,6 @@ impl Scene for Sprite {
     fn reload_shaders(&mut self) -> Result<()> {
         self.program = SpriteProgram::load(&self.gl, self.shader_dir.as_deref())?;
         Ok(())
-    }
-
-    fn switches(&self) -> Vec<Switch> {
-        vec![
-            Switch {
-                key: 'Y',
-                label: "green flipped",
-                state: SwitchState::On(self.flip_green),
-            },
-            Switch {
-                key: 'I',
-                label: "resolution-independent falloff",
-                state: SwitchState::On(self.independent_falloff),
-            },
-        ]
-    }
-
-    /// The light's height (its x and y follow the mouse).
-    fn sliders(&self) -> Vec<Slider> {
-        vec![Slider {
-            name: "light height",
-            value: self.light.z,
-            start: self.start_height,
-            range: (Z_MIN, Z_MAX),
-        }]
-    }
-
-    fn set_slider(&mut self, name: &str, value: f32) {
-        if let Some(z) = clamp_to_slider(&self.sliders(), name, value) {
-            self.light.z = z;
-        }
     }
 
     fn drawing_programs(&self) -> Vec<DrawingProgram> {

@@ -1,6 +1,6 @@
 //! The wall scene's command-line arguments, which are its options as they are.
 
-use crate::scenes::scene::OwnOptions;
+use crate::scenes::options::OwnOptions;
 
 use super::LightingSpace;
 

@@ -27,11 +27,10 @@ use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
 use assets::FILES;
 
-use super::scene::{
-    action_for_key, drawing_program, key_help, point_light_sliders, slide_point_light, Binding,
-    DrawingProgram, FrameInput, KeyHelp, Scene, SceneContext, SceneDescriptor, SceneOptions,
-    SceneType, Slider, Switch, SwitchState,
-};
+use super::descriptor::{SceneDescriptor, SceneType};
+use super::options::SceneOptions;
+use super::scene::{drawing_program, DrawingProgram, FrameInput, Scene, SceneContext};
+use super::table::{key_count, key_help, light_slider, power_slider, Control, KeyHelp, PointLight};
 pub use args::WallOptions;
 
 /// The scene as the rest of the program knows it.
@@ -85,32 +84,36 @@ impl LightingSpace {
         }
     }
 
-    fn next(self) -> Self {
-        crate::choices::next(&self)
-    }
-
     /// The `--space` name.
     pub fn name(self) -> String {
         crate::choices::name(&self)
     }
 }
 
-/// What a key (or a test) can change.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Action {
-    /// View space, tangent space, then no normal map.
-    NextSpace,
-}
+/// The scene's choice and sliders, in the order they are listed.
+const CONTROLS: &[C] = &[
+    C::choice(
+        'S',
+        "lighting space",
+        "lighting space: view, tangent, none (no normal map)",
+        |_| crate::choices::names::<LightingSpace>(),
+        |wall| wall.space.name(),
+        |wall, name| {
+            wall.space = crate::choices::by_name(name).unwrap_or(wall.space);
+            Ok(())
+        },
+    ),
+    light_slider::<Wall, 0>(),
+    light_slider::<Wall, 1>(),
+    light_slider::<Wall, 2>(),
+    power_slider::<Wall>(),
+];
 
-/// The scene's keys and their actions, in the order they are listed.
-const BINDINGS: [Binding<Action>; 1] = [(
-    'S',
-    Action::NextSpace,
-    "lighting space: view, tangent, none (no normal map)",
-)];
+/// A control of this scene.
+type C = Control<Wall>;
 
 /// The key list `--help` and the window print.
-pub const KEYS: &[KeyHelp] = &key_help(&BINDINGS);
+pub const KEYS: &[KeyHelp] = &key_help::<Wall, { key_count(CONTROLS) }>(CONTROLS);
 
 crate::uniforms! {
     /// One of the three programs and its uniforms (the same names in all three).
@@ -152,6 +155,7 @@ pub struct Wall {
 
 impl SceneType for Wall {
     type Args = WallOptions;
+    const CONTROLS: &'static [Control<Self>] = CONTROLS;
 
     /// Loads the stone wall's two maps from `assets`/wall/ and the three programs.
     fn new(context: &SceneContext, files: &SceneOptions, options: WallOptions) -> Result<Self> {
@@ -203,6 +207,22 @@ fn square() -> TriangleSoup {
     soup
 }
 
+impl PointLight for Wall {
+    const POWER_MAX: f32 = 200.0;
+
+    /// The light's position and intensity.
+    fn light(&self) -> (Vec3, f32) {
+        (self.light_position_worldspace, self.light_intensity)
+    }
+    fn light_start(&self) -> (Vec3, f32) {
+        (LIGHT_POSITION_WORLDSPACE, LIGHT_INTENSITY)
+    }
+    fn set_light(&mut self, position: Vec3, intensity: f32) -> Result<()> {
+        (self.light_position_worldspace, self.light_intensity) = (position, intensity);
+        Ok(())
+    }
+}
+
 impl Scene for Wall {
     fn draw(&mut self, frame: &FrameInput) {
         let gl = &self.gl;
@@ -229,48 +249,6 @@ impl Scene for Wall {
             self.maps.bind(gl, &p.diffuse_sampler, &p.normal_sampler);
         }
         self.buffers.draw();
-    }
-
-    fn key(&mut self, key: char) -> Result<bool> {
-        Ok(match action_for_key(&BINDINGS, key) {
-            Some(Action::NextSpace) => {
-                self.space = self.space.next();
-                true
-            }
-            None => false,
-        })
-    }
-
-    fn switches(&self) -> Vec<Switch> {
-        vec![Switch {
-            key: 'S',
-            label: "lighting space",
-            state: SwitchState::Step {
-                current: self.space.name(),
-                choices: crate::choices::names::<LightingSpace>(),
-            },
-        }]
-    }
-
-    /// The light's position and intensity.
-    fn sliders(&self) -> Vec<Slider> {
-        let (light, power) = (self.light_position_worldspace, self.light_intensity);
-        point_light_sliders(
-            light,
-            LIGHT_POSITION_WORLDSPACE,
-            power,
-            LIGHT_INTENSITY,
-            200.0,
-        )
-    }
-
-    fn set_slider(&mut self, name: &str, value: f32) {
-        let sliders = self.sliders();
-        let (light, power) = (
-            &mut self.light_position_worldspace,
-            &mut self.light_intensity,
-        );
-        slide_point_light(&sliders, name, value, light, power);
     }
 
     fn drawing_programs(&self) -> Vec<DrawingProgram> {

@@ -1,0 +1,103 @@
+//! The compare view's state on the scene: two tangent sources, each drawn whole, side by side or
+//! as a heat map of their difference ([`crate::debug::compare`] draws it).
+
+use crate::debug::compare::{CompareMode, CompareView};
+use crate::debug::views::ColorView;
+use crate::gl::buffers::MeshBuffers;
+use crate::tangents::TangentSource;
+use crate::Result;
+
+use super::Cylinder;
+
+impl Cylinder {
+    /// Shows `sources` in the compare view (each drawn whole, the first left of the split).
+    pub fn start_comparison(&mut self, sources: [TangentSource; 2]) -> Result<()> {
+        let soup = self.mesh.soup.soup()?;
+        self.mesh.built.extend(sources);
+        let upload = |source: TangentSource| -> Result<MeshBuffers> {
+            MeshBuffers::new(&self.gl, &source.mesh(&soup, self.mesh.options)?)
+        };
+        self.comparison = Some((sources, [upload(sources[0])?, upload(sources[1])?]));
+        Ok(())
+    }
+
+    /// Back to one frame.
+    pub fn stop_comparison(&mut self) {
+        self.comparison = None;
+    }
+
+    /// The compare view's state, while it is on.
+    pub fn compare_view(&self) -> Option<&CompareView> {
+        self.comparison.as_ref().map(|_| &self.compare_view)
+    }
+
+    /// " | compare A | B at 50 %" or " | compare A − B: N pixels differ, max M levels", or nothing.
+    pub(super) fn compare_status(&self) -> String {
+        let (Some((sources, _)), view) = (&self.comparison, &self.compare_view) else {
+            return String::new();
+        };
+        let [a, b] = sources;
+        match (view.mode, view.difference) {
+            (CompareMode::Split, _) => {
+                format!(" | compare {a} | {b} at {:.0} %", view.split * 100.0)
+            }
+            (CompareMode::Difference, Some(d)) => format!(
+                " | compare {a} - {b}: {} pixels differ, max {} levels",
+                d.pixels, d.max
+            ),
+            (CompareMode::Difference, None) => format!(" | compare {a} - {b}"),
+        }
+    }
+
+    /// The compare view `name` (one of [`COMPARE_NAMES`]): off, or on in that mode, comparing
+    /// `--compare`'s sources, else the current one and the next. A comparison of a colour view
+    /// with the per-pixel frame, which draws none, is not started.
+    pub(super) fn set_compare(&mut self, name: &str) -> Result<()> {
+        let mode = match name {
+            "side by side" => CompareMode::Split,
+            "difference" => CompareMode::Difference,
+            _ => {
+                self.stop_comparison();
+                return Ok(());
+            }
+        };
+        if self.comparison.is_none() {
+            if self.unlike_comparison().is_some() {
+                return Ok(());
+            }
+            self.compare_view.mode = mode;
+            self.start_comparison(self.sources_to_compare())?;
+        }
+        self.compare_view.mode = mode;
+        Ok(())
+    }
+
+    /// The sources the compare key compares.
+    fn sources_to_compare(&self) -> [TangentSource; 2] {
+        let current = self.mesh.source;
+        let compared = self.comparison.as_ref().map(|(sources, _)| *sources);
+        compared
+            .or(self.compare_sources)
+            .unwrap_or([current, current.next()])
+    }
+
+    /// Why the compare view would not compare like with like: a colour view on, and a side drawn
+    /// with the per-pixel frame, which draws the lit picture only.
+    pub(super) fn unlike_comparison(&self) -> Option<&'static str> {
+        let colour_view = self.switches.view != ColorView::default();
+        let derivative = self
+            .sources_to_compare()
+            .contains(&TangentSource::Derivative);
+        (colour_view && derivative).then_some(
+            "a colour view is on (V) and a side is the per-pixel frame, which draws none: the two \
+             sides would not show the same thing",
+        )
+    }
+
+    /// Moves the compare view's split line by `step` of the width.
+    pub(super) fn move_split(&mut self, step: f32) -> Result<()> {
+        let view = &mut self.compare_view;
+        view.split = (view.split + step).clamp(0.0, 1.0);
+        Ok(())
+    }
+}

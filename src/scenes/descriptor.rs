@@ -1,0 +1,137 @@
+//! How a scene describes itself to the rest of the program ([`SceneDescriptor`]) and how its type
+//! loads ([`SceneType`]). The list of scenes ([`super::SCENES`]) sits above the scenes and this file
+//! below them, so no scene imports the module that imports it.
+
+use std::fmt;
+use std::path::Path;
+
+use super::options::{read_args, SceneArgs, SceneOptions};
+use super::scene::{MouseMode, Scene, SceneContext};
+use super::table::{control_for_key, Control, ControlState, KeyHelp, SceneControls, SetTo};
+use crate::Result;
+
+/// All the rest of the program knows of a scene: each scene's folder defines one (`SCENE`), and one
+/// line in [`super::SCENES`] adds it to the command line, the Enter key, `--help` and `docs/keys.md`.
+pub struct SceneDescriptor {
+    /// The `--scene` name.
+    pub name: &'static str,
+    /// One line for `--help`, the README and the title: what the scene shows and where it comes from.
+    pub description: &'static str,
+    /// Mouse look (the tutorial's) or a free cursor.
+    pub mouse_mode: MouseMode,
+    /// The scene's keys: those of its table ([`SceneType::CONTROLS`], through [`super::table::key_help`]).
+    pub keys: &'static [KeyHelp],
+    /// What the mouse, wheel and click do in a scene with [`MouseMode::Cursor`] (mouse-look scenes
+    /// have the window's mouse look and list nothing here).
+    pub mouse_help: &'static [(&'static str, &'static str)],
+    /// The scene's command-line arguments: its [`SceneArgs`] struct, under a heading of its own.
+    pub args: fn(clap::Command) -> clap::Command,
+    /// Which of the flags several scenes read ([`SharedArgs`]) this one reads, by argument id.
+    pub shared_args: &'static [&'static str],
+    /// Reads the scene's arguments from the parsed command line into [`SceneOptions`].
+    pub read_args: fn(&clap::ArgMatches, &mut SceneOptions) -> std::result::Result<(), clap::Error>,
+    /// Loads the scene on the current context, with its options from `options` (its defaults where
+    /// `options` holds none).
+    pub build: fn(&SceneContext, &SceneOptions) -> Result<Box<dyn Scene>>,
+    /// The files `make-assets` generates for the scene: paths under the assets folder, and bytes.
+    pub generate_assets: fn() -> Result<crate::assets::GeneratedFiles>,
+    /// A file dropped on the window: puts it into the scene's options and returns `true` if the
+    /// scene opens files of its kind (the cylinder opens an `.obj` as `--model`).
+    pub open_file: fn(&Path, &mut SceneOptions) -> bool,
+}
+
+impl SceneDescriptor {
+    /// The descriptor of scene type `S`: mouse look, no mouse help, no shared flags, no generated
+    /// files (a scene that differs sets those fields over this one).
+    pub const fn of<S: SceneType>(
+        name: &'static str,
+        description: &'static str,
+        keys: &'static [KeyHelp],
+    ) -> Self {
+        SceneDescriptor {
+            name,
+            description,
+            mouse_mode: MouseMode::Look,
+            keys,
+            mouse_help: &[],
+            args: <S::Args as clap::Args>::augment_args,
+            shared_args: &[],
+            read_args: read_args::<S::Args>,
+            build: build::<S>,
+            generate_assets: || Ok(Vec::new()),
+            open_file: |_, _| false,
+        }
+    }
+}
+
+/// A scene's type as its folder defines it: its arguments, and how it loads.
+pub trait SceneType: Scene + Sized + 'static {
+    /// The scene's command-line arguments, and through them its options type.
+    type Args: SceneArgs;
+
+    /// Every switch, choice and slider of the scene, each declared once (see [`Control`]).
+    const CONTROLS: &'static [Control<Self>];
+
+    /// Loads the scene on the current context: its files from `files` (`--assets`, `--shaders`),
+    /// its switches from `options`.
+    fn new(
+        context: &SceneContext,
+        files: &SceneOptions,
+        options: <Self::Args as SceneArgs>::Options,
+    ) -> Result<Self>;
+}
+
+/// [`SceneDescriptor::build`] of scene type `S`, with its options from `options`.
+fn build<S: SceneType>(context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
+    Ok(Box::new(S::new(context, options, options.get())?))
+}
+
+impl PartialEq for SceneDescriptor {
+    fn eq(&self, other: &Self) -> bool {
+        self.name == other.name
+    }
+}
+
+impl Eq for SceneDescriptor {}
+
+impl fmt::Debug for SceneDescriptor {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "SceneDescriptor({})", self.name)
+    }
+}
+
+impl fmt::Display for SceneDescriptor {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name)
+    }
+}
+
+/// Every scene type's table, seen through `dyn Scene`.
+impl<S: SceneType> SceneControls for S {
+    fn controls(&self) -> Vec<ControlState> {
+        S::CONTROLS
+            .iter()
+            .enumerate()
+            .map(|(i, c)| c.state(i, self))
+            .collect()
+    }
+
+    fn set_control(&mut self, index: usize, to: SetTo) -> Result<()> {
+        let Some(control) = S::CONTROLS.get(index) else {
+            log::warn!("no control {index}");
+            return Ok(());
+        };
+        if let Some(reason) = (control.inert)(self) {
+            log::warn!("{}: changes nothing now: {reason}", control.label);
+        }
+        control.set(self, to)
+    }
+
+    fn press_key(&mut self, key: char) -> Result<bool> {
+        let Some(index) = control_for_key(S::CONTROLS, key) else {
+            return Ok(false);
+        };
+        let to = S::CONTROLS[index].key_press(self);
+        self.set_control(index, to).map(|()| true)
+    }
+}

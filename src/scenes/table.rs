@@ -1,0 +1,400 @@
+//! A scene's controls, each declared once: its key, label, key-list line, kind (on / off, a choice of
+//! named values, a slider, a plain press), how it is read and set, its name in the title, and when
+//! it does nothing. The key handling, the key list (`--help`, the window, `docs/keys.md`), the
+//! panel's rows and the title's short status are all read from this one table.
+
+use crate::Result;
+
+/// One control of scene type `S` (see the module's doc).
+pub struct Control<S> {
+    /// The key that flips, steps or presses it (a slider has none).
+    pub key: Option<char>,
+    /// A few words: what it is, on the panel.
+    pub label: &'static str,
+    /// Its line in the key list (a control without a key is not listed there).
+    pub help: &'static str,
+    pub kind: Kind<S>,
+    /// Its name in the title's short status, where it appears there.
+    pub title: Option<&'static str>,
+    /// Why it does nothing in the scene's current state, if it does nothing.
+    pub inert: fn(&S) -> Option<&'static str>,
+}
+
+/// What a control is, and how it reads and sets its scene.
+pub enum Kind<S> {
+    /// On or off (a checkbox); the key flips it.
+    Toggle {
+        get: fn(&S) -> bool,
+        set: fn(&mut S, bool) -> Result<()>,
+    },
+    /// One of several named values; the key steps to the next in the order of `choices`.
+    Choice {
+        /// The values this scene can take here (a context may offer fewer).
+        choices: fn(&S) -> Vec<String>,
+        get: fn(&S) -> String,
+        /// Sets one of `choices`, doing only what that value needs.
+        set: fn(&mut S, &str) -> Result<()>,
+    },
+    /// A value within `range`, starting at the tutorial's (or the article's) `start`.
+    Slider {
+        range: fn(&S) -> (f32, f32),
+        start: fn(&S) -> f32,
+        get: fn(&S) -> f32,
+        set: fn(&mut S, f32) -> Result<()>,
+    },
+    /// An action with no state of its own ("split line left").
+    Press { press: fn(&mut S) -> Result<()> },
+}
+
+/// A control that always applies.
+fn applies<S>(_: &S) -> Option<&'static str> {
+    None
+}
+
+impl<S> Control<S> {
+    /// An on / off switch on `key`.
+    pub const fn toggle(
+        key: char,
+        label: &'static str,
+        help: &'static str,
+        get: fn(&S) -> bool,
+        set: fn(&mut S, bool) -> Result<()>,
+    ) -> Self {
+        Self::keyed(key, label, help, Kind::Toggle { get, set })
+    }
+
+    /// A choice of named values on `key`.
+    pub const fn choice(
+        key: char,
+        label: &'static str,
+        help: &'static str,
+        choices: fn(&S) -> Vec<String>,
+        get: fn(&S) -> String,
+        set: fn(&mut S, &str) -> Result<()>,
+    ) -> Self {
+        Self::keyed(key, label, help, Kind::Choice { choices, get, set })
+    }
+
+    /// A plain press on `key`.
+    pub const fn press(
+        key: char,
+        label: &'static str,
+        help: &'static str,
+        press: fn(&mut S) -> Result<()>,
+    ) -> Self {
+        Self::keyed(key, label, help, Kind::Press { press })
+    }
+
+    /// A slider without a key.
+    pub const fn slider(
+        label: &'static str,
+        range: fn(&S) -> (f32, f32),
+        start: fn(&S) -> f32,
+        get: fn(&S) -> f32,
+        set: fn(&mut S, f32) -> Result<()>,
+    ) -> Self {
+        Control {
+            key: None,
+            label,
+            help: "",
+            kind: Kind::Slider {
+                range,
+                start,
+                get,
+                set,
+            },
+            title: None,
+            inert: applies,
+        }
+    }
+
+    const fn keyed(key: char, label: &'static str, help: &'static str, kind: Kind<S>) -> Self {
+        Control {
+            key: Some(key),
+            label,
+            help,
+            kind,
+            title: None,
+            inert: applies,
+        }
+    }
+
+    /// This control, shown in the title as "`name` value".
+    pub const fn in_title(mut self, name: &'static str) -> Self {
+        self.title = Some(name);
+        self
+    }
+
+    /// This control, doing nothing (for the reason `inert` gives) in some states.
+    pub const fn inert_when(mut self, inert: fn(&S) -> Option<&'static str>) -> Self {
+        self.inert = inert;
+        self
+    }
+
+    /// Its state in `scene` now.
+    pub(super) fn state(&self, index: usize, scene: &S) -> ControlState {
+        let value = match &self.kind {
+            Kind::Toggle { get, .. } => ControlValue::Toggle(get(scene)),
+            Kind::Choice { choices, get, .. } => ControlValue::Choice {
+                current: get(scene),
+                choices: choices(scene),
+            },
+            Kind::Slider {
+                range, start, get, ..
+            } => ControlValue::Slider {
+                value: get(scene),
+                start: start(scene),
+                range: range(scene),
+            },
+            Kind::Press { .. } => ControlValue::Press,
+        };
+        ControlState {
+            index,
+            key: self.key,
+            label: self.label,
+            help: self.help,
+            title: self.title,
+            value,
+            inert: (self.inert)(scene),
+        }
+    }
+
+    /// Sets it in `scene` to `to`; a value of another kind changes nothing.
+    pub(super) fn set(&self, scene: &mut S, to: SetTo) -> Result<()> {
+        match (&self.kind, to) {
+            (Kind::Toggle { set, .. }, SetTo::Toggle(on)) => set(scene, on),
+            (Kind::Choice { choices, set, .. }, SetTo::Choice(name)) => {
+                match choices(scene).contains(&name) {
+                    true => set(scene, &name),
+                    false => {
+                        log::warn!("{}: no choice {name:?} here", self.label);
+                        Ok(())
+                    }
+                }
+            }
+            (Kind::Slider { range, set, .. }, SetTo::Slider(value)) => {
+                let (lo, hi) = range(scene);
+                set(scene, value.clamp(lo, hi))
+            }
+            (Kind::Press { press }, SetTo::Press) => press(scene),
+            (_, to) => {
+                log::warn!("{}: cannot be set to {to:?}", self.label);
+                Ok(())
+            }
+        }
+    }
+
+    /// What its key does: flips it, steps it to the next choice, or presses it.
+    pub(super) fn key_press(&self, scene: &S) -> SetTo {
+        match &self.kind {
+            Kind::Toggle { get, .. } => SetTo::Toggle(!get(scene)),
+            Kind::Choice { choices, get, .. } => {
+                let (choices, current) = (choices(scene), get(scene));
+                let i = choices.iter().position(|c| *c == current).unwrap_or(0);
+                let next = choices.get((i + 1) % choices.len().max(1));
+                SetTo::Choice(next.cloned().unwrap_or(current))
+            }
+            Kind::Slider { get, .. } => SetTo::Slider(get(scene)),
+            Kind::Press { .. } => SetTo::Press,
+        }
+    }
+}
+
+/// One line of a scene's key list: the key as printed ("L") and what it does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct KeyHelp {
+    pub key: char,
+    pub help: &'static str,
+}
+
+/// How many of `controls` have a key (the length of their [`key_help`]).
+pub const fn key_count<S>(controls: &[Control<S>]) -> usize {
+    let (mut i, mut n) = (0, 0);
+    while i < controls.len() {
+        if controls[i].key.is_some() {
+            n += 1;
+        }
+        i += 1;
+    }
+    n
+}
+
+/// The key list of `controls`, in their order (a `const`, so that `--help` lists a scene's keys
+/// without building it). Two controls on one key stop the build: the second could never be reached.
+pub const fn key_help<S, const N: usize>(controls: &[Control<S>]) -> [KeyHelp; N] {
+    let mut keys = [KeyHelp { key: ' ', help: "" }; N];
+    let (mut i, mut n) = (0, 0);
+    while i < controls.len() {
+        if let Some(key) = controls[i].key {
+            let mut j = 0;
+            while j < n {
+                assert!(keys[j].key != key, "two controls share a key");
+                j += 1;
+            }
+            keys[n] = KeyHelp {
+                key,
+                help: controls[i].help,
+            };
+            n += 1;
+        }
+        i += 1;
+    }
+    assert!(n == N, "N is not key_count(controls)");
+    keys
+}
+
+/// The index of the control on `key` (letters either case).
+pub fn control_for_key<S>(controls: &[Control<S>], key: char) -> Option<usize> {
+    let key = key.to_ascii_uppercase();
+    controls.iter().position(|c| c.key == Some(key))
+}
+
+/// A control as the panel and the title see it, with its scene's state now.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ControlState {
+    /// Its place in the scene's table (what [`SceneControls::set_control`] takes).
+    pub index: usize,
+    pub key: Option<char>,
+    pub label: &'static str,
+    pub help: &'static str,
+    pub title: Option<&'static str>,
+    pub value: ControlValue,
+    /// Why it does nothing now, if it does nothing.
+    pub inert: Option<&'static str>,
+}
+
+/// A control's value now.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ControlValue {
+    Toggle(bool),
+    /// `current` is one of `choices`, listed in the order the key steps through them.
+    Choice {
+        current: String,
+        choices: Vec<String>,
+    },
+    Slider {
+        value: f32,
+        /// The value the scene starts with.
+        start: f32,
+        range: (f32, f32),
+    },
+    Press,
+}
+
+impl ControlValue {
+    /// As the title and the log say it: "on", "off", a choice's name, a slider's value.
+    pub fn shown(&self) -> String {
+        match self {
+            ControlValue::Toggle(on) => if *on { "on" } else { "off" }.into(),
+            ControlValue::Choice { current, .. } => current.clone(),
+            ControlValue::Slider { value, .. } => value.to_string(),
+            ControlValue::Press => String::new(),
+        }
+    }
+}
+
+/// What a control is set to.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SetTo {
+    Toggle(bool),
+    Choice(String),
+    /// Clamped to the slider's range.
+    Slider(f32),
+    Press,
+}
+
+/// A scene's table, seen through `dyn Scene` (every scene type has it from its `CONTROLS`).
+pub trait SceneControls {
+    /// Every control with its state, in the table's order.
+    fn controls(&self) -> Vec<ControlState>;
+
+    /// Sets control `index` to `to`, doing only what that value needs. One that does nothing now
+    /// is still set (it applies once the state allows it), and says why it does nothing.
+    fn set_control(&mut self, index: usize, to: SetTo) -> Result<()>;
+
+    /// `key` was pressed (letters either case): `Ok(false)` if no control has it.
+    fn press_key(&mut self, key: char) -> Result<bool>;
+
+    /// "view lit, lines off": the controls named in the title that apply now.
+    fn title_status(&self) -> Vec<String> {
+        self.controls()
+            .into_iter()
+            .filter(|c| c.inert.is_none())
+            .filter_map(|c| Some(format!("{} {}", c.title?, c.value.shown())))
+            .collect()
+    }
+
+    /// The index of the first control labelled `label` (for tests and scripts; the panel
+    /// addresses controls by index).
+    fn control_index(&self, label: &str) -> Option<usize> {
+        self.controls().iter().position(|c| c.label == label)
+    }
+}
+
+/// A scene with a point light that the panel moves: its position (in the space `--light` uses) and
+/// its power.
+pub trait PointLight {
+    /// The light's position and power now.
+    fn light(&self) -> (glam::Vec3, f32);
+    /// Those the scene started with.
+    fn light_start(&self) -> (glam::Vec3, f32);
+    /// Moves the light and sets its power.
+    fn set_light(&mut self, position: glam::Vec3, power: f32) -> Result<()>;
+    /// The box the position's sliders move it in (lowest and highest corner): 10 either way
+    /// unless the scene says otherwise.
+    fn light_range(&self) -> (glam::Vec3, glam::Vec3) {
+        (glam::Vec3::splat(-10.0), glam::Vec3::splat(10.0))
+    }
+    /// The power slider's highest value.
+    const POWER_MAX: f32;
+}
+
+/// The labels of the light's three sliders ([`light_slider`]).
+pub const LIGHT_AXES: [&str; 3] = ["light x", "light y", "light z"];
+
+/// The label of the light's power slider ([`power_slider`]).
+pub const LIGHT_POWER: &str = "light power";
+
+/// The slider of the light's axis `AXIS` (0, 1, 2: x, y, z), within [`PointLight::light_range`].
+pub const fn light_slider<S: PointLight, const AXIS: usize>() -> Control<S> {
+    fn range<S: PointLight, const AXIS: usize>(scene: &S) -> (f32, f32) {
+        let (lo, hi) = scene.light_range();
+        (lo[AXIS], hi[AXIS])
+    }
+    fn get<S: PointLight, const AXIS: usize>(scene: &S) -> f32 {
+        scene.light().0[AXIS]
+    }
+    fn start<S: PointLight, const AXIS: usize>(scene: &S) -> f32 {
+        scene.light_start().0[AXIS]
+    }
+    fn set<S: PointLight, const AXIS: usize>(scene: &mut S, value: f32) -> Result<()> {
+        let (mut position, power) = scene.light();
+        position[AXIS] = value;
+        scene.set_light(position, power)
+    }
+    Control::slider(
+        LIGHT_AXES[AXIS],
+        range::<S, AXIS>,
+        start::<S, AXIS>,
+        get::<S, AXIS>,
+        set::<S, AXIS>,
+    )
+}
+
+/// The slider of the light's power, from 0 to [`PointLight::POWER_MAX`].
+pub const fn power_slider<S: PointLight>() -> Control<S> {
+    fn range<S: PointLight>(_: &S) -> (f32, f32) {
+        (0.0, S::POWER_MAX)
+    }
+    fn get<S: PointLight>(scene: &S) -> f32 {
+        scene.light().1
+    }
+    fn start<S: PointLight>(scene: &S) -> f32 {
+        scene.light_start().1
+    }
+    fn set<S: PointLight>(scene: &mut S, power: f32) -> Result<()> {
+        let (position, _) = scene.light();
+        scene.set_light(position, power)
+    }
+    Control::slider(LIGHT_POWER, range::<S>, start::<S>, get::<S>, set::<S>)
+}

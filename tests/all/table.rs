@@ -1,0 +1,293 @@
+//! The scenes' tables of controls: the key list is the table's, the panel sets a choice directly
+//! (building only what that value needs), and a control that does nothing in the scene's state
+//! says why instead of being shown as on.
+
+use tutorial13::frontends::headless::HeadlessOptions;
+use tutorial13::frontends::panel::PanelWidget;
+use tutorial13::gl::Profile;
+use tutorial13::scenes::cylinder::{Cylinder, CylinderOptions};
+use tutorial13::scenes::{ControlValue, SetTo, SCENES};
+use tutorial13::tangents::TangentSource;
+
+use crate::common::*;
+
+// Fails if a scene's key list (`--help`, the window, docs/keys.md, the panel's rows) is not the keys
+// of its table of controls, in the table's order with the table's words, or if a key of the list
+// is not the key of its control.
+#[test]
+fn the_key_list_is_the_tables() {
+    for scene in SCENES {
+        let mut renderer = renderer(&HeadlessOptions {
+            descriptor: scene,
+            ..Default::default()
+        });
+        let controls = renderer.scene.controls();
+        let keyed: Vec<(char, &str)> = controls
+            .iter()
+            .filter_map(|c| Some((c.key?, c.help)))
+            .collect();
+        let listed: Vec<(char, &str)> = scene.keys.iter().map(|k| (k.key, k.help)).collect();
+        assert_eq!(listed, keyed, "{scene}");
+        let markdown = tutorial13::frontends::keys_markdown();
+        for (key, help) in keyed {
+            assert!(
+                markdown.contains(&format!("| {key} | {help} |")),
+                "{scene}: {key}"
+            );
+            // The key reaches its control: a switch's state follows it.
+            let index = controls.iter().position(|c| c.key == Some(key)).unwrap();
+            let before = renderer.scene.controls()[index].value.clone();
+            assert!(renderer.scene.key(key.to_ascii_lowercase()).unwrap());
+            let after = renderer.scene.controls()[index].value.clone();
+            if let ControlValue::Toggle(on) = before {
+                assert_eq!(after, ControlValue::Toggle(!on), "{scene}: {key}");
+            }
+        }
+    }
+}
+
+// Fails if choosing a tangent frame on the panel builds any other source's mesh than the chosen
+// one: from the tutorial's to the per-pixel frame, MikkTSpace (a whole pass over a big model) must
+// not run on the way, as it did when the panel pressed F until the value came up.
+#[test]
+fn choosing_a_tangent_frame_on_the_panel_builds_only_its_mesh() {
+    let mut renderer = renderer(&HeadlessOptions::default());
+    renderer.show_panel().unwrap();
+    frame(&mut renderer);
+    click(&mut renderer, PanelWidget::Key('F'));
+    // The list is open: its third row is "derivative".
+    click(&mut renderer, PanelWidget::Choice('F', 2));
+    let cylinder = renderer.scene_ref::<Cylinder>();
+    assert_eq!(cylinder.tangent_source(), TangentSource::Derivative);
+    assert_eq!(cylinder.meshes_built(), [TangentSource::Derivative]);
+    // The same through the table, from the per-pixel frame back to the tutorial's.
+    let f = renderer.scene.control_index("tangent frame").unwrap();
+    let to = SetTo::Choice("tutorial".into());
+    renderer.scene.set_control(f, to).unwrap();
+    let built = renderer.scene_ref::<Cylinder>().meshes_built().to_vec();
+    assert_eq!(built, [TangentSource::Derivative, TangentSource::Tutorial]);
+}
+
+/// A left click at the centre of `widget` over three frames (move, press, release).
+fn click(renderer: &mut tutorial13::frontends::headless::HeadlessRenderer, widget: PanelWidget) {
+    let panel = renderer.panel.as_ref().expect("the panel is shown");
+    let pos = panel
+        .widget_rect(&widget)
+        .unwrap_or_else(|| panic!("the panel shows no {widget:?}"))
+        .center();
+    renderer.panel_events = vec![egui::Event::PointerMoved(pos)];
+    renderer.render_frames(1).unwrap();
+    for pressed in [true, false] {
+        renderer.panel_events = vec![egui::Event::PointerButton {
+            pos,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: Default::default(),
+        }];
+        renderer.render_frames(1).unwrap();
+    }
+}
+
+fn derivative_options(set: impl FnOnce(&mut CylinderOptions)) -> HeadlessOptions {
+    let mut options = options(own_assets(), Profile::Core);
+    let cylinder = cylinder_options(&mut options);
+    cylinder.tangents = TangentSource::Derivative;
+    set(cylinder);
+    options
+}
+
+// Fails if, with the per-pixel frame, a switch it ignores (V, C, S, T, Y, E, Z, L) does not say
+// why it does nothing, or if one that applies says it does not; if the title or the status line
+// still claims a colour view, lines or a shader experiment; or if pressing such a key changes the
+// frame (it must stay the per-pixel frame, bit for bit) or is not taken as the scene's key.
+#[test]
+fn the_per_pixel_frame_says_which_switches_do_nothing() {
+    let mut renderer = renderer(&derivative_options(|_| {}));
+    let plain = frame(&mut renderer);
+    let inert: Vec<char> = renderer
+        .scene
+        .controls()
+        .iter()
+        .filter(|c| c.inert.is_some())
+        .filter_map(|c| c.key)
+        .collect();
+    // M: a core context has no immediate mode; A, D: the compare view is off.
+    assert_eq!(
+        inert,
+        ['L', 'M', 'V', 'C', 'S', 'T', 'A', 'D', 'Y', 'E', 'Z'],
+        "{:?}",
+        renderer.scene.controls()
+    );
+    let title = renderer.scene.short_status();
+    assert_eq!(title, "tangents derivative");
+    let status = renderer.scene.status();
+    for claim in ["view", "lines", "specular", "TBN", "normal map"] {
+        assert!(!status.contains(claim), "{claim}: {status}");
+    }
+    for key in ['V', 'C', 'S', 'T', 'Y', 'E', 'Z', 'L'] {
+        assert!(renderer.scene.key(key).unwrap(), "{key}");
+        assert!(frame(&mut renderer) == plain, "{key} changed the frame");
+        assert_eq!(renderer.scene.short_status(), title, "{key}");
+    }
+    // The tutorial's frame: all of them apply (the title names view and lines again).
+    let f = renderer.scene.control_index("tangent frame").unwrap();
+    let to = SetTo::Choice("tutorial".into());
+    renderer.scene.set_control(f, to).unwrap();
+    // Only those that need another state: immediate mode (none in a core context) and the compare
+    // view's split line (the view is off); the lines are on (L above), so their length applies.
+    let inert: Vec<&str> = renderer
+        .scene
+        .controls()
+        .iter()
+        .filter(|c| c.inert.is_some())
+        .map(|c| c.label)
+        .collect();
+    assert_eq!(
+        inert,
+        [
+            "lines drawn with",
+            "split line left",
+            "split line right",
+            "compare split"
+        ]
+    );
+    let title = renderer.scene.short_status();
+    assert!(
+        title.contains("view ") && title.contains("lines "),
+        "{title}"
+    );
+}
+
+// Fails if the compare view compares a colour view with the per-pixel frame (which draws none: a
+// heat map of two kinds of picture) instead of saying why it does not, or refuses a like-for-like
+// comparison.
+#[test]
+fn the_compare_view_compares_like_with_like() {
+    let mut renderer = renderer(&options(own_assets(), Profile::Core));
+    // MikkTSpace against the next source, the per-pixel frame, with the colour view "normal".
+    let set = |r: &mut tutorial13::frontends::headless::HeadlessRenderer, label, to| {
+        let index = r.scene.control_index(label).unwrap();
+        r.scene.set_control(index, to).unwrap();
+    };
+    set(
+        &mut renderer,
+        "tangent frame",
+        SetTo::Choice("mikktspace".into()),
+    );
+    set(&mut renderer, "colour view", SetTo::Choice("normal".into()));
+    let k = renderer.scene.control_index("compare view").unwrap();
+    let reason = renderer.scene.controls()[k].inert.expect("a reason");
+    assert!(reason.contains("colour view"), "{reason}");
+    assert!(renderer.scene.key('K').unwrap());
+    assert!(renderer.scene_ref::<Cylinder>().compare_view().is_none());
+    // The lit picture compares.
+    set(&mut renderer, "colour view", SetTo::Choice("lit".into()));
+    assert!(renderer.scene.controls()[k].inert.is_none());
+    assert!(renderer.scene.key('K').unwrap());
+    assert!(renderer.scene_ref::<Cylinder>().compare_view().is_some());
+}
+
+// Fails if the command line combines --tangents derivative with flags the per-pixel frame ignores
+// without a warning naming them, or if such a run does not draw the per-pixel frame of `lit` (exit
+// 0, the same picture as without the flags); or if --compare of a colour view against the
+// per-pixel frame (which draws none) does not say so.
+#[test]
+fn flags_the_per_pixel_frame_ignores_are_warned_of() {
+    let dir = scratch("table-derivative-flags");
+    let plain = headless_screenshot(&dir, "plain.png", &["--tangents", "derivative"]);
+    let shot = dir.join("flags.png");
+    let out = run(tutorial13()
+        .args(["--headless", "--screenshot", "flags.png"])
+        .args([
+            "--tangents",
+            "derivative",
+            "--green",
+            "down",
+            "--view",
+            "normal",
+        ])
+        .current_dir(&dir));
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stderr = text(&out.stderr);
+    let warning = stderr
+        .lines()
+        .find(|l| l.contains("--tangents derivative"))
+        .unwrap_or_else(|| panic!("no warning: {stderr}"));
+    assert!(
+        warning.contains("--view normal") && warning.contains("--green down"),
+        "{warning}"
+    );
+    let flags = image::open(&shot).unwrap().to_rgb8();
+    assert!(flags == plain, "the flags changed the per-pixel frame");
+    // A compare view of a colour view against the per-pixel frame says it compares unlike pictures.
+    let out = run(tutorial13()
+        .args([
+            "--headless",
+            "--screenshot",
+            "compare.png",
+            "--view",
+            "normal",
+        ])
+        .args(["--compare", "mikktspace,derivative"])
+        .current_dir(&dir));
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr
+            .lines()
+            .any(|l| l.contains("--compare: a colour view is on")),
+        "{stderr}"
+    );
+    // Green down alone, through the options: the same warning's cause, nothing else.
+    let options = derivative_options(|c| c.switches.convention.green_down = true);
+    assert!(render(&options) == plain);
+}
+
+/// A quad of side 4 facing +z around x = 10 in a model's own coordinates (placed elsewhere in the
+/// world), with normals and texture coordinates.
+const OFF_CENTRE_QUAD: &str = "v 8 -2 0\nv 12 -2 0\nv 12 2 0\nv 8 2 0\n\
+    vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n\
+    f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n";
+
+// Fails if the light's sliders of a model are not in the model's own coordinates, as --light is
+// (--light 3,0,2 must show 3, 0, 2), or if moving one to a value does not give the frame of
+// --light with that value bit for bit, or if the tutorial's values do not give the first frame.
+#[test]
+fn a_models_light_sliders_are_in_the_space_of_light() {
+    let dir = scratch("table-model-light");
+    let model = dir.join("quad.obj");
+    std::fs::write(&model, OFF_CENTRE_QUAD).unwrap();
+    let with_light = |light: [f32; 3]| {
+        let mut options = HeadlessOptions::default();
+        let cylinder = cylinder_options(&mut options);
+        cylinder.model = Some(model.clone());
+        cylinder.light = Some(light.into());
+        options
+    };
+    // Rendered first: each renderer has a context of its own, current while it is built.
+    let expected = render(&with_light([3.0, 1.5, 2.0]));
+    let mut renderer = renderer(&with_light([3.0, 0.0, 2.0]));
+    let first = frame(&mut renderer);
+    let axes = ["light x", "light y", "light z"];
+    let index = axes.map(|a| renderer.scene.control_index(a).unwrap());
+    let shown = index.map(|i| match renderer.scene.controls()[i].value {
+        ControlValue::Slider { value, start, .. } => (value, start),
+        _ => panic!("no slider"),
+    });
+    assert_eq!(shown, [(3.0, 3.0), (0.0, 0.0), (2.0, 2.0)]);
+    renderer
+        .scene
+        .set_control(index[1], SetTo::Slider(1.5))
+        .unwrap();
+    let moved = frame(&mut renderer);
+    assert!(
+        differing_pixels(&moved, &first) > 0,
+        "the light did not move"
+    );
+    assert_eq!(differing_pixels(&moved, &expected), 0);
+    renderer
+        .scene
+        .set_control(index[1], SetTo::Slider(0.0))
+        .unwrap();
+    assert!(frame(&mut renderer) == first);
+}
