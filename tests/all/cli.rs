@@ -505,6 +505,24 @@ fn window_compat_profile_with_debug_lines_matches_headless() {
 fn msaa_window_matches_headless_and_blends_the_lines() {
     let lines = ["--profile", "compat", "--debug-lines"];
     let msaa = [&lines[..], &["--msaa", "4"]].concat();
+    // A display may offer no multisampled config at all (Mesa 25.0.7 from bookworm-backports under
+    // Xvfb offers [0]): the window then says so and exits 1, which is its contract, not a failure
+    // of this test (the reference renderer, which CI requires, offers 4).
+    let xvfb = Xvfb::start();
+    let probe = run(tutorial13()
+        .env("DISPLAY", &xvfb.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .args(&msaa)
+        .args(["--frames", "1"]));
+    drop(xvfb);
+    let stderr = text(&probe.stderr);
+    if let Some(line) = stderr
+        .lines()
+        .find(|l| l.contains("no framebuffer configuration with 4 samples"))
+    {
+        let test = "msaa_window_matches_headless_and_blends_the_lines";
+        return common::skip_off_reference(test, line);
+    }
     let window = window_matches_headless(&msaa, "xvfb-msaa");
     let plain = headless_frame(&common::scratch("msaa"), "plain.png", &lines);
     let green = |img: &RgbImage| img.pixels().filter(|p| p.0 == [0, 255, 0]).count();
