@@ -69,8 +69,7 @@ fn lines(c: &mut Criterion) {
     let make = |mode| {
         let lines = DebugLines::new(
             context.gl(),
-            context.info(),
-            |name| context.get_proc_address(name),
+            context.extensions(),
             mesh,
             LIGHT_POS,
             Some(mode),

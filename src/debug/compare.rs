@@ -8,12 +8,11 @@
 //! from the first and the rest from the second. The heat map is computed on the CPU from the two
 //! frames read back, which also gives the exact largest difference.
 
-use std::ffi::{c_void, CStr};
-
 use glow::HasContext;
 
+use crate::gl::extensions::GlExtensions;
 use crate::gl::offscreen::{ColorBuffer, OffscreenTarget};
-use crate::gl::{ContextInfo, Gl};
+use crate::gl::Gl;
 use crate::Result;
 
 /// Split (side by side) or the difference as a heat map.
@@ -35,9 +34,8 @@ pub struct Difference {
 
 pub struct CompareView {
     gl: Gl,
-    info: ContextInfo,
-    /// The address of `glFramebufferParameteri`, to store the targets like a window.
-    framebuffer_parameter: usize,
+    /// To store the targets like a window.
+    extensions: GlExtensions,
     /// The two sides, and the heat map, at the size of the last frame.
     targets: Option<[OffscreenTarget; 3]>,
     pub mode: CompareMode,
@@ -48,17 +46,10 @@ pub struct CompareView {
 }
 
 impl CompareView {
-    pub fn new(
-        gl: &Gl,
-        info: &ContextInfo,
-        mut loader: impl FnMut(&CStr) -> *const c_void,
-        mode: CompareMode,
-        split: f32,
-    ) -> Self {
+    pub fn new(gl: &Gl, extensions: &GlExtensions, mode: CompareMode, split: f32) -> Self {
         CompareView {
             gl: gl.clone(),
-            info: info.clone(),
-            framebuffer_parameter: loader(c"glFramebufferParameteri") as usize,
+            extensions: extensions.clone(),
             targets: None,
             mode,
             split: split.clamp(0.0, 1.0),
@@ -124,8 +115,7 @@ impl CompareView {
         if !fits {
             let make = |color| -> Result<OffscreenTarget> {
                 let mut target = OffscreenTarget::with_color(&self.gl, width, height, color)?;
-                let address = self.framebuffer_parameter as *const c_void;
-                target.set_window_orientation(&self.info, |_| address)?;
+                target.set_window_orientation(&self.extensions)?;
                 Ok(target)
             };
             self.targets = Some([

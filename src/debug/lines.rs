@@ -14,7 +14,6 @@
 //! Both draw with the depth test on, so the lines are hidden where the cylinder is in front of them,
 //! and both leave the GL state as they found it, so the next frame is unaffected.
 
-use std::ffi::{c_void, CStr};
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
@@ -23,8 +22,10 @@ use glow::HasContext;
 
 use crate::common::shader::load_program;
 use crate::common::vboindexer::IndexedMesh;
+use crate::gl::extensions::GlExtensions;
+pub use crate::gl::extensions::LegacyGl;
 use crate::gl::objects::Owned;
-use crate::gl::{ContextInfo, Gl, Profile};
+use crate::gl::Gl;
 use crate::{Error, Result};
 
 /// Names this part in errors.
@@ -56,98 +57,6 @@ pub enum LineMode {
     Legacy,
     /// One vertex buffer and a line shader (any 3.3 context).
     Shader,
-}
-
-/// The fixed-function entry points the tutorial's debug code calls, which glow does not load.
-///
-/// Only valid on the context they were loaded from, while it is current.
-#[derive(Clone, Copy)]
-pub struct LegacyGl {
-    matrix_mode: unsafe extern "system" fn(u32),
-    load_matrix_f: unsafe extern "system" fn(*const f32),
-    push_matrix: unsafe extern "system" fn(),
-    pop_matrix: unsafe extern "system" fn(),
-    push_attrib: unsafe extern "system" fn(u32),
-    pop_attrib: unsafe extern "system" fn(),
-    color_3f: unsafe extern "system" fn(f32, f32, f32),
-    begin: unsafe extern "system" fn(u32),
-    vertex_3fv: unsafe extern "system" fn(*const f32),
-    end: unsafe extern "system" fn(),
-}
-
-impl std::fmt::Debug for LegacyGl {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("LegacyGl").finish_non_exhaustive()
-    }
-}
-
-/// Looks up one entry point; null means the driver does not have it at all.
-fn lookup(loader: &mut impl FnMut(&CStr) -> *const c_void, name: &CStr) -> Result<*const c_void> {
-    let ptr = loader(name);
-    if ptr.is_null() {
-        Err(Error::gl(
-            PART,
-            format!(
-                "the driver has no {} (needed for immediate mode)",
-                name.to_string_lossy()
-            ),
-        ))
-    } else {
-        Ok(ptr)
-    }
-}
-
-impl LegacyGl {
-    /// [`LegacyGl::load`], or the reason this context has no immediate mode (for the notice).
-    pub fn load_or_reason(
-        info: &ContextInfo,
-        loader: impl FnMut(&CStr) -> *const c_void,
-    ) -> std::result::Result<Self, String> {
-        Self::load(info, loader).map_err(|e| match e {
-            Error::Gl { reason, .. } => reason,
-            other => other.to_string(),
-        })
-    }
-
-    /// Loads the immediate-mode entry points of the context described by `info`.
-    ///
-    /// Availability is decided by the profile, not by null pointers: Mesa hands out these pointers in
-    /// a core context too, where every call only raises GL_INVALID_OPERATION.
-    pub fn load(
-        info: &ContextInfo,
-        mut loader: impl FnMut(&CStr) -> *const c_void,
-    ) -> Result<Self> {
-        if info.profile != Profile::Compat {
-            return Err(Error::gl(
-                PART,
-                format!(
-                    "the tutorial's immediate mode needs a compatibility-profile context, \
-                     and this is a {} profile one (OpenGL {}.{} on {})",
-                    info.profile, info.version.0, info.version.1, info.renderer
-                ),
-            ));
-        }
-        macro_rules! entry {
-            ($name:literal, $ty:ty) => {{
-                let ptr = lookup(&mut loader, $name)?;
-                // SAFETY: `ptr` is the non-null address the context's loader gives for this GL 1.0
-                // function, whose C signature is the function-pointer type it is cast to.
-                unsafe { std::mem::transmute::<*const c_void, $ty>(ptr) }
-            }};
-        }
-        Ok(LegacyGl {
-            matrix_mode: entry!(c"glMatrixMode", unsafe extern "system" fn(u32)),
-            load_matrix_f: entry!(c"glLoadMatrixf", unsafe extern "system" fn(*const f32)),
-            push_matrix: entry!(c"glPushMatrix", unsafe extern "system" fn()),
-            pop_matrix: entry!(c"glPopMatrix", unsafe extern "system" fn()),
-            push_attrib: entry!(c"glPushAttrib", unsafe extern "system" fn(u32)),
-            pop_attrib: entry!(c"glPopAttrib", unsafe extern "system" fn()),
-            color_3f: entry!(c"glColor3f", unsafe extern "system" fn(f32, f32, f32)),
-            begin: entry!(c"glBegin", unsafe extern "system" fn(u32)),
-            vertex_3fv: entry!(c"glVertex3fv", unsafe extern "system" fn(*const f32)),
-            end: entry!(c"glEnd", unsafe extern "system" fn()),
-        })
-    }
 }
 
 /// The end of a debug line from `p` along `v`: `o = normalize(v); p += o*0.1f`.
@@ -405,14 +314,13 @@ impl DebugLines {
     /// `Some(Shader)` = the shader path. `shader_dir` is passed to [`load_program`].
     pub fn new(
         gl: &Gl,
-        info: &ContextInfo,
-        loader: impl FnMut(&CStr) -> *const c_void,
+        extensions: &GlExtensions,
         mesh: &Rc<IndexedMesh>,
         light_position_worldspace: Vec3,
         requested: Option<LineMode>,
         shader_dir: Option<&Path>,
     ) -> Result<Self> {
-        let legacy = LegacyGl::load_or_reason(info, loader);
+        let legacy = extensions.legacy.clone();
         let light = light_position_worldspace;
         Self::with_legacy(gl, legacy, mesh, light, requested, shader_dir)
     }

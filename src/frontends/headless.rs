@@ -79,8 +79,7 @@ impl HeadlessRenderer {
             &gl,
             (options.width, options.height),
             options.msaa,
-            context.info(),
-            |name| context.get_proc_address(name),
+            context.extensions(),
         )?;
         let size = (options.width, options.height);
         let host = with_scene_context(&context, |c| {
@@ -135,8 +134,7 @@ impl HeadlessRenderer {
     pub fn show_panel(&mut self) -> Result<()> {
         if self.panel.is_none() {
             let context = &self.context;
-            let loader = |name: &std::ffi::CStr| context.get_proc_address(name);
-            self.panel = Some(Panel::new(context.gl(), context.info(), &loader)?);
+            self.panel = Some(Panel::new(context.gl(), context.extensions())?);
         }
         Ok(())
     }
@@ -197,10 +195,9 @@ impl HeadlessRenderer {
 
 /// `f` with the scene context of the headless `context`.
 fn with_scene_context<T>(context: &HeadlessContext, f: impl FnOnce(&SceneContext) -> T) -> T {
-    let loader = |symbol: &std::ffi::CStr| context.get_proc_address(symbol);
     f(&SceneContext {
         gl: context.gl(),
         info: context.info(),
-        loader: &loader,
+        extensions: context.extensions(),
     })
 }

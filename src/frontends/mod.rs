@@ -1,6 +1,6 @@
 //! The front ends: the window (glutin + winit, in place of the tutorial's GLFW) and headless
 //! rendering (EGL + an offscreen target), which also serves `--bench`, screenshots and the tests.
-//! Both drive any [`Scene`](crate::scenes::Scene) through the same seam, so a test's pixels are the
+//! Both drive any [`Scene`] through the same seam, so a test's pixels are the
 //! window's pixels.
 
 pub mod headless;

@@ -3,17 +3,16 @@
 //! labels on the two sides of a compare view. Drawn with egui on the scene's own context after the
 //! scene, over it (the scene's viewport is not shrunk), so every pixel outside the panel's
 //! rectangle is the scene's frame as it was. The window shows it (F1 hides it); `--panel` puts it
-//! into headless screenshots. It knows nothing of any one scene: it reads the descriptor's keys and
-//! the scene's [`Scene::switches`], [`Scene::sliders`], [`Scene::drawing_programs`] and
-//! [`Scene::compare_labels`], and changes a switch only by pressing its key.
-
-use std::ffi::{c_void, CStr};
+//! into headless screenshots. It knows nothing of any one scene: it reads the descriptor's keys, the
+//! scene's table of controls ([`crate::scenes::SceneControls`]), [`Scene::drawing_programs`] and
+//! [`Scene::compare_labels`], and sets a control's value directly through the table.
 
 use glow::HasContext;
 
 use super::{key_rows, WINDOW_KEYS};
+use crate::gl::extensions::GlExtensions;
 use crate::gl::offscreen::{ColorBuffer, OffscreenTarget};
-use crate::gl::{ContextInfo, Gl};
+use crate::gl::Gl;
 use crate::scenes::{ControlState, ControlValue, Scene, SceneDescriptor, SetTo};
 use crate::{Error, Result};
 
@@ -79,8 +78,7 @@ pub struct Panel {
     /// plain memory copy where the driver makes one (see [`Panel::store_cache_like_a_window`]).
     cache_color: ColorBuffer,
     /// For storing the cache like a window (see [`OffscreenTarget::set_window_orientation`]).
-    info: ContextInfo,
-    framebuffer_parameter: *const c_void,
+    extensions: GlExtensions,
 }
 
 /// What [`Panel::run`] gives [`Panel::paint`].
@@ -92,13 +90,9 @@ pub enum PanelFrame {
 }
 
 impl Panel {
-    /// Builds the painter (a program and buffers) on the current context; `loader` finds the one
+    /// Builds the painter (a program and buffers) on the current context; `extensions` has the one
     /// entry point glow lacks (`glFramebufferParameteri`, to store the cache like a window).
-    pub fn new(
-        gl: &Gl,
-        info: &ContextInfo,
-        loader: &dyn Fn(&CStr) -> *const c_void,
-    ) -> Result<Self> {
+    pub fn new(gl: &Gl, extensions: &GlExtensions) -> Result<Self> {
         let painter =
             egui_glow::Painter::new(gl.clone(), "", None, false).map_err(|e| Error::Gl {
                 part: "panel",
@@ -121,8 +115,7 @@ impl Panel {
             paint_every_frame: false,
             // An offscreen target's colour is an RGBA8 renderbuffer.
             cache_color: ColorBuffer::Renderbuffer,
-            info: info.clone(),
-            framebuffer_parameter: loader(c"glFramebufferParameteri"),
+            extensions: extensions.clone(),
         })
     }
 
@@ -319,8 +312,7 @@ impl Panel {
                     self.cache_color = ColorBuffer::Renderbuffer;
                     OffscreenTarget::with_color(gl, width, height, self.cache_color)
                 })?;
-            let address = self.framebuffer_parameter;
-            target.set_window_orientation(&self.info, |_| address)?;
+            target.set_window_orientation(&self.extensions)?;
             self.cache = Some(target);
         }
         Ok(())

@@ -19,6 +19,7 @@ use glutin::context::{
 };
 use glutin::display::GlDisplay;
 
+use super::extensions::GlExtensions;
 use super::{context_info, ContextInfo, Gl, Profile};
 use crate::{Error, Result};
 
@@ -36,6 +37,7 @@ pub struct HeadlessContext {
     // Field order is drop order: the function table, then the context, then the display.
     gl: Gl,
     info: ContextInfo,
+    extensions: GlExtensions,
     device: String,
     context: PossiblyCurrentContext,
     display: Display,
@@ -155,9 +157,11 @@ impl HeadlessContext {
         let gl =
             unsafe { glow::Context::from_loader_function_cstr(|s| display.get_proc_address(s)) };
         let info = context_info(&gl);
+        let extensions = GlExtensions::load(&info, |s| display.get_proc_address(s));
         let headless = HeadlessContext {
             gl: std::sync::Arc::new(gl),
             info,
+            extensions,
             device: name,
             context,
             display,
@@ -193,6 +197,11 @@ impl HeadlessContext {
     /// What the context is (version, profile, renderer), as read back from GL.
     pub fn info(&self) -> &ContextInfo {
         &self.info
+    }
+
+    /// The entry points glow does not load, looked up when the context was made.
+    pub fn extensions(&self) -> &GlExtensions {
+        &self.extensions
     }
 
     /// A short description of the EGL device the context runs on.

@@ -4,6 +4,7 @@
 
 pub mod buffers;
 pub mod context;
+pub mod extensions;
 pub mod image;
 pub mod objects;
 pub mod offscreen;

@@ -1,14 +1,14 @@
 //! Offscreen framebuffers to render into and read back: where headless frames go (the surfaceless
 //! context has no default framebuffer), and the window's compare view and screenshots.
 
-use std::ffi::{c_void, CStr};
 use std::fmt;
 
 use glow::HasContext;
 
+use super::extensions::{GlExtensions, FLIP_Y_EXTENSION};
 use super::image::read_pixels_rgba;
 use super::objects::Owned;
-use super::{check_gl_errors, ContextInfo, Gl};
+use super::{check_gl_errors, Gl};
 use crate::{Error, Result};
 
 /// Where an [`OffscreenTarget`]'s colour goes.
@@ -54,9 +54,9 @@ pub struct OffscreenTarget {
 
 const PART: &str = "offscreen target";
 
-/// `GL_MESA_framebuffer_flip_y`'s framebuffer parameter (glow has neither it nor the call that sets it).
+/// `GL_MESA_framebuffer_flip_y`'s framebuffer parameter (glow has neither it nor the call that sets
+/// it: [`GlExtensions`] holds the call).
 const FRAMEBUFFER_FLIP_Y_MESA: u32 = 0x8BBB;
-const FLIP_Y_EXTENSION: &str = "GL_MESA_framebuffer_flip_y";
 
 /// The missing extension is reported once per process, not once per target.
 static FLIP_Y_MISSING_LOGGED: std::sync::Once = std::sync::Once::new();
@@ -193,54 +193,38 @@ impl OffscreenTarget {
     /// edge or a line covers) follow that storage: a plain framebuffer object gets a few edge pixels
     /// and line pixels different from a window. `GL_MESA_framebuffer_flip_y` makes a framebuffer
     /// object stored like a window. Where the context lacks the extension this is a plain target
-    /// (said once in the log), and [`OffscreenTarget::flipped_y`] is false. `get_proc_address` loads
-    /// `glFramebufferParameteri`, which glow does not wrap.
+    /// (said once in the debug log), and [`OffscreenTarget::flipped_y`] is false.
     pub fn with_window_orientation(
         gl: &Gl,
         (width, height): (u32, u32),
         samples: u32,
-        info: &ContextInfo,
-        get_proc_address: impl FnMut(&CStr) -> *const c_void,
+        extensions: &GlExtensions,
     ) -> Result<Self> {
         let mut target = Self::multisampled(gl, width, height, samples)?;
-        target.set_window_orientation(info, get_proc_address)?;
+        target.set_window_orientation(extensions)?;
         Ok(target)
     }
 
     /// Stores this target like a window (see [`OffscreenTarget::with_window_orientation`]); returns
     /// whether the extension was there to do it. A texture target flipped this way is also stored
     /// top row first, so a pass that samples it must flip its texture coordinates' v.
-    pub fn set_window_orientation(
-        &mut self,
-        info: &ContextInfo,
-        mut get_proc_address: impl FnMut(&CStr) -> *const c_void,
-    ) -> Result<bool> {
-        if !info.has_extension(FLIP_Y_EXTENSION) {
-            FLIP_Y_MISSING_LOGGED.call_once(|| {
-                // The debug log, not a warning: on such a renderer every headless run would
-                // otherwise start with this line, and a one-line error would become two.
-                log::debug!(
-                    "{} has no {FLIP_Y_EXTENSION}: headless frames may differ from a window's in \
-                     a few edge pixels",
-                    info.renderer
-                )
-            });
-            return Ok(false);
-        }
-        let pointer = get_proc_address(c"glFramebufferParameteri");
-        if pointer.is_null() {
-            return Err(Error::gl(
-                PART,
-                format!(
-                    "{} lists {FLIP_Y_EXTENSION} but has no glFramebufferParameteri",
-                    info.renderer
-                ),
-            ));
-        }
-        // SAFETY: a non-null address the context gives for glFramebufferParameteri, whose C signature
-        // is `void (GLenum target, GLenum pname, GLint param)` with the GL calling convention.
-        let framebuffer_parameter_i: unsafe extern "system" fn(u32, u32, i32) =
-            unsafe { std::mem::transmute::<*const c_void, _>(pointer) };
+    pub fn set_window_orientation(&mut self, extensions: &GlExtensions) -> Result<bool> {
+        let framebuffer_parameter_i = match &extensions.flip_y {
+            Some(Ok(function)) => *function,
+            Some(Err(reason)) => return Err(Error::gl(PART, reason.clone())),
+            None => {
+                FLIP_Y_MISSING_LOGGED.call_once(|| {
+                    // The debug log, not a warning: on such a renderer every headless run would
+                    // otherwise start with this line, and a one-line error would become two.
+                    log::debug!(
+                        "{} has no {FLIP_Y_EXTENSION}: headless frames may differ from a \
+                         window's in a few edge pixels",
+                        extensions.renderer
+                    )
+                });
+                return Ok(false);
+            }
+        };
         // SAFETY: the framebuffer is alive (owned by self); the extension allows this parameter on
         // GL_FRAMEBUFFER; framebuffer 0 is bound again afterwards, as `new` leaves it.
         // A multisampled target's resolved twin is stored the same way, so the blit keeps rows in order.

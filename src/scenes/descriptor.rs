@@ -26,7 +26,7 @@ pub struct SceneDescriptor {
     pub mouse_help: &'static [(&'static str, &'static str)],
     /// The scene's command-line arguments: its [`SceneArgs`] struct, under a heading of its own.
     pub args: fn(clap::Command) -> clap::Command,
-    /// Which of the flags several scenes read ([`SharedArgs`]) this one reads, by argument id.
+    /// Which of the flags several scenes read ([`super::SharedArgs`]) this one reads, by argument id.
     pub shared_args: &'static [&'static str],
     /// Reads the scene's arguments from the parsed command line into [`SceneOptions`].
     pub read_args: fn(&clap::ArgMatches, &mut SceneOptions) -> std::result::Result<(), clap::Error>,

@@ -29,7 +29,7 @@ impl<T: OwnOptions> SceneArgs for T {
     }
 }
 
-/// [`SceneDescriptor::read_args`] for a scene whose arguments are `A`.
+/// [`super::SceneDescriptor::read_args`] for a scene whose arguments are `A`.
 pub fn read_args<A: SceneArgs>(
     matches: &clap::ArgMatches,
     options: &mut SceneOptions,

@@ -3,21 +3,22 @@
 //! is built with [`super::options`], its controls [`super::table`].
 
 use std::any::Any;
-use std::ffi::{c_void, CStr};
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec2};
 
 use super::table::SceneControls;
+use crate::gl::extensions::GlExtensions;
 use crate::gl::{ContextInfo, Gl};
 use crate::Result;
 
-/// Everything a scene is built on: the GL function table, what the context is, and the context's
-/// entry-point loader (for what glow does not load, such as the immediate-mode functions).
+/// Everything a scene is built on: the GL function table, what the context is, and the entry points
+/// glow does not load (the immediate mode's, `glFramebufferParameteri`), looked up once with the
+/// context.
 pub struct SceneContext<'a> {
     pub gl: &'a Gl,
     pub info: &'a ContextInfo,
-    pub loader: &'a dyn Fn(&CStr) -> *const c_void,
+    pub extensions: &'a GlExtensions,
 }
 
 /// What a front end hands a scene for one frame.
@@ -34,7 +35,7 @@ pub struct FrameInput {
     pub time: f32,
 }
 
-/// How a scene wants the mouse (see [`SceneDescriptor::mouse_mode`]).
+/// How a scene wants the mouse (see [`super::SceneDescriptor::mouse_mode`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MouseMode {
     /// The tutorial's mouse look: the cursor is grabbed and hidden, motion turns the camera.
@@ -54,7 +55,7 @@ pub trait Scene: Any + SceneControls {
     fn draw(&mut self, frame: &FrameInput);
 
     /// A key of the scene's list was pressed (letters either case). `Ok(false)`: not one of its
-    /// keys. The key of each control of the scene's table ([`SceneType::CONTROLS`]).
+    /// keys. The key of each control of the scene's table ([`super::SceneType::CONTROLS`]).
     fn key(&mut self, key: char) -> Result<bool> {
         self.press_key(key)
     }

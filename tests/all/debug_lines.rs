@@ -39,8 +39,7 @@ fn lines(r: &HeadlessRenderer, requested: Option<LineMode>) -> DebugLines {
     let context = &r.context;
     DebugLines::new(
         context.gl(),
-        context.info(),
-        |name| context.get_proc_address(name),
+        context.extensions(),
         &r.scene_ref::<Cylinder>().tutorial.mesh,
         LIGHT_POS,
         requested,
@@ -686,8 +685,7 @@ fn rebuild_takes_the_new_mesh() {
         let context = &r.context;
         let fresh = DebugLines::new(
             context.gl(),
-            context.info(),
-            |name| context.get_proc_address(name),
+            context.extensions(),
             &other,
             LIGHT_POS,
             Some(mode),
@@ -723,8 +721,7 @@ fn inconsistent_mesh_is_refused() {
     let make = |mesh: tutorial13::common::vboindexer::IndexedMesh| {
         DebugLines::new(
             context.gl(),
-            context.info(),
-            |name| context.get_proc_address(name),
+            context.extensions(),
             &std::rc::Rc::new(mesh),
             LIGHT_POS,
             None,

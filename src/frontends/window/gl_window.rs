@@ -2,7 +2,7 @@
 //! screenshots, swapped after each frame. Nothing here knows of scenes or input.
 
 use std::cell::RefCell;
-use std::ffi::{CStr, CString};
+use std::ffi::CString;
 use std::num::NonZeroU32;
 
 use glow::HasContext;
@@ -20,6 +20,7 @@ use winit::event_loop::ActiveEventLoop;
 use winit::window::Window;
 
 use super::{no_display_message, TITLE};
+use crate::gl::extensions::GlExtensions;
 use crate::gl::image::read_pixels_rgba;
 use crate::gl::offscreen::OffscreenTarget;
 use crate::gl::{context_info, ContextInfo, Gl, Profile};
@@ -31,6 +32,8 @@ use crate::{Error, Result};
 pub struct GlWindow {
     pub gl: Gl,
     pub info: ContextInfo,
+    /// The entry points glow does not load, looked up once here.
+    pub extensions: GlExtensions,
     /// Samples per pixel of the window's buffers (`--msaa`).
     samples: i32,
     surface: Surface<WindowSurface>,
@@ -99,9 +102,11 @@ impl GlWindow {
             config.num_samples(),
             config.depth_size()
         );
+        let extensions = GlExtensions::load(&info, |name| display.get_proc_address(name));
         Ok(GlWindow {
             gl,
             info,
+            extensions,
             samples,
             surface,
             context,
@@ -109,14 +114,13 @@ impl GlWindow {
         })
     }
 
-    /// Runs `f` with what a scene is built on: this context's GL, its description and its loader.
+    /// Runs `f` with what a scene is built on: this context's GL, its description and the entry
+    /// points glow does not load.
     pub fn with_scene_context<T>(&self, f: impl FnOnce(&SceneContext) -> T) -> T {
-        let display = self.context.display();
-        let loader = |name: &CStr| display.get_proc_address(name);
         f(&SceneContext {
             gl: &self.gl,
             info: &self.info,
-            loader: &loader,
+            extensions: &self.extensions,
         })
     }
 
@@ -153,7 +157,7 @@ impl GlWindow {
         // shows (measured: 2006 pixels differ from an xwd capture, which equals the headless
         // frame): resolve it into a single-sampled target first, as the swap does.
         let target = self.with_scene_context(|c| {
-            OffscreenTarget::with_window_orientation(c.gl, (w, h), 0, c.info, c.loader)
+            OffscreenTarget::with_window_orientation(c.gl, (w, h), 0, c.extensions)
         })?;
         target.blit_from(None);
         Ok(target.read_rgba())

@@ -7,7 +7,7 @@
 //! grabs and hides the cursor; raw mouse motion turns the camera, the arrow keys move it; Tab or
 //! losing focus releases the cursor; R puts the camera back at the start; Esc or closing the window
 //! quits. Letter keys go to the scene. The projection's aspect and the viewport follow the window's
-//! size. Once a second "<x> ms/frame" is printed and shown in the title, after the scene's name and
+//! size. Once a second "`<x> ms/frame`" is printed and shown in the title, after the scene's name and
 //! main switches.
 
 mod bench;
@@ -223,7 +223,7 @@ impl Running {
     fn new(event_loop: &ActiveEventLoop, options: &WindowOptions) -> Result<Self> {
         let gl_window = GlWindow::open(event_loop, options.size, options.profile, options.msaa)?;
         let renderer = Renderer::new(&gl_window, options.descriptor, &options.scene)?;
-        let panel = match gl_window.with_scene_context(|c| Panel::new(c.gl, c.info, c.loader)) {
+        let panel = match gl_window.with_scene_context(|c| Panel::new(c.gl, c.extensions)) {
             Ok(mut panel) => {
                 panel.store_cache_like_a_window();
                 let window = &gl_window.window;

@@ -216,8 +216,7 @@ impl SceneType for Cylinder {
             compare_sources: cylinder.compare.map(|c| c.sources),
             compare_view: CompareView::new(
                 gl,
-                context.info,
-                context.loader,
+                context.extensions,
                 cylinder.compare.map_or(CompareMode::Split, |c| c.mode),
                 cylinder.compare.map_or(0.5, |c| c.split),
             ),
@@ -226,7 +225,7 @@ impl SceneType for Cylinder {
             switches: cylinder.switches,
             use_debug_program: false,
             show_lines: false,
-            legacy: LegacyGl::load_or_reason(context.info, context.loader),
+            legacy: context.extensions.legacy.clone(),
             shader_dir: shader_dir.map(Path::to_path_buf),
         };
         scene.set_tangent_source(cylinder.tangents)?;
