@@ -96,6 +96,17 @@ fn derivative_options(set: impl FnOnce(&mut CylinderOptions)) -> HeadlessOptions
     options
 }
 
+/// The key and label of each control of the renderer's scene that does nothing now.
+fn inert_controls(
+    renderer: &tutorial13::frontends::headless::HeadlessRenderer,
+) -> impl Iterator<Item = (Option<char>, &'static str)> {
+    let controls = renderer.scene.controls();
+    controls
+        .into_iter()
+        .filter(|c| c.inert.is_some())
+        .map(|c| (c.key, c.label))
+}
+
 // Fails if, with the per-pixel frame, a switch it ignores (V, C, S, T, Y, E, Z, L) does not say
 // why it does nothing, or if one that applies says it does not; if the title or the status line
 // still claims a colour view, lines or a shader experiment; or if pressing such a key changes the
@@ -104,12 +115,8 @@ fn derivative_options(set: impl FnOnce(&mut CylinderOptions)) -> HeadlessOptions
 fn the_per_pixel_frame_says_which_switches_do_nothing() {
     let mut renderer = renderer(&derivative_options(|_| {}));
     let plain = frame(&mut renderer);
-    let inert: Vec<char> = renderer
-        .scene
-        .controls()
-        .iter()
-        .filter(|c| c.inert.is_some())
-        .filter_map(|c| c.key)
+    let inert: Vec<char> = inert_controls(&renderer)
+        .filter_map(|(key, _)| key)
         .collect();
     // M: a core context has no immediate mode; A, D: the compare view is off.
     assert_eq!(
@@ -135,13 +142,7 @@ fn the_per_pixel_frame_says_which_switches_do_nothing() {
     renderer.scene.set_control(f, to).unwrap();
     // Only those that need another state: immediate mode (none in a core context) and the compare
     // view's split line (the view is off); the lines are on (L above), so their length applies.
-    let inert: Vec<&str> = renderer
-        .scene
-        .controls()
-        .iter()
-        .filter(|c| c.inert.is_some())
-        .map(|c| c.label)
-        .collect();
+    let inert: Vec<&str> = inert_controls(&renderer).map(|(_, label)| label).collect();
     assert_eq!(
         inert,
         [

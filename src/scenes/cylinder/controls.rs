@@ -80,6 +80,34 @@ fn switch(cylinder: &mut Cylinder, change: impl FnOnce(&mut ShaderSwitches)) -> 
     Ok(())
 }
 
+/// A switch of the CPU pipeline (the mesh is rebuilt), `field` of [`MeshOptions`].
+macro_rules! mesh_toggle {
+    ($key:literal, $label:literal, $help:literal, $($field:ident).+) => {
+        C::toggle(
+            $key,
+            $label,
+            $help,
+            |c| c.mesh.options.$($field).+,
+            |c, on| mesh_switch(c, |m| m.$($field).+ = on),
+        )
+    };
+}
+
+/// A switch of the debugging shader (a uniform), `field` of [`ShaderSwitches`]: the per-pixel
+/// frame's program has none of them.
+macro_rules! shader_toggle {
+    ($key:literal, $label:literal, $help:literal, $($field:ident).+) => {
+        C::toggle(
+            $key,
+            $label,
+            $help,
+            |c| c.switches.$($field).+,
+            |c, on| switch(c, |sw| sw.$($field).+ = on),
+        )
+        .inert_when(per_pixel)
+    };
+}
+
 /// Runs the CPU pipeline again with `change` made to its switches.
 fn mesh_switch(cylinder: &mut Cylinder, change: impl FnOnce(&mut MeshOptions)) -> Result<()> {
     let mut mesh = cylinder.mesh.options;
@@ -172,43 +200,36 @@ pub(super) const CONTROLS: &[C] = &[
         },
     )
     .inert_when(per_pixel),
-    C::toggle(
+    mesh_toggle!(
         'N',
         "normalize before summing",
         "normalize tangents before summing them (exercise 1)",
-        |c| c.mesh.options.indexing.normalize_before_sum,
-        |c, on| mesh_switch(c, |m| m.indexing.normalize_before_sum = on),
+        indexing.normalize_before_sum
     ),
-    C::toggle(
+    mesh_toggle!(
         'G',
         "Gram-Schmidt",
         "Gram-Schmidt on / off",
-        |c| c.mesh.options.tangents.gram_schmidt,
-        |c, on| mesh_switch(c, |m| m.tangents.gram_schmidt = on),
+        tangents.gram_schmidt
     ),
-    C::toggle(
+    mesh_toggle!(
         'H',
         "handedness fix",
         "handedness fix on / off",
-        |c| c.mesh.options.tangents.handedness,
-        |c, on| mesh_switch(c, |m| m.tangents.handedness = on),
+        tangents.handedness
     ),
-    C::toggle(
+    shader_toggle!(
         'S',
         "specular texture",
         "specular texture / constant 0.3",
-        |c| c.switches.specular_texture,
-        |c, on| switch(c, |sw| sw.specular_texture = on),
-    )
-    .inert_when(per_pixel),
-    C::toggle(
+        specular_texture
+    ),
+    shader_toggle!(
         'T',
         "normalized TBN (article)",
         "TBN as summed (repository shader) / normalized (article)",
-        |c| c.switches.normalize_tbn,
-        |c, on| switch(c, |sw| sw.normalize_tbn = on),
-    )
-    .inert_when(per_pixel),
+        normalize_tbn
+    ),
     C::choice(
         'F',
         "tangent frame",
@@ -251,30 +272,24 @@ pub(super) const CONTROLS: &[C] = &[
         |c| c.move_split(0.05),
     )
     .inert_when(no_split),
-    C::toggle(
+    shader_toggle!(
         'Y',
         "green down (DirectX)",
         "normal map green up (OpenGL) / down (DirectX)",
-        |c| c.switches.convention.green_down,
-        |c, on| switch(c, |sw| sw.convention.green_down = on),
-    )
-    .inert_when(per_pixel),
-    C::toggle(
+        convention.green_down
+    ),
+    shader_toggle!(
         'E',
         "exact expansion",
         "normal map expansion 2c-1 / c*255/127-128/127 (exact 0 at 128)",
-        |c| c.switches.convention.exact_expansion,
-        |c, on| switch(c, |sw| sw.convention.exact_expansion = on),
-    )
-    .inert_when(per_pixel),
-    C::toggle(
+        convention.exact_expansion
+    ),
+    shader_toggle!(
         'Z',
         "two channels",
         "normal map of three channels / two (z rebuilt)",
-        |c| c.switches.convention.two_channel,
-        |c, on| switch(c, |sw| sw.convention.two_channel = on),
-    )
-    .inert_when(per_pixel),
+        convention.two_channel
+    ),
     light_slider::<Cylinder, 0>(),
     light_slider::<Cylinder, 1>(),
     light_slider::<Cylinder, 2>(),
