@@ -315,7 +315,7 @@ pub trait SceneControls {
     /// `key` was pressed (letters either case): `Ok(false)` if no control has it.
     fn press_key(&mut self, key: char) -> Result<bool>;
 
-    /// "view lit, lines off": the controls named in the title that apply now.
+    /// "lines off, view lit": the controls named in the title that apply now.
     fn title_status(&self) -> Vec<String> {
         self.controls()
             .into_iter()

@@ -136,7 +136,7 @@ impl Renderer {
         Ok(())
     }
 
-    /// "cylinder: view lit, lines off, tangents tutorial | 3.2 ms/frame | Tutorial 13": the scene
+    /// "cylinder: lines off, view lit, tangents tutorial | 3.2 ms/frame | Tutorial 13": the scene
     /// and its most important switches first (a title bar cuts the end off), the figure, then the
     /// program; a shader that failed to reload comes before all of them. The panel shows the rest.
     /// Called after every frame, so that whatever changed the scene (a key, the panel, the mouse
