@@ -116,6 +116,16 @@ impl<S: SceneType> SceneControls for S {
             .collect()
     }
 
+    /// Only the titled controls are read (the title is set after every frame).
+    fn title_status(&self) -> Vec<String> {
+        S::CONTROLS
+            .iter()
+            .filter_map(|c| Some((c.title?, c)))
+            .filter(|(_, c)| (c.inert)(self).is_none())
+            .map(|(title, c)| format!("{title} {}", c.shown(self)))
+            .collect()
+    }
+
     fn set_control(&mut self, index: usize, to: SetTo) -> Result<()> {
         let Some(control) = S::CONTROLS.get(index) else {
             log::warn!("no control {index}");

@@ -132,6 +132,17 @@ impl<S> Control<S> {
     }
 
     /// Its state in `scene` now.
+    /// Its value as the title shows it ([`ControlValue::shown`] of its state), read without the
+    /// rest of the state (a choice's list of names): the title asks every frame.
+    pub(super) fn shown(&self, scene: &S) -> String {
+        match &self.kind {
+            Kind::Toggle { get, .. } => ControlValue::Toggle(get(scene)).shown(),
+            Kind::Choice { get, .. } => get(scene),
+            Kind::Slider { get, .. } => get(scene).to_string(),
+            Kind::Press { .. } => String::new(),
+        }
+    }
+
     pub(super) fn state(&self, index: usize, scene: &S) -> ControlState {
         let value = match &self.kind {
             Kind::Toggle { get, .. } => ControlValue::Toggle(get(scene)),
@@ -316,13 +327,7 @@ pub trait SceneControls {
     fn press_key(&mut self, key: char) -> Result<bool>;
 
     /// "lines off, view lit": the controls named in the title that apply now.
-    fn title_status(&self) -> Vec<String> {
-        self.controls()
-            .into_iter()
-            .filter(|c| c.inert.is_none())
-            .filter_map(|c| Some(format!("{} {}", c.title?, c.value.shown())))
-            .collect()
-    }
+    fn title_status(&self) -> Vec<String>;
 
     /// The index of the first control labelled `label` (for tests and scripts; the panel
     /// addresses controls by index).
