@@ -7,7 +7,7 @@ use std::path::Path;
 
 use super::options::{read_args, SceneArgs, SceneOptions};
 use super::scene::{MouseMode, Scene, SceneContext};
-use super::table::{control_for_key, Control, ControlState, KeyHelp, SceneControls, SetTo};
+use super::table::{control_for_key, Control, ControlState, KeyHelp, Kind, SceneControls, SetTo};
 use crate::Result;
 
 /// All the rest of the program knows of a scene: each scene's folder defines one (`SCENE`), and one
@@ -123,6 +123,15 @@ impl<S: SceneType> SceneControls for S {
             .filter_map(|c| Some((c.title?, c)))
             .filter(|(_, c)| (c.inert)(self).is_none())
             .map(|(title, c)| format!("{title} {}", c.shown(self)))
+            .collect()
+    }
+
+    fn table_status(&self) -> Vec<String> {
+        S::CONTROLS
+            .iter()
+            .filter(|c| !matches!(c.kind, Kind::Press { .. }))
+            .filter(|c| (c.inert)(self).is_none())
+            .map(|c| format!("{} {}", c.label, c.shown(self)))
             .collect()
     }
 

@@ -60,8 +60,19 @@ pub trait Scene: Any + SceneControls {
         self.press_key(key)
     }
 
-    /// One line for the log: the scene's current switches.
-    fn status(&self) -> String;
+    /// One line for the log: every control of the scene's table that applies now, then what the
+    /// table does not hold ([`Scene::status_beyond_table`]).
+    fn status(&self) -> String {
+        let mut parts = self.table_status();
+        parts.extend(self.status_beyond_table());
+        parts.join(" | ")
+    }
+
+    /// The state the log's status line gives beside the table's controls (a model's path, where the
+    /// light is): none unless a scene says.
+    fn status_beyond_table(&self) -> Vec<String> {
+        Vec::new()
+    }
 
     /// The two or three most important of them, for the title bar (the panel shows the rest):
     /// the controls the table names in the title, where they apply (the whole status where it

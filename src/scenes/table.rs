@@ -1,7 +1,8 @@
 //! A scene's controls, each declared once: its key, label, key-list line, kind (on / off, a choice of
 //! named values, a slider, a plain press), how it is read and set, its name in the title, and when
 //! it does nothing. The key handling, the key list (`--help`, the window, `docs/keys.md`), the
-//! panel's rows and the title's short status are all read from this one table.
+//! panel's rows, the title's short status and the log's status line are all read from this one
+//! table.
 
 use crate::Result;
 
@@ -328,6 +329,10 @@ pub trait SceneControls {
 
     /// "lines off, view lit": the controls named in the title that apply now.
     fn title_status(&self) -> Vec<String>;
+
+    /// "TBN debug lines off", "colour view lit", …: every control with a state that applies now,
+    /// by its label (the log's status line).
+    fn table_status(&self) -> Vec<String>;
 
     /// The index of the first control labelled `label` (for tests and scripts; the panel
     /// addresses controls by index).

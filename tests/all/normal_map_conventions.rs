@@ -165,7 +165,7 @@ fn keys_switch_the_conventions() {
     let scene = r.scene_mut::<Cylinder>();
     assert!(scene
         .status()
-        .contains("| normal map green up, 2c-1, 3 channels |"));
+        .contains("green down (DirectX) off | exact expansion off | two channels off"));
     for key in ['Y', 'E', 'Z'] {
         assert!(scene.key(key).unwrap());
     }
@@ -179,5 +179,5 @@ fn keys_switch_the_conventions() {
     );
     assert!(scene
         .status()
-        .contains("| normal map green down, c*255/127-128/127, 2 channels |"));
+        .contains("green down (DirectX) on | exact expansion on | two channels on"));
 }

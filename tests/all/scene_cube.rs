@@ -113,10 +113,10 @@ fn assert_all_equal(
 #[test]
 fn normal_mapping_off_and_on_differ_on_lit_faces() {
     let mut renderer = renderer(&cube_options(own_assets()));
-    assert_eq!(renderer.scene.status(), "normal mapping on");
+    assert_eq!(renderer.scene.short_status(), "normal mapping on");
     let on = frame(&mut renderer);
     assert!(renderer.scene.key('N').unwrap(), "N is the cube's key");
-    assert_eq!(renderer.scene.status(), "normal mapping off");
+    assert_eq!(renderer.scene.short_status(), "normal mapping off");
     let off = frame(&mut renderer);
 
     for (face, name) in [(FRONT, "front"), (TOP, "top")] {
@@ -147,7 +147,7 @@ fn normal_mapping_off_and_on_differ_on_lit_faces() {
         .get_mut::<tutorial13::scenes::cube::CubeOptions>()
         .normal_mapping = false;
     let mut second = common::renderer(&flag_off);
-    assert_eq!(second.scene.status(), "normal mapping off");
+    assert_eq!(second.scene.short_status(), "normal mapping off");
     assert!(
         frame(&mut second) == off,
         "--no-normal-map differs from pressing N"

@@ -46,6 +46,72 @@ fn the_key_list_is_the_tables() {
     }
 }
 
+// Fails if a scene's status line (the log's) is not its table read now: every control with a state
+// that applies, as "label value" in the table's order, then only what the table does not hold; or if
+// it names a control that does nothing (the cylinder's per-pixel frame leaves out the colour view, the
+// lines and the shader's experiments), or if a switch's new value does not show in it.
+#[test]
+fn the_status_line_is_the_tables() {
+    let per_pixel = derivative_options(|_| {});
+    let cases = SCENES
+        .iter()
+        .map(|&scene| HeadlessOptions {
+            descriptor: scene,
+            ..Default::default()
+        })
+        .chain([per_pixel]);
+    for options in cases {
+        let scene = options.descriptor;
+        let mut renderer = renderer(&options);
+        for round in 0..2 {
+            let controls = renderer.scene.controls();
+            let expected: Vec<String> = controls
+                .iter()
+                .filter(|c| c.inert.is_none() && c.value != ControlValue::Press)
+                .map(|c| format!("{} {}", c.label, c.value.shown()))
+                .collect();
+            let status = renderer.scene.status();
+            let expected = expected.join(" | ");
+            assert!(
+                status.starts_with(&expected),
+                "{scene}:\n{status}\n{expected}"
+            );
+            let beyond = &status[expected.len()..];
+            for c in controls.iter().filter(|c| c.inert.is_some()) {
+                let named = format!("{} ", c.label);
+                assert!(
+                    !status.starts_with(&named) && !status.contains(&format!("| {named}")),
+                    "{scene}: {} does nothing, yet: {status}",
+                    c.label
+                );
+            }
+            assert!(
+                beyond.is_empty() || beyond.starts_with(" | "),
+                "{scene}: {beyond}"
+            );
+            // Flip the first toggle that applies: the next round reads its new value.
+            if round == 0 {
+                let Some(toggle) = controls
+                    .iter()
+                    .find(|c| c.inert.is_none() && matches!(c.value, ControlValue::Toggle(_)))
+                else {
+                    break;
+                };
+                let ControlValue::Toggle(on) = toggle.value else {
+                    unreachable!()
+                };
+                let index = toggle.index;
+                renderer
+                    .scene
+                    .set_control(index, SetTo::Toggle(!on))
+                    .unwrap();
+                let shown = format!("{} {}", toggle.label, if on { "off" } else { "on" });
+                assert!(renderer.scene.status().contains(&shown), "{scene}: {shown}");
+            }
+        }
+    }
+}
+
 // Fails if choosing a tangent frame on the panel builds any other source's mesh than the chosen
 // one: from the tutorial's to the per-pixel frame, MikkTSpace (a whole pass over a big model) must
 // not run on the way, as it did when the panel pressed F until the value came up.
@@ -128,7 +194,15 @@ fn the_per_pixel_frame_says_which_switches_do_nothing() {
     let title = renderer.scene.short_status();
     assert_eq!(title, "tangents derivative");
     let status = renderer.scene.status();
-    for claim in ["view", "lines", "specular", "TBN", "normal map"] {
+    for claim in [
+        "colour view",
+        "TBN debug lines",
+        "specular texture",
+        "normalized TBN",
+        "green down",
+        "exact expansion",
+        "two channels",
+    ] {
         assert!(!status.contains(claim), "{claim}: {status}");
     }
     for key in ['V', 'C', 'S', 'T', 'Y', 'E', 'Z', 'L'] {

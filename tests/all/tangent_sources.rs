@@ -246,11 +246,14 @@ fn the_source_key_cycles_and_comes_back_to_the_tutorials_frame() {
         let cylinder = r.scene_mut::<tutorial13::scenes::cylinder::Cylinder>();
         assert!(tutorial13::scenes::Scene::key(cylinder, 'F').unwrap());
         seen.push(cylinder.tangent_source());
+        let source = cylinder.tangent_source();
         let status = tutorial13::scenes::Scene::status(cylinder);
         assert!(
-            status.ends_with(&format!("tangents {}", cylinder.tangent_source())),
+            status.contains(&format!("| tangent frame {source} |")),
             "{status}"
         );
+        let title = tutorial13::scenes::Scene::short_status(cylinder);
+        assert!(title.ends_with(&format!("tangents {source}")), "{title}");
         frame(&mut r);
     }
     assert_eq!(

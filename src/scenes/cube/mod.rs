@@ -298,11 +298,6 @@ impl Scene for Cube {
         self.buffers.draw();
     }
 
-    fn status(&self) -> String {
-        let on = if self.normal_mapping { "on" } else { "off" };
-        format!("normal mapping {on}")
-    }
-
     fn shader_files(&self) -> Vec<PathBuf> {
         shader_paths(SHADERS, self.shader_dir.as_deref())
     }

@@ -31,22 +31,22 @@ impl Cylinder {
         self.comparison.as_ref().map(|_| &self.compare_view)
     }
 
-    /// " | compare A | B at 50 %" or " | compare A − B: N pixels differ, max M levels", or nothing.
-    pub(super) fn compare_status(&self) -> String {
+    /// "compare A | B at 50 %" or "compare A − B: N pixels differ, max M levels", or nothing.
+    pub(super) fn compare_status(&self) -> Option<String> {
         let (Some((sources, _)), view) = (&self.comparison, &self.compare_view) else {
-            return String::new();
+            return None;
         };
         let [a, b] = sources;
-        match (view.mode, view.difference) {
+        Some(match (view.mode, view.difference) {
             (CompareMode::Split, _) => {
-                format!(" | compare {a} | {b} at {:.0} %", view.split * 100.0)
+                format!("compare {a} | {b} at {:.0} %", view.split * 100.0)
             }
             (CompareMode::Difference, Some(d)) => format!(
-                " | compare {a} - {b}: {} pixels differ, max {} levels",
+                "compare {a} - {b}: {} pixels differ, max {} levels",
                 d.pixels, d.max
             ),
-            (CompareMode::Difference, None) => format!(" | compare {a} - {b}"),
-        }
+            (CompareMode::Difference, None) => format!("compare {a} - {b}"),
+        })
     }
 
     /// The compare view `name` (one of [`COMPARE_NAMES`]): off, or on in that mode, comparing

@@ -40,7 +40,7 @@ use super::scene::{
 use super::table::{Control, SceneControls};
 pub use args::CylinderArgs;
 pub use controls::KEYS;
-use controls::{flags_without_effect, no_lines, per_pixel, CONTROLS, PER_PIXEL};
+use controls::{flags_without_effect, CONTROLS, PER_PIXEL};
 use lines::TbnLines;
 use maps::{model_texture_sets, override_tutorial_maps};
 use mesh::{warn_of_merged_corners, MeshState, SoupSource};
@@ -381,48 +381,12 @@ impl Scene for Cylinder {
         text
     }
 
-    /// View, lines, and every experiment switch (those that do nothing now left out: the
-    /// per-pixel frame draws neither colour views, lines nor the shader's experiments).
-    fn status(&self) -> String {
-        let on = |b: bool| if b { "on" } else { "off" };
-        let sw = self.switches;
-        let mesh = self.mesh.options;
-        let lines = match (self.show_lines, self.line_mode()) {
-            (true, Some(LineMode::Legacy)) => "immediate mode",
-            (true, _) => "line shader",
-            (false, _) => "off",
+    /// The model drawn in place of the cylinder, and what the compare view measured.
+    fn status_beyond_table(&self) -> Vec<String> {
+        let model = match &self.mesh.soup {
+            SoupSource::Model(model) => Some(format!("model {}", model.path.display())),
+            _ => None,
         };
-        let shader = per_pixel(self).is_none();
-        let tbn = match sw.normalize_tbn {
-            true => "normalized (article)",
-            false => "as summed (repository)",
-        };
-        let mut parts = Vec::new();
-        if let SoupSource::Model(model) = &self.mesh.soup {
-            parts.push(format!("model {}", model.path.display()));
-        }
-        if shader {
-            parts.push(format!("view {}", sw.view));
-        }
-        if no_lines(self).is_none() {
-            parts.push(format!("lines {lines}"));
-        }
-        parts.extend([
-            format!("Gram-Schmidt {}", on(mesh.tangents.gram_schmidt)),
-            format!("handedness {}", on(mesh.tangents.handedness)),
-            format!(
-                "normalize before sum {}",
-                on(mesh.indexing.normalize_before_sum)
-            ),
-        ]);
-        if shader {
-            parts.extend([
-                format!("specular texture {}", on(sw.specular_texture)),
-                format!("TBN {tbn}"),
-                format!("normal map {}", sw.convention),
-            ]);
-        }
-        parts.push(format!("tangents {}", self.mesh.source));
-        parts.join(" | ") + &self.compare_status()
+        model.into_iter().chain(self.compare_status()).collect()
     }
 }

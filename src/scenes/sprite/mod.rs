@@ -345,26 +345,14 @@ impl Scene for Sprite {
         self.quad.draw();
     }
 
-    /// The light and both switches (short enough for the title as it is).
-    fn status(&self) -> String {
+    /// Where the light is: its x and y follow the mouse, which the table does not hold.
+    fn status_beyond_table(&self) -> Vec<String> {
         let l = self.light;
-        format!(
-            "light ({:.3}, {:.3}, {:.3}){} | green {} | falloff {}",
-            l.x,
-            l.y,
-            l.z,
-            if self.following { " on the mouse" } else { "" },
-            if self.flip_green {
-                "down (flipped)"
-            } else {
-                "up (as made)"
-            },
-            if self.independent_falloff {
-                "resolution-independent"
-            } else {
-                "in window heights (article)"
-            },
-        )
+        let following = if self.following { " on the mouse" } else { "" };
+        vec![format!(
+            "light ({:.3}, {:.3}, {:.3}){following}",
+            l.x, l.y, l.z
+        )]
     }
 
     fn shader_files(&self) -> Vec<PathBuf> {

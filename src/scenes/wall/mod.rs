@@ -102,7 +102,8 @@ const CONTROLS: &[C] = &[
             wall.space = crate::choices::by_name(name).unwrap_or(wall.space);
             Ok(())
         },
-    ),
+    )
+    .in_title("lighting space"),
     light_slider::<Wall, 0>(),
     light_slider::<Wall, 1>(),
     light_slider::<Wall, 2>(),
@@ -261,13 +262,6 @@ impl Scene for Wall {
             self.space.shaders(),
             self.shader_dir.as_deref(),
         )]
-    }
-
-    fn status(&self) -> String {
-        match self.space {
-            LightingSpace::NoNormalMap => "no normal map (lit in view space)".to_string(),
-            space => format!("lit in {} space", space.name()),
-        }
     }
 
     fn shader_files(&self) -> Vec<PathBuf> {
