@@ -101,8 +101,13 @@ pub fn dxt_level_size(format: DxtFormat, width: u32, height: u32) -> usize {
 
 /// Reads a DDS file the way the tutorial's `loadDDS` does, without the GL upload.
 pub fn read_dds(path: &Path) -> Result<DdsImage> {
+    read_with(path, read_dds_bytes)
+}
+
+/// Reads `path` whole and parses it with `parse` (which names `path` in its errors).
+fn read_with<T>(path: &Path, parse: fn(&[u8], &Path) -> Result<T>) -> Result<T> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    read_dds_bytes(&bytes, path)
+    parse(&bytes, path)
 }
 
 /// Parses DDS bytes already in memory; `path` is only used in error messages.
@@ -268,8 +273,7 @@ const BMP_FILE_HEADER_LEN: usize = 14;
 
 /// Reads a BMP file the way the tutorial's `loadBMP_custom` does, without the GL upload.
 pub fn read_bmp_custom(path: &Path) -> Result<BmpImage> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    read_bmp_bytes(&bytes, path)
+    read_with(path, read_bmp_bytes)
 }
 
 /// Parses BMP bytes already in memory; `path` is only used in error messages.
@@ -513,20 +517,41 @@ pub fn load_bmp_custom(gl: &Gl, path: &Path) -> Result<Texture> {
 
 /// Uploads BGR data as GL_RGB with the tutorial's sampling: REPEAT, trilinear, generated mipmaps.
 pub fn upload_bmp(gl: &Gl, bmp: &BmpImage) -> Result<Texture> {
+    let size = (bmp.width, bmp.height);
+    upload_texels(
+        gl,
+        glow::RGB,
+        size,
+        (glow::BGR, glow::UNSIGNED_BYTE),
+        &bmp.bgr,
+    )
+}
+
+/// A new texture of `bytes`: `size` texels of `format_type` (`glTexImage2D`'s format and type),
+/// tightly packed, rows in the order given; sampled as `loadBMP_custom`'s are
+/// ([`use_bmp_sampling`]).
+pub fn upload_texels(
+    gl: &Gl,
+    internal_format: u32,
+    (width, height): (u32, u32),
+    (format, kind): (u32, u32),
+    bytes: &[u8],
+) -> Result<Texture> {
     let texture = Texture::create_bound(gl)?;
-    // SAFETY: `bgr` holds width × height tightly packed texels, matching UNPACK_ALIGNMENT 1.
+    // SAFETY: `bytes` holds width × height tightly packed texels of `format` and `kind`, matching
+    // UNPACK_ALIGNMENT 1.
     unsafe {
         gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
         gl.tex_image_2d(
             glow::TEXTURE_2D,
             0,
-            glow::RGB as i32,
-            bmp.width as i32,
-            bmp.height as i32,
+            internal_format as i32,
+            width as i32,
+            height as i32,
             0,
-            glow::BGR,
-            glow::UNSIGNED_BYTE,
-            glow::PixelUnpackData::Slice(Some(&bmp.bgr)),
+            format,
+            kind,
+            glow::PixelUnpackData::Slice(Some(bytes)),
         );
     }
     use_bmp_sampling(gl);

@@ -2,9 +2,7 @@
 //! (`loadBMP_custom`'s: repeat, trilinear, generated mipmaps), and the 1×1 textures that stand in for
 //! a map a material does not name.
 
-use glow::HasContext;
-
-use crate::common::texture::{use_bmp_sampling, Texture};
+use crate::common::texture::{upload_texels, Texture};
 use crate::common::Gl;
 use crate::model::maps::{MapImage, MapPixels};
 use crate::Result;
@@ -30,45 +28,15 @@ pub fn upload_map(gl: &Gl, pixels: MapPixels, bottom_row_first: bool) -> Result<
 
 /// An RGBA8 picture, its rows in the order given, sampled as the tutorial's BMP textures are.
 pub fn upload_rgba(gl: &Gl, image: &MapImage) -> Result<Texture> {
-    let texture = Texture::create_bound(gl)?;
-    // SAFETY: `rgba` holds width × height × 4 tightly packed bytes, matching UNPACK_ALIGNMENT 1.
-    unsafe {
-        gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
-        gl.tex_image_2d(
-            glow::TEXTURE_2D,
-            0,
-            glow::RGBA8 as i32,
-            image.width as i32,
-            image.height as i32,
-            0,
-            glow::RGBA,
-            glow::UNSIGNED_BYTE,
-            glow::PixelUnpackData::Slice(Some(&image.rgba)),
-        );
-    }
-    use_bmp_sampling(gl);
-    Ok(texture)
+    let size = (image.width, image.height);
+    let format_type = (glow::RGBA, glow::UNSIGNED_BYTE);
+    upload_texels(gl, glow::RGBA8, size, format_type, &image.rgba)
 }
 
 /// The flat normal as a 1×1 half-float texel (0.5, 0.5, 1): the shader's `2c − 1` gives exactly
 /// (0, 0, 1), where 8 bits (128 or 127) would tilt it by 0.4 %.
 fn upload_flat_normal(gl: &Gl) -> Result<Texture> {
     let texel: [f32; 3] = [0.5, 0.5, 1.0];
-    let texture = Texture::create_bound(gl)?;
-    // SAFETY: three floats for one RGB texel.
-    unsafe {
-        gl.tex_image_2d(
-            glow::TEXTURE_2D,
-            0,
-            glow::RGB16F as i32,
-            1,
-            1,
-            0,
-            glow::RGB,
-            glow::FLOAT,
-            glow::PixelUnpackData::Slice(Some(bytemuck::cast_slice(&texel))),
-        );
-    }
-    use_bmp_sampling(gl);
-    Ok(texture)
+    let bytes = bytemuck::cast_slice(&texel);
+    upload_texels(gl, glow::RGB16F, (1, 1), (glow::RGB, glow::FLOAT), bytes)
 }

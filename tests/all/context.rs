@@ -42,7 +42,9 @@ fn checked(profile: Profile) -> HeadlessContext {
 fn core_context_on_llvmpipe() {
     let ctx = checked(Profile::Core);
     let info = ctx.info();
-    assert!(info.renderer.contains("llvmpipe"), "{info}");
+    if common::on_reference_renderer("core_context_on_llvmpipe", info) {
+        assert!(info.renderer.contains("llvmpipe"), "{info}");
+    }
     // The reusable reader sees the same context.
     assert_eq!(context_info(ctx.gl()).version, info.version);
     assert!(info.has_extension("GL_ARB_framebuffer_object") || info.version >= (3, 0));

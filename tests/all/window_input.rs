@@ -23,6 +23,9 @@ fn headless_first_frame(dir: &Path) -> image::RgbImage {
 // if the title loses the scene's status when the ms/frame figure arrives.
 #[test]
 fn mouse_look_reset_release_and_grab() {
+    if !common::reference_renderer_here("mouse_look_reset_release_and_grab") {
+        return;
+    }
     let dir = common::scratch("keys");
     let start_frame = headless_first_frame(&dir);
     let xvfb = Xvfb::start();
@@ -122,6 +125,9 @@ fn wait_for_title(xvfb: &Xvfb, window: &str, what: &str, ok: impl Fn(&str) -> bo
 // while the last good shaders keep drawing, or if saving a good version does not clear the error.
 #[test]
 fn saving_a_shader_reloads_it_in_the_window() {
+    if !common::reference_renderer_here("saving_a_shader_reloads_it_in_the_window") {
+        return;
+    }
     let dir = common::scratch("live-shaders");
     let shaders = dir.join("shaders");
     std::fs::create_dir_all(&shaders).unwrap();
@@ -214,6 +220,9 @@ fn panel_layout() -> PanelLayout {
 // turns the camera (every frame compared is at the tutorial's start).
 #[test]
 fn the_panel_in_the_window() {
+    if !common::reference_renderer_here("the_panel_in_the_window") {
+        return;
+    }
     let dir = common::scratch("panel-window");
     let start = headless_first_frame(&dir);
     let with_lines = common::headless_screenshot(&dir, "lines.png", &["--debug-lines"]);
@@ -316,6 +325,9 @@ fn over_the_panel_the_sprite_light_stays() {
 // headless frame of that size, bit for bit.
 #[test]
 fn a_resized_window_draws_the_frame_of_its_new_size() {
+    if !common::reference_renderer_here("a_resized_window_draws_the_frame_of_its_new_size") {
+        return;
+    }
     let dir = common::scratch("resize");
     let small = common::headless_screenshot(&dir, "small.png", &["--size", "800x600"]);
     let xvfb = Xvfb::start();
@@ -395,6 +407,9 @@ fn a_held_key_acts_once() {
 // must then draw the cube's first frame, bit for bit, with the camera back at the cube's start.
 #[test]
 fn enter_does_the_same_in_the_window_and_headless() {
+    if !common::reference_renderer_here("enter_does_the_same_in_the_window_and_headless") {
+        return;
+    }
     let dir = common::scratch("enter");
     let mut headless = HeadlessRenderer::new(&HeadlessOptions::default()).unwrap();
     headless.controls.position.z += 2.0;

@@ -100,6 +100,14 @@ pub fn on_reference_renderer(test: &str, info: &ContextInfo) -> bool {
     }
 }
 
+/// [`on_reference_renderer`] for this machine's headless renderer, for the tests whose frames come
+/// from other processes (the window under Xvfb and the headless binary: both use the same Mesa here).
+pub fn reference_renderer_here(test: &str) -> bool {
+    let context = tutorial13::gl::context::HeadlessContext::new(Profile::Core, false)
+        .expect("a headless context, to ask which renderer this is");
+    on_reference_renderer(test, context.info())
+}
+
 /// Says that `test`'s bit-for-bit comparison is skipped for `reason` (not the reference renderer),
 /// or fails where `TUTORIAL13_REQUIRE_REFERENCE_RENDERER=1`.
 pub fn skip_off_reference(test: &str, reason: &str) {
