@@ -18,8 +18,8 @@ mod common;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-use common::{charted_cylinder, cylinder, spread_soup};
-use criterion::{Criterion, SamplingMode};
+use common::{charted_cylinder, cylinder, slow_group, spread_soup};
+use criterion::Criterion;
 use glam::Vec3;
 use tutorial13::common::objloader::{self, TriangleSoup};
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
@@ -128,12 +128,7 @@ fn indexers(case: &Case) -> [Run<'_>; 3] {
 }
 
 fn indexing(c: &mut Criterion, cases: &[Case]) {
-    let mut group = c.benchmark_group("indexing");
-    group
-        .sample_size(10)
-        .sampling_mode(SamplingMode::Flat)
-        .warm_up_time(Duration::from_secs(1))
-        .measurement_time(Duration::from_secs(4));
+    let mut group = slow_group(c, "indexing", 1.0, 4.0);
     for case in cases {
         for (name, run) in indexers(case) {
             group.bench_function(format!("{name}/{}", case.label), |b| b.iter(&run));
@@ -146,12 +141,7 @@ fn first_frame(c: &mut Criterion) {
     let text = cylinder(1000, 500);
     let soup = soup_of(&text);
     let basis = compute_tangent_basis(&soup, TangentOptions::default());
-    let mut group = c.benchmark_group("first-frame-1M");
-    group
-        .sample_size(10)
-        .sampling_mode(SamplingMode::Flat)
-        .warm_up_time(Duration::from_secs(1))
-        .measurement_time(Duration::from_secs(8));
+    let mut group = slow_group(c, "first-frame-1M", 1.0, 8.0);
     group.bench_function("obj", |b| b.iter(|| soup_of(&text)));
     let path = Path::new("generated.obj");
     group.bench_function("obj-tobj", |b| {

@@ -5,11 +5,10 @@
 //! no longer be the size it says.
 
 use std::path::{Path, PathBuf};
-use std::time::Duration;
 
 mod common;
 
-use common::{cylinder, spread_soup};
+use common::{cylinder, spread_soup, ten_samples};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use glam::Vec3;
 use tutorial13::common::objloader::TriangleSoup;
@@ -28,14 +27,22 @@ fn write_obj(name: &str, segments: u32, rings: u32) -> PathBuf {
     path
 }
 
+/// The soup of a generated cylinder's OBJ file, as a learner's file is read.
+fn cylinder_soup(label: &str, segments: u32, rings: u32) -> TriangleSoup {
+    soup_of(&write_obj(
+        &format!("cylinder-{label}.obj"),
+        segments,
+        rings,
+    ))
+}
+
 fn soup_of(path: &Path) -> TriangleSoup {
     load_obj(path).unwrap()
 }
 
 /// load_obj + compute_tangent_basis + index_vbo_tbn, from the file on disk.
 fn whole_pipeline(c: &mut Criterion) {
-    let mut group = c.benchmark_group("pipeline");
-    group.sample_size(10).warm_up_time(Duration::from_secs(1));
+    let mut group = ten_samples(c, "pipeline", 1.0);
     for (label, segments, rings) in [("10k", 100, 50), ("100k", 500, 100), ("1M", 1000, 500)] {
         let path = write_obj(&format!("cylinder-{label}.obj"), segments, rings);
         group.bench_function(BenchmarkId::new("obj+tangents+index", label), |b| {
@@ -47,16 +54,9 @@ fn whole_pipeline(c: &mut Criterion) {
 
 /// The grid indexer against the tutorial's linear search, on the same soup: the ratio is the figure.
 fn indexers(c: &mut Criterion) {
-    let mut group = c.benchmark_group("index_vbo_tbn");
-    group
-        .sample_size(10)
-        .warm_up_time(Duration::from_millis(500));
+    let mut group = ten_samples(c, "index_vbo_tbn", 0.5);
     for (label, segments, rings) in [("20k", 100, 100), ("60k", 300, 100)] {
-        let soup = soup_of(&write_obj(
-            &format!("cylinder-{label}.obj"),
-            segments,
-            rings,
-        ));
+        let soup = cylinder_soup(label, segments, rings);
         let basis = compute_tangent_basis(&soup, TangentOptions::default());
         group.bench_function(BenchmarkId::new("grid", label), |b| {
             b.iter(|| index_vbo_tbn(&soup, &basis, IndexOptions::default()))
@@ -71,10 +71,7 @@ fn indexers(c: &mut Criterion) {
 /// The worst case of the position grid (every vertex in one cell) against a mesh of the same size
 /// whose positions are all distinct: the split is meant to keep it within 10× of that.
 fn one_cell(c: &mut Criterion) {
-    let mut group = c.benchmark_group("one_cell");
-    group
-        .sample_size(10)
-        .warm_up_time(Duration::from_millis(500));
+    let mut group = ten_samples(c, "one_cell", 0.5);
     for (label, position) in [
         ("distinct-positions/20k", None),
         ("one-position-mid-cell/20k", Some(Vec3::ZERO)),
@@ -94,14 +91,9 @@ fn one_cell(c: &mut Criterion) {
 /// from the soup in memory to an indexed mesh with tangents. The per-pixel frame has no CPU cost
 /// beyond `index_vbo`; its GPU cost is measured with `--bench` (BENCHMARKS.md).
 fn tangent_sources(c: &mut Criterion) {
-    let mut group = c.benchmark_group("tangent-sources");
-    group.sample_size(10).warm_up_time(Duration::from_secs(1));
+    let mut group = ten_samples(c, "tangent-sources", 1.0);
     for (label, segments, rings) in [("100k", 500, 100), ("1M", 1000, 500)] {
-        let soup = soup_of(&write_obj(
-            &format!("cylinder-{label}.obj"),
-            segments,
-            rings,
-        ));
+        let soup = cylinder_soup(label, segments, rings);
         group.bench_function(format!("tutorial/{label}"), |b| {
             b.iter(|| {
                 TangentSource::Tutorial

@@ -1,6 +1,9 @@
 //! The meshes both CPU benches (`pipeline`, `first_frame`) run on.
 #![allow(dead_code)] // each bench uses a different subset
 
+use std::time::Duration;
+
+use criterion::Criterion;
 use glam::{Vec2, Vec3};
 use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::mesh::{charted_cylinder_obj_text, grid_cylinder_obj_text};
@@ -42,3 +45,24 @@ pub fn spread_soup(one_position: Option<Vec3>) -> TriangleSoup {
         normals: vec![Vec3::Z; corners],
     }
 }
+
+/// A group of ten flat samples (each a whole run of a slow case), after `warm_up` seconds, measured
+/// for `measure` seconds.
+pub fn slow_group<'a>(c: &'a mut Criterion, name: &str, warm_up: f64, measure: f64) -> Group<'a> {
+    let mut group = ten_samples(c, name, warm_up);
+    group
+        .sampling_mode(criterion::SamplingMode::Flat)
+        .measurement_time(Duration::from_secs_f64(measure));
+    group
+}
+
+/// A group of ten samples after `warm_up` seconds (criterion's default is a hundred).
+pub fn ten_samples<'a>(c: &'a mut Criterion, name: &str, warm_up: f64) -> Group<'a> {
+    let mut group = c.benchmark_group(name);
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs_f64(warm_up));
+    group
+}
+
+type Group<'a> = criterion::BenchmarkGroup<'a, criterion::measurement::WallTime>;

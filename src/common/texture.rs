@@ -122,18 +122,7 @@ pub fn read_dds_bytes(bytes: &[u8], path: &Path) -> Result<DdsImage> {
 
     // ddsfile reports a short read as an I/O error with no position; checking the fixed-size
     // header ourselves gives a clearer message (and the tutorial's own order: magic, then header).
-    if bytes.len() >= 4 && &bytes[..4] != DDS_MAGIC {
-        return Err(fail(format!(
-            "bad magic {}, expected \"DDS \"",
-            quote_bytes(&bytes[..4])
-        )));
-    }
-    if bytes.len() < DDS_HEADER_LEN {
-        return Err(fail(format!(
-            "file is {} bytes, shorter than the {DDS_HEADER_LEN}-byte DDS header",
-            bytes.len()
-        )));
-    }
+    check_magic_then_length(bytes, DDS_MAGIC, DDS_HEADER_LEN, "DDS").map_err(fail)?;
 
     // Header::read rather than Dds::read, which would copy all the level data into its own buffer.
     let header = ddsfile::Header::read(&bytes[4..DDS_HEADER_LEN])
@@ -254,6 +243,31 @@ fn quote_bytes(bytes: &[u8]) -> String {
     format!("\"{}\"", bytes.escape_ascii())
 }
 
+/// The loaders' first two checks, in the tutorial's order: the file's magic (where it is long
+/// enough to hold one), then room for the whole `kind` header of `header_len` bytes.
+fn check_magic_then_length(
+    bytes: &[u8],
+    magic: &[u8],
+    header_len: usize,
+    kind: &str,
+) -> std::result::Result<(), String> {
+    let n = magic.len();
+    if bytes.len() >= n && &bytes[..n] != magic {
+        return Err(format!(
+            "bad magic {}, expected {}",
+            quote_bytes(&bytes[..n]),
+            quote_bytes(magic)
+        ));
+    }
+    if bytes.len() < header_len {
+        return Err(format!(
+            "file is {} bytes, shorter than the {header_len}-byte {kind} header",
+            bytes.len()
+        ));
+    }
+    Ok(())
+}
+
 /// A 24-bit bitmap as the tutorial uploads it: BGR triples, rows tightly packed, bottom row first.
 ///
 /// Bottom row first is BMP's own order and what `glTexImage2D` expects for texture coordinate
@@ -289,18 +303,7 @@ pub fn read_bmp_bytes(bytes: &[u8], path: &Path) -> Result<BmpImage> {
         reason,
     };
 
-    if bytes.len() >= 2 && &bytes[..2] != b"BM" {
-        return Err(fail(format!(
-            "bad magic {}, expected \"BM\"",
-            quote_bytes(&bytes[..2])
-        )));
-    }
-    if bytes.len() < BMP_MIN_HEADER_LEN {
-        return Err(fail(format!(
-            "file is {} bytes, shorter than the {BMP_MIN_HEADER_LEN}-byte BMP header",
-            bytes.len()
-        )));
-    }
+    check_magic_then_length(bytes, b"BM", BMP_MIN_HEADER_LEN, "BMP").map_err(fail)?;
 
     let u16_at = |at: usize| u16::from_le_bytes([bytes[at], bytes[at + 1]]);
     let u32_at =
