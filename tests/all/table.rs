@@ -366,3 +366,135 @@ fn a_models_light_sliders_are_in_the_space_of_light() {
         .unwrap();
     assert!(frame(&mut renderer) == first);
 }
+
+/// The panel's frame with the pointer resting at `pos` (tooltips without egui's half-second delay:
+/// headless time stands still), and without any pointer.
+fn hovered_and_plain(
+    renderer: &mut tutorial13::frontends::headless::HeadlessRenderer,
+    pos: egui::Pos2,
+) -> (image::RgbImage, image::RgbImage) {
+    let panel = renderer.panel.as_ref().unwrap();
+    panel
+        .context()
+        .global_style_mut(|style| style.interaction.tooltip_delay = 0.0);
+    let plain = frame(renderer);
+    renderer.panel_events = vec![egui::Event::PointerMoved(pos)];
+    renderer.render();
+    let hovered = frame(renderer);
+    renderer.panel_events = vec![egui::Event::PointerGone];
+    (hovered, plain)
+}
+
+/// The bounding box of the pixels that differ between `a` and `b` outside `rect`, if any.
+fn changed_outside(
+    a: &image::RgbImage,
+    b: &image::RgbImage,
+    rect: egui::Rect,
+) -> Option<(u32, u32, u32, u32)> {
+    let mut bbox: Option<(u32, u32, u32, u32)> = None;
+    for (x, y, p) in a.enumerate_pixels() {
+        let inside = rect.contains(egui::pos2(x as f32 + 0.5, y as f32 + 0.5));
+        if inside || p == b.get_pixel(x, y) {
+            continue;
+        }
+        bbox = Some(match bbox {
+            None => (x, y, x, y),
+            Some((x0, y0, x1, y1)) => (x0.min(x), y0.min(y), x1.max(x), y1.max(y)),
+        });
+    }
+    bbox
+}
+
+/// The brightest pixel's lift above the most common one (the row's background) within `rect`.
+fn text_lift(image: &image::RgbImage, rect: egui::Rect) -> (f32, [u8; 3]) {
+    let luma =
+        |p: &image::Rgb<u8>| 0.2126 * p[0] as f32 + 0.7152 * p[1] as f32 + 0.0722 * p[2] as f32;
+    let mut counts = std::collections::HashMap::new();
+    let mut pixels = Vec::new();
+    for y in rect.min.y.ceil() as u32..rect.max.y.floor() as u32 {
+        for x in rect.min.x.ceil() as u32..rect.max.x.floor() as u32 {
+            let p = *image.get_pixel(x, y);
+            *counts.entry(p.0).or_insert(0) += 1;
+            pixels.push(p);
+        }
+    }
+    let background = counts.into_iter().max_by_key(|&(_, n)| n).unwrap().0;
+    let lift = pixels
+        .iter()
+        .map(|p| luma(p) - luma(&image::Rgb(background)))
+        .fold(0.0, f32::max);
+    (lift, background)
+}
+
+// Fails if a control that does nothing now is not drawn greyed (egui's disabled look: its text
+// lifted above the row's background by half as much as the same control's where it applies,
+// within 0.4 to 0.6), or if resting the pointer on it shows no tooltip, or a tooltip that is not
+// the size of its reason's text, or if a control that applies shows one.
+#[test]
+fn greyed_controls_look_greyed_and_say_why_on_hover() {
+    // One renderer at a time: each makes its own context current when it is made.
+    let look = |options: &HeadlessOptions| {
+        let mut r = renderer(options);
+        r.show_panel().unwrap();
+        frame(&mut r);
+        let rect = r
+            .panel
+            .as_ref()
+            .unwrap()
+            .widget_rect(&PanelWidget::Key('L'))
+            .unwrap();
+        let shot = frame(&mut r);
+        let (hovered, plain) = hovered_and_plain(&mut r, rect.center());
+        let tooltip = changed_outside(&hovered, &plain, rect);
+        let control = r
+            .scene
+            .controls()
+            .into_iter()
+            .find(|c| c.key == Some('L'))
+            .unwrap();
+        let panel = r.panel.as_ref().unwrap();
+        let style = panel.context().global_style();
+        let font = egui::TextStyle::Body.resolve(&style);
+        // The reason laid out as the tooltip lays it out: wrapped at its width inside its margin.
+        let margin = style.spacing.menu_margin.sum().y / 2.0;
+        let reason_height = control.inert.zip(tooltip).map(|(reason, (x0, _, x1, _))| {
+            let wrap = (x1 - x0 + 1) as f32 - 2.0 * margin;
+            panel.context().fonts_mut(|f| {
+                f.layout(reason.to_string(), font, egui::Color32::WHITE, wrap)
+                    .size()
+                    .y
+            })
+        });
+        (
+            rect,
+            text_lift(&shot, rect),
+            tooltip,
+            reason_height.map(|h| h + 2.0 * margin),
+        )
+    };
+    let (rect_on, (lift_on, _), no_tooltip, _) = look(&options(own_assets(), Profile::Core));
+    let (rect, (lift_off, _), tooltip, expected_height) = look(&derivative_options(|_| {}));
+    println!(
+        "L's text above its row: {lift_on} levels where it applies, {lift_off} greyed; \
+         tooltip {tooltip:?}, {expected_height:?} high by its reason"
+    );
+    assert_eq!(rect_on, rect, "L's row moved");
+    let ratio = lift_off / lift_on;
+    assert!(
+        (0.4..=0.6).contains(&ratio),
+        "greyed at {ratio} of its brightness"
+    );
+    assert_eq!(no_tooltip, None, "L shows a tooltip where it applies");
+    let (_, y0, _, y1) = tooltip.expect("no tooltip on the greyed L");
+    // egui puts a tooltip 4 points below its widget.
+    assert!(
+        (y0 as f32 - (rect.max.y + 4.0)).abs() <= 1.0,
+        "tooltip at y {y0}"
+    );
+    let height = (y1 - y0 + 1) as f32;
+    let expected = expected_height.unwrap();
+    assert!(
+        (height - expected).abs() <= 1.0,
+        "the tooltip is {height} high, its reason's text needs {expected}"
+    );
+}
