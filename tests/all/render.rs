@@ -134,11 +134,6 @@ fn flat_white_cylinder_is_mirror_symmetric() {
     assert!(centre > side, "{centre} {side}");
 }
 
-/// llvmpipe renders the same frame bit for bit run to run; the margin below 1 is for other Mesa
-/// versions (texture filtering and rounding differ in the last bit on a few edge pixels), while a
-/// wrong texture orientation, lighting term or camera scores below 0.95.
-const GOLDEN_MIN_SCORE: f64 = 0.995;
-
 // Fails if the tutorial's own assets stop loading or render differently from the frame committed
 // when this port was checked against the tutorial's published screenshot.
 #[test]
@@ -147,14 +142,14 @@ fn tutorial_assets_match_golden() {
         return;
     };
     let frame = render(&options(original, Profile::Core));
-    assert_matches_golden(&frame, "original-core", GOLDEN_MIN_SCORE);
+    assert_matches_golden(&frame, "original-core");
 }
 
 // Fails if the project's own assets or the shaders change what the first frame looks like.
 #[test]
 fn own_assets_match_golden() {
     let frame = render(&options(own_assets(), Profile::Core));
-    assert_matches_golden(&frame, "own-core", GOLDEN_MIN_SCORE);
+    assert_matches_golden(&frame, "own-core");
 }
 
 /// Renders the tutorial's assets headless with `profile` (and the tutorial's immediate-mode debug

@@ -260,16 +260,12 @@ fn emissive_floor_shows_where_nothing_else_lights() {
     println!("emissive floor: green {floor} on the unlit face, where the texture has none");
 }
 
-/// Same bar as the cylinder's golden images (tests/render.rs): drivers' last-bit differences pass, a
-/// wrong texture orientation, lighting term or camera does not.
-const GOLDEN_MIN_SCORE: f64 = 0.995;
-
 // Fails if the scene's first frame changes: placement, light, textures, the shaders' lighting, or
 // the tangent frame (a flipped tangent or bitangent lights the other side of every stone).
 #[test]
 fn cube_matches_golden() {
     let frame = render(&cube_options(own_assets()));
-    assert_matches_golden(&frame, "cube", GOLDEN_MIN_SCORE);
+    assert_matches_golden(&frame, "cube");
 }
 
 // Fails if the cube's shoulders are lit from the wrong side: with the light up and to the left, the

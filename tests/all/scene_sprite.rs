@@ -573,18 +573,13 @@ fn a_bad_light_flag_is_refused() {
     }
 }
 
-/// What the golden image may lose: llvmpipe gives the same frame run to run; the margin is for other
-/// Mesa versions' last-bit differences, while a light in the wrong place or a flipped map scores far
-/// lower.
-const GOLDEN_MIN_SCORE: f64 = 0.995;
-
 // Fails if the first frame changes: the rock in the middle of the window, lit from the upper left of
 // its centre by a warm, small pool of light (the default light (0.4, 0.6, 0.075)), bluish-dark
 // elsewhere from the ambient term.
 #[test]
 fn first_frame_matches_golden() {
     let frame = render_rock(SpriteOptions::default());
-    assert_matches_golden(&frame, "sprite", GOLDEN_MIN_SCORE);
+    assert_matches_golden(&frame, "sprite");
 }
 
 // ---------------------------------------------------------------------------------------------

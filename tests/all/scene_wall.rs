@@ -213,5 +213,5 @@ fn the_space_key_steps_through_the_programs() {
 #[test]
 fn wall_matches_golden() {
     let image = render(&own_assets(), LightingSpace::View);
-    assert_matches_golden(&image, "wall-view", 0.995);
+    assert_matches_golden(&image, "wall-view");
 }
