@@ -636,7 +636,14 @@ fn files_line(files: &[std::path::PathBuf]) -> String {
         .collect();
     match first.parent() {
         Some(dir) if files.iter().all(|f| f.parent() == Some(dir)) => {
-            format!("  {} (in {})", names.join(", "), dir.display())
+            // Where the learner edits them: from the current folder when they are below it.
+            let cwd = std::env::current_dir().unwrap_or_default();
+            let shown = match dir.strip_prefix(&cwd) {
+                Ok(relative) if relative.as_os_str().is_empty() => std::path::Path::new("."),
+                Ok(relative) => relative,
+                Err(_) => dir,
+            };
+            format!("  {} (in {})", names.join(", "), shown.display())
         }
         _ => format!(
             "  {}",

@@ -971,3 +971,74 @@ fn tokens(code: &str) -> Vec<String> {
     }
     tokens
 }
+
+// Fails if a picture in the README or docs/ is not what the program renders now with the command
+// that made it (run from the checkout, as the README's commands run): bit for bit on the reference
+// renderer, where they were made; elsewhere it says it is skipped. With TUTORIAL13_UPDATE_DOCS=1 it
+// rewrites them instead. (docs/photometric.png has its own test in `photometric::`.)
+#[test]
+fn the_docs_pictures_are_what_the_program_renders() {
+    let pictures: [(&str, &[&str]); 2] = [
+        ("docs/first-frame.png", &["--headless"]),
+        (
+            "docs/panel.png",
+            &["--headless", "--debug-lines", "--panel"],
+        ),
+    ];
+    let update = std::env::var_os("TUTORIAL13_UPDATE_DOCS").is_some();
+    if !update && !common::reference_renderer_here("the_docs_pictures_are_what_the_program_renders")
+    {
+        return;
+    }
+    let root = common::manifest();
+    let out = common::scratch("docs-pictures");
+    for (picture, args) in pictures {
+        let rendered = out.join(Path::new(picture).file_name().unwrap());
+        let run = common::run(
+            common::tutorial13()
+                .args(args)
+                .arg("--screenshot")
+                .arg(&rendered)
+                .current_dir(root),
+        );
+        assert!(
+            run.status.success(),
+            "{picture}: {}",
+            common::text(&run.stderr)
+        );
+        let now = image::open(&rendered).unwrap().into_rgb8();
+        if update {
+            now.save(root.join(picture)).unwrap();
+            println!("{picture} rewritten (TUTORIAL13_UPDATE_DOCS)");
+            continue;
+        }
+        let committed = image::open(root.join(picture)).unwrap().into_rgb8();
+        let (differing, max, bbox) = common::pixel_diff(&committed, &now);
+        assert!(
+            differing == 0,
+            "{picture}: {differing} pixels differ from `tutorial13 {}` (by up to {max}, within \
+             {bbox:?}; it is in {}); rewrite it with TUTORIAL13_UPDATE_DOCS=1 cargo test --release \
+             -- docs::",
+            args.join(" "),
+            rendered.display()
+        );
+    }
+}
+
+// Fails if .ci/run checks another list of the tutorial's files than the tests read
+// (`ORIGINAL_FILES`): CI would pass with one missing and the tests would then fail, or check one
+// that no test needs.
+#[test]
+fn ci_checks_the_tutorials_files_the_tests_read() {
+    let run = std::fs::read_to_string(common::manifest().join(".ci/run")).unwrap();
+    let listed: Vec<&str> = run
+        .lines()
+        .find_map(|line| line.strip_prefix("for f in cylinder.obj"))
+        .map(|rest| {
+            std::iter::once("cylinder.obj")
+                .chain(rest.trim_end_matches("; do").split_whitespace())
+                .collect()
+        })
+        .expect(".ci/run's loop over the tutorial's files");
+    assert_eq!(listed, common::ORIGINAL_FILES);
+}

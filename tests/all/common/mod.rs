@@ -47,18 +47,37 @@ pub fn skip(test: &str, reason: &str) {
 /// beside the crate. The project never copies them in, so a plain clone has neither: then `test`
 /// says it is skipped and gets `None`, unless `TUTORIAL13_REQUIRE_ORIGINAL=1` (set by .ci/run), which
 /// fails instead so that CI never skips.
+/// Every file of the tutorial's folder that a test reads (.ci/run checks the same list).
+pub const ORIGINAL_FILES: [&str; 10] = [
+    "cylinder.obj",
+    "cylinder.mtl",
+    "diffuse.DDS",
+    "specular.DDS",
+    "normal.bmp",
+    "ref.png",
+    "cpp-llvmpipe-core.png",
+    "cpp-llvmpipe-compat-lines.png",
+    "cpp-llvmpipe-core-msaa4.png",
+    "cpp-llvmpipe-compat-lines-msaa4.png",
+];
+
 pub fn original_assets(test: &str) -> Option<PathBuf> {
     let dir = match std::env::var_os("TUTORIAL13_ORIGINAL_ASSETS") {
         Some(dir) => PathBuf::from(dir),
         None => manifest().join("../shared/tutorial13-original"),
     };
-    if dir.join("cylinder.obj").is_file() {
+    let missing: Vec<&str> = ORIGINAL_FILES
+        .into_iter()
+        .filter(|name| !dir.join(name).is_file())
+        .collect();
+    if missing.is_empty() {
         return Some(dir);
     }
     let reason = format!(
-        "the tutorial's own files are not in {} (set TUTORIAL13_ORIGINAL_ASSETS=DIR to a folder \
-         holding them)",
-        dir.display()
+        "the tutorial's own files are not in {} ({} missing; set TUTORIAL13_ORIGINAL_ASSETS=DIR \
+         to a folder holding them)",
+        dir.display(),
+        missing.join(", ")
     );
     assert!(
         std::env::var_os("TUTORIAL13_REQUIRE_ORIGINAL").is_none(),
