@@ -156,8 +156,16 @@ pub fn scene_options(
             ));
         }
     }
-    for scene in SCENES {
-        (scene.read_args)(matches, &mut options).map_err(|e| e.to_string())?;
+    // Every scene's options, so that a scene switched to keeps the flags it reads; only the chosen
+    // scene's may refuse them (`--light 0,0,-4` is a place for the cylinder, no height over the
+    // sprite: the sprite then starts with its own light).
+    for other in SCENES {
+        if let Err(e) = (other.read_args)(matches, &mut options) {
+            if *other == *scene {
+                let text = e.to_string();
+                return Err(text.trim().trim_start_matches("error: ").to_string());
+            }
+        }
     }
     Ok(options)
 }

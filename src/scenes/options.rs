@@ -56,9 +56,25 @@ pub struct SharedArgs {
     /// Where the light is. cylinder: X,Y,Z in world space [default: the tutorial's lightPos 0,0,4],
     /// or in the model's own coordinates with --model [default: where the tutorial's light is
     /// beside its cylinder, scaled to the model]. sprite: X,Y across the window (0 to 1, y up) and
-    /// the height Z > 0 [default: 0.4,0.6,0.075]; in the window the mouse takes over once it moves
+    /// the height Z > 0 [default: 0.4,0.6,0.075]; in the window the mouse takes over once it moves.
+    /// cube, wall: X,Y,Z in world space [default: the article's, -4,1.5,6 and 4,0,4]
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
     pub light: Option<glam::Vec3>,
+
+    /// The light's power, as the panel's "light power" slider sets it. cylinder: the tutorial's
+    /// LightPower [default: 40]; cube: a factor on its light [default: 1]; wall: its light's
+    /// intensity [default: 50]
+    #[arg(long, value_name = "P", value_parser = parse_power)]
+    pub light_power: Option<f32>,
+}
+
+/// A light's power: a finite number, 0 or more.
+fn parse_power(s: &str) -> std::result::Result<f32, String> {
+    s.trim()
+        .parse::<f32>()
+        .ok()
+        .filter(|p| p.is_finite() && *p >= 0.0)
+        .ok_or_else(|| format!("'{s}' is not a finite number of 0 or more"))
 }
 
 /// `X,Y,Z` of three finite numbers.

@@ -413,9 +413,9 @@ fn a_flag_of_another_scene_stops_the_program_before_rendering() {
     let shot = scratch.join("frame.png");
     for (args, flag, owner) in [
         (
-            &["--scene", "cube", "--light", "0.5,0.5,0.1"][..],
-            "--light",
-            "scenes cylinder and sprite",
+            &["--scene", "sprite", "--light-power", "2"][..],
+            "--light-power",
+            "scenes cylinder, cube and wall",
         ),
         (
             &["--scene", "wall", "--model", "a.obj"][..],

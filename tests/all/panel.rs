@@ -319,3 +319,128 @@ fn the_cylinders_sliders_each_change_the_frame() {
         assert!(frame(&mut renderer) == first, "{name}: back at {start}");
     }
 }
+
+/// A scene with `args` on its command line (the crate's own assets), as the binary builds it.
+fn renderer_with_flags(scene: &'static SceneDescriptor, args: &[String]) -> HeadlessRenderer {
+    let command = tutorial13::scenes::command_line(clap::Command::new("t"));
+    let argv = std::iter::once("t".to_string()).chain(args.iter().cloned());
+    let matches = command.try_get_matches_from(argv).unwrap();
+    let options = tutorial13::scenes::scene_options(&matches, scene, Default::default())
+        .unwrap_or_else(|e| panic!("{scene} {args:?}: {e}"));
+    common::renderer(&HeadlessOptions {
+        descriptor: scene,
+        scene: options,
+        ..Default::default()
+    })
+}
+
+/// The flags slider `label` of `scene` needs to apply at all, and the flag that starts it at
+/// `value` (`light` is where the scene's light starts, for the sliders of one of its axes).
+fn flags_of_slider(scene: &str, label: &str, value: f32, light: [f32; 3]) -> [Vec<String>; 2] {
+    let light_with = |axis: usize| {
+        let mut at = light;
+        at[axis] = value;
+        vec!["--light".into(), format!("{},{},{}", at[0], at[1], at[2])]
+    };
+    let (needs, flag): (&[&str], Vec<String>) = match (scene, label) {
+        (_, "light x") => (&[], light_with(0)),
+        (_, "light y") => (&[], light_with(1)),
+        (_, "light z") | ("sprite", "light height") => (&[], light_with(2)),
+        (_, "light power") => (&[], vec!["--light-power".into(), value.to_string()]),
+        ("cylinder", "normal strength") => {
+            (&[], vec!["--normal-strength".into(), value.to_string()])
+        }
+        ("cylinder", "TBN line length") => (
+            &["--debug-lines"],
+            vec!["--line-length".into(), value.to_string()],
+        ),
+        ("cylinder", "compare split") => (
+            &["--compare", "tutorial,mikktspace"],
+            vec!["--split".into(), value.to_string()],
+        ),
+        _ => panic!("{scene}: no flag known for the {label} slider"),
+    };
+    [needs.iter().map(|s| s.to_string()).collect(), flag]
+}
+
+// Fails if any slider of any scene, moved on the panel, does not give bit for bit the frame of the
+// command-line flag it stands for (--light with the other axes where they were, --light-power,
+// --normal-strength, --line-length, --split), or if the scene started with that flag does not show
+// the slider at that value; or if the moved slider left the frame as it was.
+#[test]
+fn each_slider_gives_the_frame_of_its_flag() {
+    let mut checked = Vec::new();
+    for scene in SCENES {
+        let labels: Vec<&str> = sliders(&renderer_for(scene))
+            .iter()
+            .map(|s| s.label)
+            .collect();
+        for label in labels {
+            // A value 30 % along the slider's range (70 % where it starts there), as the command
+            // line writes it.
+            let probe = renderer_for(scene);
+            let slider = sliders(&probe)
+                .into_iter()
+                .find(|s| s.label == label)
+                .unwrap();
+            let ControlValue::Slider {
+                range, value: now, ..
+            } = slider.value
+            else {
+                unreachable!()
+            };
+            let along = |f: f32| -> f32 {
+                let v = range.0 + f * (range.1 - range.0);
+                format!("{v:.3}").parse().unwrap()
+            };
+            let value = if along(0.3) == now {
+                along(0.7)
+            } else {
+                along(0.3)
+            };
+            let light_axis = |axis: &str| {
+                let at = sliders(&probe).into_iter().find(|s| s.label == axis);
+                at.map_or(0.0, |s| value_and_start(&s).0)
+            };
+            let mut light = ["light x", "light y", "light z"].map(light_axis);
+            if scene.name == "sprite" {
+                let sprite = probe.scene_ref::<tutorial13::scenes::sprite::Sprite>();
+                light = sprite.light.to_array();
+            }
+            drop(probe);
+            let [needs, flag] = flags_of_slider(scene.name, label, value, light);
+
+            let mut moved = renderer_with_flags(scene, &needs);
+            let before = frame(&mut moved);
+            let index = moved.scene.control_index(label).unwrap();
+            assert_eq!(
+                moved.scene.controls()[index].inert,
+                None,
+                "{scene}: {label}"
+            );
+            moved
+                .scene
+                .set_control(index, SetTo::Slider(value))
+                .unwrap();
+            let moved_frame = frame(&mut moved);
+            drop(moved);
+            assert!(
+                moved_frame != before,
+                "{scene}: {label} at {value} changed nothing"
+            );
+
+            let mut args = needs.clone();
+            args.extend(flag.iter().cloned());
+            let mut flagged = renderer_with_flags(scene, &args);
+            let shown = value_and_start(&flagged.scene.controls()[index]).0;
+            assert_eq!(shown, value, "{scene} {args:?}: the {label} slider");
+            assert!(
+                frame(&mut flagged) == moved_frame,
+                "{scene}: {label} at {value} is not the frame of {args:?}"
+            );
+            checked.push(format!("{scene} {label}"));
+        }
+    }
+    println!("{checked:?}");
+    assert_eq!(checked.len(), 16, "{checked:?}");
+}

@@ -118,6 +118,7 @@ fn some_value(arg: &clap::Arg) -> Option<String> {
         "model" => "model.obj".to_string(),
         "diffuse" | "normal_map" | "specular" | "height" => "map.png".to_string(),
         "strength" => "8".to_string(),
+        "normal_strength" | "line_length" | "light_power" => "0.5".to_string(),
         _ => match arg.get_default_values().first() {
             Some(default) => default.to_string_lossy().into_owned(),
             None => arg.get_possible_values()[0].get_name().to_string(),
@@ -228,4 +229,25 @@ fn a_shared_flags_help_names_its_scenes() {
         .collect();
     assert_eq!(readers, ["cylinder", "sprite"]);
     assert!(help.ends_with("[scenes cylinder and sprite]"), "{help}");
+}
+
+// Fails if a shared flag that only the chosen scene can take as given is refused for another
+// scene's reading of it (`--light 0,0,-4` is a place below the cylinder's centre, no height over the
+// sprite), or if the chosen scene's refusal is not its one message as it wrote it (once "error:
+// error: …" with a blank line).
+#[test]
+fn only_the_chosen_scene_refuses_a_shared_flags_value() {
+    let command = tutorial13::scenes::command_line(clap::Command::new("t"));
+    let matches = command.get_matches_from(["t", "--light", "0,0,-4"]);
+    let options =
+        |scene| tutorial13::scenes::scene_options(&matches, scene, SceneOptions::default());
+    let cylinder = options(&tutorial13::scenes::cylinder::SCENE).unwrap();
+    let light = cylinder
+        .get::<tutorial13::scenes::cylinder::CylinderOptions>()
+        .light;
+    assert_eq!(light, Some(glam::Vec3::new(0.0, 0.0, -4.0)));
+    assert_eq!(
+        options(&tutorial13::scenes::sprite::SCENE).unwrap_err(),
+        "--light: Z = -4 must be above 0 (the light's height over the sprite)"
+    );
 }

@@ -115,6 +115,16 @@ pub struct CylinderArgs {
         allow_negative_numbers = true
     )]
     pub strength: Option<f32>,
+
+    /// A factor on the normal map's x and y before normalizing, as the panel's "normal strength"
+    /// slider sets it [default: 1, the map as it is; another value draws with the debugging shader]
+    #[arg(long, value_name = "S", value_parser = parse_finite)]
+    pub normal_strength: Option<f32>,
+
+    /// The TBN debug lines' length, as the panel's "TBN line length" slider sets it [default: 0.1,
+    /// the tutorial's]
+    #[arg(long, value_name = "L", value_parser = parse_length)]
+    pub line_length: Option<f32>,
 }
 
 impl SceneArgs for CylinderArgs {
@@ -165,6 +175,9 @@ impl SceneArgs for CylinderArgs {
                 strength: self.strength,
             },
             light: shared.light,
+            light_power: shared.light_power,
+            normal_strength: self.normal_strength,
+            line_length: self.line_length,
         })
     }
 }
@@ -175,6 +188,21 @@ fn parse_pair(s: &str) -> std::result::Result<[TangentSource; 2], String> {
         .ok_or_else(|| format!("'{s}' is not A,B, e.g. tutorial,mikktspace"))?;
     let parse = |name: &str| <TangentSource as clap::ValueEnum>::from_str(name.trim(), false);
     Ok([parse(a)?, parse(b)?])
+}
+
+fn parse_finite(s: &str) -> std::result::Result<f32, String> {
+    s.trim()
+        .parse::<f32>()
+        .ok()
+        .filter(|f| f.is_finite())
+        .ok_or_else(|| format!("'{s}' is not a finite number"))
+}
+
+fn parse_length(s: &str) -> std::result::Result<f32, String> {
+    parse_finite(s)
+        .ok()
+        .filter(|l| *l > 0.0)
+        .ok_or_else(|| format!("'{s}' is not a length above 0"))
 }
 
 fn parse_fraction(s: &str) -> std::result::Result<f32, String> {

@@ -50,7 +50,7 @@ use tutorial13::{NormalMappingProgram, Tutorial13, CLEAR_COLOR, SHADERS};
 
 /// The scene as the rest of the program knows it.
 pub static SCENE: SceneDescriptor = SceneDescriptor {
-    shared_args: &["green", "light"],
+    shared_args: &["green", "light", "light_power"],
     generate_assets: crate::assets::generate_cylinder_assets,
     open_file: open_model,
     ..SceneDescriptor::of::<Cylinder>(
@@ -107,6 +107,11 @@ pub struct CylinderOptions {
     pub maps: MapOverrides,
     /// `--light X,Y,Z`: world space for the tutorial's cylinder, the file's coordinates for a model.
     pub light: Option<Vec3>,
+    /// `--light-power`, `--normal-strength`, `--line-length`: the panel's sliders of the same
+    /// names; `None` = the tutorial's.
+    pub light_power: Option<f32>,
+    pub normal_strength: Option<f32>,
+    pub line_length: Option<f32>,
 }
 
 /// Tutorial 13 and the state of its debugging aids.
@@ -200,11 +205,16 @@ impl SceneType for Cylinder {
         let mut scene = Cylinder {
             lines: TbnLines::Wanted(cylinder.line_mode),
             programs: Programs::load(gl, shader_dir)?,
-            knobs: Knobs::TUTORIAL,
+            knobs: Knobs {
+                light_power: cylinder.light_power.unwrap_or(Knobs::TUTORIAL.light_power),
+                normal_strength: cylinder
+                    .normal_strength
+                    .unwrap_or(Knobs::TUTORIAL.normal_strength),
+            },
             light: light_start,
             light_start,
             light_start_world,
-            line_length: LINE_LENGTH,
+            line_length: cylinder.line_length.unwrap_or(LINE_LENGTH),
             compare_start_split: cylinder.compare.map_or(0.5, |c| c.split.clamp(0.0, 1.0)),
             mesh: MeshState {
                 soup: soup_source,

@@ -35,6 +35,7 @@ pub use args::WallOptions;
 
 /// The scene as the rest of the program knows it.
 pub static SCENE: SceneDescriptor = SceneDescriptor {
+    shared_args: &["light", "light_power"],
     generate_assets: assets::generate,
     ..SceneDescriptor::of::<Wall>(
         "wall",
@@ -175,8 +176,8 @@ impl SceneType for Wall {
             buffers,
             model_matrix: Mat4::IDENTITY,
             shader_dir: shader_dir.map(Path::to_path_buf),
-            light_position_worldspace: LIGHT_POSITION_WORLDSPACE,
-            light_intensity: LIGHT_INTENSITY,
+            light_position_worldspace: options.light.unwrap_or(LIGHT_POSITION_WORLDSPACE),
+            light_intensity: options.light_power.unwrap_or(LIGHT_INTENSITY),
         })
     }
 }
