@@ -754,3 +754,45 @@ fn both_outputs_light_the_wall_as_the_readme_shows() {
          TUTORIAL13_UPDATE_DOCS=1 cargo test --release -- photometric::"
     );
 }
+
+/// FNV-1a (64 bits) of the decoded RGB texels of the image at `path`: a record of its exact output
+/// that does not depend on how the PNG encoder compresses.
+fn texel_hash(path: &Path) -> u64 {
+    read_rgb(path)
+        .as_raw()
+        .iter()
+        .fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+        })
+}
+
+// Fails if least squares (the default up to five photos, `--solver lstsq` from six) writes any
+// texel of the normal map or the albedo other than before the robust solver, intensities, masks
+// and sets of more than 64 photos were added: the hashes were recorded from that version's binary
+// on the wall's 8-bit PNG photos under 3, 4, 8 and 64 lights.
+#[test]
+fn least_squares_writes_what_it_wrote_before() {
+    let surface = wall();
+    let recorded: [(usize, u64, u64); 4] = [
+        (3, 0x0bef_8383_4368_be06, 0x5f17_32ad_45cf_2656),
+        (4, 0x4d04_2872_9e64_f6dd, 0x70f8_63f0_3afb_1dcd),
+        (8, 0xa6fd_4d3a_400b_2695, 0x8af8_58ce_95f9_04fc),
+        (64, 0x15d1_0e9a_6c7e_4af3, 0xc07b_2022_1635_2585),
+    ];
+    let mut wrong = Vec::new();
+    for (k, normal_hash, albedo_hash) in recorded {
+        let dir = scratch(&format!("lstsq-hash-{k}"));
+        let mut args = shoot(&dir, &surface, &lights(k), Format::Png, |_, _| {});
+        args.extend(["-o", "normal.png", "--albedo", "albedo.png"].map(String::from));
+        photometric(&dir, &args);
+        let got = (
+            texel_hash(&dir.join("normal.png")),
+            texel_hash(&dir.join("albedo.png")),
+        );
+        println!("{k} photos: normal {:#x}, albedo {:#x}", got.0, got.1);
+        if got != (normal_hash, albedo_hash) {
+            wrong.push(k);
+        }
+    }
+    assert!(wrong.is_empty(), "other output with {wrong:?} photos");
+}
