@@ -84,7 +84,13 @@ fn photometric(c: &mut Criterion) {
     let job = Job {
         photos: &paths,
         lights: &light_args,
+        lights_file: None,
+        intensities: &[],
+        intensities_file: None,
+        mask: None,
         output: &normal,
+        solver: None,
+        sixteen_bit: false,
         albedo: Some(&albedo),
         encoding: Encoding::Srgb,
         green: Green::Up,
