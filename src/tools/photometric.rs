@@ -14,8 +14,8 @@ use crate::Result;
 /// photo, or --intensities FILE; else all equally bright). Photos are read as sRGB (or --linear),
 /// divided by their light's brightness and solved in linear light for Lambert's law. Per texel,
 /// photos where it is near black (--shadow) or saturated (98 % of full scale) are left out; from
-/// six photos on, the robust solver also leaves out the darkest and brightest quarter of the rest
-/// (shadows, highlights) before least squares. Texels left with fewer than three photos, or with
+/// six photos on, the robust solver also leaves out the darkest tenth and the brightest quarter of
+/// the rest (shadows, highlights) before least squares. Texels left with fewer than three photos, or with
 /// lights within 5° of one plane, get the flat normal and are counted on stderr; outside --mask,
 /// the flat normal and albedo 0. A lamp close to the surface and light bounced between its parts
 /// break the model
@@ -47,7 +47,8 @@ pub struct PhotometricOptions {
     #[arg(long, value_name = "FILE")]
     pub mask: Option<PathBuf>,
     /// lstsq: least squares over every photo kept (the textbook method); robust: leave out the
-    /// darkest and brightest quarter of them per texel first. Default: robust from six photos on
+    /// darkest tenth and the brightest quarter of them per texel first. Default: robust from six
+    /// photos on
     #[arg(long, value_enum)]
     pub solver: Option<Solver>,
     /// Bits per channel of the normal map: 8, or 16 (PNG only) so that quantisation does not
