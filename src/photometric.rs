@@ -3,17 +3,27 @@
 //!
 //! Three or more photos from one camera position, each lit by one distant light from a known
 //! direction l (x to the photo's right, y up it, z out of the surface towards the camera; made unit
-//! here, so every photo is taken as equally bright: same lamp, same distance, same exposure). A
-//! matte (Lambertian) texel of albedo ρ and unit normal n shows, in linear light,
+//! here) and of a known brightness per colour channel, which each photo is divided by in linear
+//! light (all equal unless given: same lamp, same distance, same exposure). A matte (Lambertian)
+//! texel of albedo ρ and unit normal n shows, in linear light,
 //! I = ρ · max(0, n·l). Where it is lit, I = lᵀg with g = ρn, so three or more photos give g by
 //! least squares, g = (Σ l lᵀ)⁻¹ Σ l I, then n = g / |g| and ρ = |g|. The solve uses each photo's
 //! luminance; each colour channel's albedo is that channel's g projected on n.
 //!
 //! A texel that is near black in a photo (its linear luminance below `shadow`: the light does not
 //! reach it, and max(0, ·) hides how far) or saturated (a channel at 98 % of full scale or more: a
-//! highlight, or clipped) is left out of that texel's solve. Which photos are kept is a bitmask per
-//! texel, and the 3×3 inverse depends only on it: each mask's columns (Σ l lᵀ)⁻¹ l_k are computed
-//! once, the first time a band of rows meets it, so a texel costs K multiply-adds.
+//! highlight, or clipped) is left out of that texel's solve. Up to [`MASKED_PHOTOS`] photos, least
+//! squares keeps a bitmask per texel of the photos it keeps, and the 3×3 inverse depends only on
+//! it: each mask's columns (Σ l lᵀ)⁻¹ l_k are computed once, the first time a band of rows meets it,
+//! so a texel costs K multiply-adds. Above, a texel accumulates and inverts its own normal
+//! equations over its kept photos (a cache of masks would hold nearly one per texel).
+//!
+//! The robust solver ([`Solver::Robust`], the default from [`ROBUST_FROM`] photos) is trimmed least
+//! squares: a texel's kept photos are ranked by luminance (its light's brightness divided out),
+//! the [`ROBUST_DARKEST`] and [`ROBUST_BRIGHTEST`] fractions at the two ends are left out, and the
+//! rest is solved through its own normal equations. Highlights are brighter, and shadows with
+//! light bounced in darker, than Lambert's law allows; docs/tools.md says which methods this
+//! follows and where it stops working.
 //!
 //! Lights that (nearly) share a plane cannot tell how far a normal leans out of it. The measure is
 //! the light directions' root-mean-square angle to the plane that fits them best: the square root of
