@@ -904,10 +904,14 @@ pub fn reserve_for_photos(count: usize, width: u32, height: u32, bytes: usize) -
 /// is deeper than 8 bits, all are widened to 16.
 pub fn load_photos(paths: &[PathBuf], threads: usize) -> Result<Vec<Photo>> {
     // The first photo's header gives the set's size (if it has none, its load says why).
+    // Without the decoder's limits: the header's size is what is checked here.
     let header = image::ImageReader::open(&paths[0])
         .ok()
         .and_then(|r| r.with_guessed_format().ok())
-        .and_then(|r| image::ImageDecoder::dimensions(&r.into_decoder().ok()?).into());
+        .and_then(|mut r| {
+            r.no_limits();
+            image::ImageDecoder::dimensions(&r.into_decoder().ok()?).into()
+        });
     if let Some((width, height)) = header {
         // 16 bits per channel: what any photo deeper than 8 makes of all of them.
         reserve_for_photos(paths.len(), width, height, 2)?;

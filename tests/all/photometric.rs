@@ -1176,3 +1176,50 @@ fn bad_capture_files_are_one_line_and_write_nothing() {
         assert_refused(&dir, &args, says, &before);
     }
 }
+
+/// A PNG that declares `width`×`height` 8-bit RGB texels and holds none: its signature, header, an
+/// empty data chunk and its end, each chunk with its CRC.
+fn png_header_only(width: u32, height: u32) -> Vec<u8> {
+    let crc = |bytes: &[u8]| {
+        !bytes.iter().fold(!0u32, |c, &b| {
+            (0..8).fold(c ^ u32::from(b), |c, _| {
+                (c >> 1) ^ (0xEDB8_8320 & 0u32.wrapping_sub(c & 1))
+            })
+        })
+    };
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    let mut header = [width.to_be_bytes(), height.to_be_bytes()].concat();
+    header.extend([8, 2, 0, 0, 0]);
+    for (kind, data) in [(*b"IHDR", header), (*b"IDAT", vec![]), (*b"IEND", vec![])] {
+        png.extend((data.len() as u32).to_be_bytes());
+        let chunk = [&kind[..], &data].concat();
+        png.extend(&chunk);
+        png.extend(crc(&chunk).to_be_bytes());
+    }
+    png
+}
+
+// Fails if a set too large to hold in memory is not refused before its photos are decoded, in one
+// line giving the bytes it would need, with nothing written: three photos whose headers declare
+// 16 777 216 × 2 147 483 647 texels each (a PNG's tallest; rows short enough for the decoder to
+// read the header), 6.5e17 bytes at 16 bits per channel: more than any 64-bit address space holds.
+#[test]
+fn a_set_too_large_for_memory_is_refused_with_its_size() {
+    let dir = scratch("too-large");
+    for k in 0..3 {
+        std::fs::write(
+            dir.join(format!("huge{k}.png")),
+            png_header_only(1 << 24, i32::MAX as u32),
+        )
+        .unwrap();
+    }
+    let before = files_under(&dir);
+    let mut args: Vec<String> = ["photometric", "huge0.png", "huge1.png", "huge2.png"]
+        .map(String::from)
+        .to_vec();
+    args.extend(light_args(&lights(3)));
+    args.extend(["-o", "normal.png"].map(String::from));
+    let need = 3 * (1u128 << 24) * u128::from(i32::MAX as u32) * 6;
+    let says = format!("3 photos of 16777216×2147483647 need {need} bytes");
+    assert_refused(&dir, &args, &says, &before);
+}
