@@ -3,7 +3,7 @@
 //!     cargo run --profile fuzz --example fuzz -- --seconds 1800
 //!
 //! Options: `--seconds N` (total, shared equally by the targets; default 60), `--target NAME`
-//! (obj, dds, bmp, pipeline, heightmap, model, photo or obj-tobj; repeatable; default
+//! (obj, dds, bmp, pipeline, heightmap, model, photo, obj-tobj or lights; repeatable; default
 //! all), `--seed N` (default: from the clock,
 //! printed), `--slow-ms N` (a case slower than this fails; default 2000), `--replay FILE` (run one
 //! input on the target named before it, else the one its folder is named after, and print the
@@ -122,10 +122,16 @@ fn parse(s: &str) -> u64 {
 
 fn usage(problem: &str) -> ! {
     eprintln!(
-        "fuzz: {problem}\nusage: fuzz [--seconds N] [--target obj|dds|bmp|pipeline|heightmap|model|photo|obj-tobj]... [--seed N] [--slow-ms N] [--replay FILE] [--make-corpus]"
+        "fuzz: {problem}\nusage: fuzz [--seconds N] [--target obj|dds|bmp|pipeline|heightmap|model|photo|obj-tobj|lights]... [--seed N] [--slow-ms N] [--replay FILE] [--make-corpus]"
     );
     std::process::exit(2);
 }
+
+/// A light-directions file as capture sets ship them, with a comment and a blank line.
+const LIGHTS_SEED: &str =
+    "# x y z\n-0.0633 0.2921 0.9543\n\n0.1752 -0.4016 0.8988\n0.5 0.5 0.7071 # last\n";
+/// A light-intensities file: three per line, and one value for all three.
+const INTENSITIES_SEED: &str = "0.82 0.79 0.91\n1 1 1\n# dim\n0.5\n";
 
 /// The seed corpus: small files made here (the tutorial's own files are not redistributable).
 fn make_corpus() {
@@ -246,6 +252,12 @@ fn make_corpus() {
     );
     let grey = image::DynamicImage::from(colour.clone()).into_luma8();
     write(Target::Photo, "grey-8x6.jpg", &encoded(grey.into(), jpeg));
+    write(Target::Lights, "directions.txt", LIGHTS_SEED.as_bytes());
+    write(
+        Target::Lights,
+        "intensities.txt",
+        INTENSITIES_SEED.as_bytes(),
+    );
     let deep = image::ImageBuffer::from_fn(3, 2, |x, y| {
         image::Rgb([(x * 30000) as u16, (y * 60000) as u16, 65535])
     });

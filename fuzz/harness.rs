@@ -26,6 +26,7 @@ use tutorial13::mesh::MeshOptions;
 use tutorial13::model::{load_model_bytes, MapOverrides, Model};
 use tutorial13::normalmap::{decode_image, normal_map, HeightMap, Kernel, NormalMapOptions};
 use tutorial13::photo::{height_from_photo, Photo};
+use tutorial13::photometric::{parse_intensities_file, parse_lights_file};
 use tutorial13::photometric::{recover, PhotometricOptions};
 use tutorial13::pipeline::indexer::index_vbo_tbn;
 use tutorial13::pipeline::obj_parse::load_obj_bytes;
@@ -56,6 +57,10 @@ pub enum Target {
     /// `height_from_photo` and `photometric::recover` (three copies under three lights, albedo on):
     /// an error naming the file, or one height, normal and albedo per texel, heights finite.
     Photo,
+    /// A capture's light-directions and light-intensities text (`photometric --lights`,
+    /// `--intensities`), the same input through both parsers: an error naming the file on one line,
+    /// or one finite, nonzero direction (and one finite brightness above zero per channel) per line.
+    Lights,
     /// The project's OBJ reader against tobj's parse (an input as the model target's: the OBJ, then
     /// the MTL every `mtllib` reads), in both modes, in one piece and cut into several: the same
     /// soup to the bit, the same materials, or the same error (`differ_from_tobj`).
@@ -65,7 +70,7 @@ pub enum Target {
 /// Where a `model` input's MTL text starts (the OBJ's `mtllib` should name `fuzz.mtl`).
 pub const MTL_SEPARATOR: &str = "#--- fuzz.mtl ---\n";
 
-pub const TARGETS: [Target; 8] = [
+pub const TARGETS: [Target; 9] = [
     Target::Obj,
     Target::Dds,
     Target::Bmp,
@@ -74,6 +79,7 @@ pub const TARGETS: [Target; 8] = [
     Target::Model,
     Target::Photo,
     Target::ObjTobj,
+    Target::Lights,
 ];
 
 /// Meshes up to this many corners are also indexed by the quadratic reference.
@@ -92,6 +98,7 @@ impl Target {
             Target::Model => "model",
             Target::Photo => "photo",
             Target::ObjTobj => "obj-tobj",
+            Target::Lights => "lights",
         }
     }
 
@@ -107,13 +114,14 @@ impl Target {
             Target::Heightmap => "fuzz-height.png",
             Target::Model => "fuzz-model.obj",
             Target::Photo => "fuzz-photo.jpg",
+            Target::Lights => "fuzz-lights.txt",
         }
     }
 
     fn is_text(self) -> bool {
         matches!(
             self,
-            Target::Obj | Target::Pipeline | Target::Model | Target::ObjTobj
+            Target::Obj | Target::Pipeline | Target::Model | Target::ObjTobj | Target::Lights
         )
     }
 }
@@ -303,6 +311,24 @@ fn check(target: Target, input: &[u8]) -> Result<Outcome, String> {
                 Err(e) => rejected(e),
                 Ok(model) => check_model(&model).map(|_| Outcome::Loaded),
             }
+        }
+        Target::Lights => {
+            let Ok(text) = std::str::from_utf8(input) else {
+                return Ok(Outcome::Rejected("not UTF-8".into()));
+            };
+            let lights = parse_lights_file(text, path)
+                .map(|lights| lights.iter().all(|l| l.is_finite() && *l != Vec3::ZERO));
+            let intensities = parse_intensities_file(text, path)
+                .map(|rgb| rgb.iter().flatten().all(|c| c.is_finite() && *c > 0.0));
+            let mut outcome = Outcome::Loaded;
+            for (what, parsed) in [("direction", lights), ("intensity", intensities)] {
+                match parsed {
+                    Ok(true) => {}
+                    Ok(false) => return Err(format!("a {what} accepted that is not one")),
+                    Err(e) => outcome = rejected(e)?,
+                }
+            }
+            Ok(outcome)
         }
         Target::Photo => match check_photo_bytes(input, path) {
             None => Ok(Outcome::Rejected("larger than the harness decodes".into())),

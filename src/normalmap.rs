@@ -140,6 +140,11 @@ pub fn encode_normal(v: [f32; 3]) -> [u8; 3] {
     [encode(v[0]), encode(v[1]), encode(v[2])]
 }
 
+/// A unit normal as a 16-bit texel: each component from [−1, 1] to [0, 65535], rounded.
+pub fn encode_normal16(v: [f32; 3]) -> [u16; 3] {
+    v.map(|c| (32767.5 * (c + 1.0)).round().clamp(0.0, 65535.0) as u16)
+}
+
 /// `x.round().clamp(0.0, 255.0) as u8`, to the bit, without a call to libm's `roundf` (which x86-64's
 /// baseline instruction set makes a function call: a third of photometric stereo's time per texel).
 pub fn round_to_u8(x: f32) -> u8 {
@@ -219,6 +224,30 @@ pub fn write_normal_map(path: &Path, texels: &[[u8; 3]], width: u32, height: u32
             image::ImageError::IoError(e) => Error::io(path, e),
             other => bad(other.to_string()),
         })
+    })
+}
+
+/// Writes 16-bit RGB texels (row 0 at the top) to `path`, a PNG, atomically.
+pub fn write_normal_map16(path: &Path, texels: &[[u16; 3]], width: u32, height: u32) -> Result<()> {
+    let bad = |reason: String| Error::Write {
+        path: path.to_path_buf(),
+        reason,
+    };
+    if map_format(path)? != image::ImageFormat::Png {
+        return Err(bad(
+            "16-bit normal maps are written as PNG only: name it .png".into(),
+        ));
+    }
+    let flat: Vec<u16> = texels.iter().flatten().copied().collect();
+    let image = image::ImageBuffer::<image::Rgb<u16>, _>::from_raw(width, height, flat)
+        .ok_or_else(|| bad(format!("{} texels for {width}×{height}", texels.len())))?;
+    crate::files::write_atomically(path, |out| {
+        image
+            .write_to(out, image::ImageFormat::Png)
+            .map_err(|e| match e {
+                image::ImageError::IoError(e) => Error::io(path, e),
+                other => bad(other.to_string()),
+            })
     })
 }
 

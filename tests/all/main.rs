@@ -2,6 +2,8 @@
 //! helpers (`common`) are compiled once. Each module is one former test file, named for what it
 //! checks; run one with `cargo test --release -- <module>::` (see the README).
 
+#[path = "../support/capture_rig.rs"]
+mod capture_rig;
 mod common;
 #[path = "../support/differential.rs"]
 mod differential;
