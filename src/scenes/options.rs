@@ -19,13 +19,35 @@ pub trait SceneArgs: clap::Args + clap::FromArgMatches {
 }
 
 /// Arguments that are the scene's options as they are (a scene whose every switch is a flag).
-pub trait OwnOptions: clap::Args + clap::FromArgMatches + SceneOption + Clone + Default {}
+pub trait OwnOptions: clap::Args + clap::FromArgMatches + SceneOption + Clone + Default {
+    /// These options with the shared flags the scene reads: none unless it says.
+    fn with_shared(self, _shared: &SharedArgs) -> Self {
+        self
+    }
+}
 
 impl<T: OwnOptions> SceneArgs for T {
     type Options = T;
 
-    fn options(&self, _shared: &SharedArgs) -> std::result::Result<T, String> {
-        Ok(self.clone())
+    fn options(&self, shared: &SharedArgs) -> std::result::Result<T, String> {
+        Ok(self.clone().with_shared(shared))
+    }
+}
+
+/// `--light` and `--light-power` as a scene with one point light in world space reads them;
+/// `None`: the scene's own.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct LightFlags {
+    pub position: Option<glam::Vec3>,
+    pub power: Option<f32>,
+}
+
+impl LightFlags {
+    pub fn of(shared: &SharedArgs) -> Self {
+        LightFlags {
+            position: shared.light,
+            power: shared.light_power,
+        }
     }
 }
 

@@ -1,8 +1,6 @@
 //! The cube scene's command-line arguments, which are its options as they are.
 
-use glam::Vec3;
-
-use crate::scenes::options::{SceneArgs, SharedArgs};
+use crate::scenes::options::{LightFlags, OwnOptions, SharedArgs};
 
 // The cube's switches, as the command line sets them. (A plain comment: clap would make a doc
 // comment on an Args struct the whole program's `about`.)
@@ -13,12 +11,9 @@ pub struct CubeOptions {
     /// it off (key N)
     #[arg(long = "no-normal-map", action = clap::ArgAction::SetFalse)]
     pub normal_mapping: bool,
-    /// `--light` (world space); `None` = the article's.
+    /// `--light` (world space) and `--light-power` (a factor on the article's light, 1).
     #[arg(skip)]
-    pub light: Option<Vec3>,
-    /// `--light-power`; `None` = the article's 1.
-    #[arg(skip)]
-    pub light_power: Option<f32>,
+    pub light: LightFlags,
 }
 
 impl Default for CubeOptions {
@@ -26,20 +21,14 @@ impl Default for CubeOptions {
     fn default() -> Self {
         CubeOptions {
             normal_mapping: true,
-            light: None,
-            light_power: None,
+            light: LightFlags::default(),
         }
     }
 }
 
-impl SceneArgs for CubeOptions {
-    type Options = CubeOptions;
-
-    fn options(&self, shared: &SharedArgs) -> std::result::Result<CubeOptions, String> {
-        Ok(CubeOptions {
-            light: shared.light,
-            light_power: shared.light_power,
-            ..*self
-        })
+impl OwnOptions for CubeOptions {
+    fn with_shared(self, shared: &SharedArgs) -> Self {
+        let light = LightFlags::of(shared);
+        CubeOptions { light, ..self }
     }
 }

@@ -249,8 +249,8 @@ impl SceneType for Cube {
             gl: gl.clone(),
             normal_mapping: options.normal_mapping,
             model_matrix: model_matrix(),
-            light_position_worldspace: options.light.unwrap_or(LIGHT_POSITION_WORLDSPACE),
-            light_power: options.light_power.unwrap_or(1.0),
+            light_position_worldspace: options.light.position.unwrap_or(LIGHT_POSITION_WORLDSPACE),
+            light_power: options.light.power.unwrap_or(1.0),
             shader_dir: shader_dir.map(Path::to_path_buf),
         })
     }

@@ -1,8 +1,6 @@
 //! The wall scene's command-line arguments, which are its options as they are.
 
-use glam::Vec3;
-
-use crate::scenes::options::{SceneArgs, SharedArgs};
+use crate::scenes::options::{LightFlags, OwnOptions, SharedArgs};
 
 use super::LightingSpace;
 
@@ -14,22 +12,14 @@ pub struct WallOptions {
     /// Light the stone wall in view space, in tangent space, or without its normal map (key S)
     #[arg(long, value_enum, value_name = "SPACE", default_value_t = LightingSpace::View)]
     pub space: LightingSpace,
-    /// `--light` (world space); `None` = the article's.
+    /// `--light` (world space) and `--light-power` (the light's intensity, the article's 50).
     #[arg(skip)]
-    pub light: Option<Vec3>,
-    /// `--light-power`, the light's intensity; `None` = the article's 50.
-    #[arg(skip)]
-    pub light_power: Option<f32>,
+    pub light: LightFlags,
 }
 
-impl SceneArgs for WallOptions {
-    type Options = WallOptions;
-
-    fn options(&self, shared: &SharedArgs) -> std::result::Result<WallOptions, String> {
-        Ok(WallOptions {
-            light: shared.light,
-            light_power: shared.light_power,
-            ..*self
-        })
+impl OwnOptions for WallOptions {
+    fn with_shared(self, shared: &SharedArgs) -> Self {
+        let light = LightFlags::of(shared);
+        WallOptions { light, ..self }
     }
 }

@@ -176,8 +176,8 @@ impl SceneType for Wall {
             buffers,
             model_matrix: Mat4::IDENTITY,
             shader_dir: shader_dir.map(Path::to_path_buf),
-            light_position_worldspace: options.light.unwrap_or(LIGHT_POSITION_WORLDSPACE),
-            light_intensity: options.light_power.unwrap_or(LIGHT_INTENSITY),
+            light_position_worldspace: options.light.position.unwrap_or(LIGHT_POSITION_WORLDSPACE),
+            light_intensity: options.light.power.unwrap_or(LIGHT_INTENSITY),
         })
     }
 }
