@@ -61,15 +61,22 @@ pub static SCENE: SceneDescriptor = SceneDescriptor {
     )
 };
 
-/// A dropped `.obj` file is opened as `--model` (the other options stay as they were).
+/// A dropped `.obj`, `.gltf` or `.glb` file is opened as `--model` (the other options stay as they
+/// were, but the tangent source, when it is the default of the model it replaces, becomes the new
+/// model's default).
 fn open_model(path: &Path, options: &mut SceneOptions) -> bool {
     let is_obj = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
-    if is_obj {
-        options.get_mut::<CylinderOptions>().model = Some(path.to_path_buf());
+    let opened = is_obj || crate::model::gltf::is_gltf(path);
+    if opened {
+        let cylinder = options.get_mut::<CylinderOptions>();
+        if cylinder.tangents == args::default_tangents(cylinder.model.as_deref()) {
+            cylinder.tangents = args::default_tangents(Some(path));
+        }
+        cylinder.model = Some(path.to_path_buf());
     }
-    is_obj
+    opened
 }
 
 /// The tutorial's state (`init_gl_state`), applied at the start of every frame: another scene may
@@ -101,7 +108,7 @@ pub struct CylinderOptions {
     pub tangents: TangentSource,
     /// Start in the compare view.
     pub compare: Option<CompareOptions>,
-    /// `--model FILE.obj`: a learner's model in place of the tutorial's cylinder.
+    /// `--model FILE`: a learner's model (OBJ or glTF) in place of the tutorial's cylinder.
     pub model: Option<PathBuf>,
     /// `--diffuse`, `--normal-map`, `--specular`, `--height`: maps over the model's or the tutorial's.
     pub maps: MapOverrides,
