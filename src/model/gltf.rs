@@ -75,13 +75,16 @@ struct Corners {
 
 impl Reader<'_> {
     fn model(&self, bytes: &[u8], overrides: &MapOverrides) -> Result<Model, String> {
-        let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(bytes).map_err(|e| {
-            let reason = e.to_string();
-            match bytes.starts_with(b"glTF") {
-                true => format!("not a binary glTF this program reads: {reason}"),
-                false => format!("not glTF JSON this program reads: {reason}"),
-            }
-        })?;
+        let not_read = |e: gltf::Error| match bytes.starts_with(b"glTF") {
+            true => format!("not a binary glTF this program reads: {e}"),
+            false => format!("not glTF JSON this program reads: {e}"),
+        };
+        let gltf::Gltf { document, blob } =
+            gltf::Gltf::from_slice_without_validation(bytes).map_err(not_read)?;
+        // The crate's validation and accessors assume these (they panic where they do not hold).
+        let root = document.into_json();
+        check_before_validation(&root)?;
+        let document = gltf::Document::from_json(root).map_err(not_read)?;
         if document.extensions_used().any(|e| e == TEXTURE_TRANSFORM) {
             return Err(format!(
                 "uses {TEXTURE_TRANSFORM} (UVs moved per texture), which this program does not \
@@ -161,6 +164,18 @@ impl Reader<'_> {
             soup.uvs.extend(c.uvs);
             soup.normals.extend(c.normals);
             tangents.extend(c.tangents);
+        }
+        let finite = |v: &[f32]| v.iter().all(|x| x.is_finite());
+        let all_finite = soup.vertices.iter().all(|p| finite(&p.to_array()))
+            && soup.uvs.iter().all(|uv| finite(&uv.to_array()))
+            && soup.normals.iter().all(|n| finite(&n.to_array()))
+            && tangents.iter().all(|t| finite(t));
+        if !all_finite {
+            return Err(
+                "a position, UV, normal or tangent is not a finite number (as stored, or \
+                 after its node's transform)"
+                    .into(),
+            );
         }
         // Each material's corners are already together: the grouping keeps them as they are.
         let (mut soup, ranges) = group_by_material(soup, &triangle_materials);
@@ -356,6 +371,35 @@ impl Reader<'_> {
             bump_multiplier,
         })
     }
+}
+
+/// What the `gltf` crate's validation and accessors take for granted without checking: a
+/// primitive's POSITION accessor exists (its validation reads its bounds first), and an image has a
+/// URI or a buffer view with its MIME type.
+fn check_before_validation(root: &gltf::json::Root) -> Result<(), String> {
+    let positions = gltf::json::validation::Checked::Valid(gltf::Semantic::Positions);
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            if let Some(index) = primitive.attributes.get(&positions) {
+                if index.value() >= root.accessors.len() {
+                    return Err(format!(
+                        "mesh {m} primitive {p}: POSITION names accessor {}, of {}",
+                        index.value(),
+                        root.accessors.len()
+                    ));
+                }
+            }
+        }
+    }
+    for (i, image) in root.images.iter().enumerate() {
+        let source = (&image.uri, &image.buffer_view, &image.mime_type);
+        if !matches!(source, (Some(_), None, _) | (None, Some(_), Some(_))) {
+            return Err(format!(
+                "image {i}: neither a URI nor a buffer view with its mimeType"
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// One primitive's corners, transformed to the scene's space.
@@ -639,6 +683,25 @@ pub fn decode_base64(text: &str) -> Option<Vec<u8>> {
     Some(out)
 }
 
+/// Standard base64 with padding: what a data URI carries (for tools and tests that write glTF).
+pub fn encode_base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let mut bits = 0u32;
+        for (k, &b) in chunk.iter().enumerate() {
+            bits |= u32::from(b) << (16 - 8 * k);
+        }
+        for k in 0..4 {
+            match k <= chunk.len() {
+                true => out.push(ALPHABET[(bits >> (18 - 6 * k) & 63) as usize] as char),
+                false => out.push('='),
+            }
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -654,6 +717,13 @@ mod tests {
         assert_eq!(decode_base64("/+8A").unwrap(), [0xff, 0xef, 0x00]);
         assert!(decode_base64("Zm9v!").is_none());
         assert!(decode_base64("Z").is_none());
+        let bytes: Vec<u8> = (0..=255).collect();
+        for n in 0..bytes.len() {
+            assert_eq!(
+                decode_base64(&encode_base64(&bytes[..n])).unwrap(),
+                &bytes[..n]
+            );
+        }
     }
 
     // Fails if a mirroring transform keeps w: the bitangent would point the wrong way.

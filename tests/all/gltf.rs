@@ -263,7 +263,7 @@ fn write_cells(dir: &Path, name: &str, swapped: bool, tangents: bool, storage: S
     let uri = match storage {
         Storage::DataUri => format!(
             "data:application/octet-stream;base64,{}",
-            base64(&buffers.bin)
+            tutorial13::model::gltf::encode_base64(&buffers.bin)
         ),
         Storage::File => {
             std::fs::write(dir.join(format!("{name}.bin")), &buffers.bin).unwrap();
@@ -290,28 +290,6 @@ fn write_cells(dir: &Path, name: &str, swapped: bool, tangents: bool, storage: S
         buffers.accessors.join(",")
     );
     std::fs::write(dir.join(format!("{name}.gltf")), json).unwrap();
-}
-
-/// Standard base64 with padding.
-fn base64(bytes: &[u8]) -> String {
-    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::new();
-    for chunk in bytes.chunks(3) {
-        let b = [
-            chunk[0],
-            *chunk.get(1).unwrap_or(&0),
-            *chunk.get(2).unwrap_or(&0),
-        ];
-        let n = u32::from_be_bytes([0, b[0], b[1], b[2]]);
-        for k in 0..4 {
-            if k <= chunk.len() {
-                out.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
 }
 
 /// The binary's headless frame of `model` with `args`.
