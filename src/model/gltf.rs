@@ -92,12 +92,13 @@ impl Reader<'_> {
             ));
         }
         let buffers = self.buffers(&document, blob)?;
-        let mut notices = vec![format!(
+        log::info!(
             "{}: glTF's metallic-roughness material is not the tutorial's lighting model: \
              baseColorTexture is the diffuse map, normalTexture the normal map, specular is the \
              tutorial's constant 0.3; metallic, roughness, occlusion and emission are left out",
             self.path.display()
-        )];
+        );
+        let mut notices = Vec::new();
 
         // Materials in the order primitives first use them; `None` is glTF's default material.
         let mut material_order: Vec<Option<usize>> = Vec::new();

@@ -188,10 +188,33 @@ impl SceneType for Cylinder {
                     parsed.as_secs_f64() * 1000.0,
                     (start.elapsed() - parsed).as_secs_f64() * 1000.0
                 );
-                let tutorial =
-                    Tutorial13::from_soup(gl, shader_dir, &model.soup, cylinder.mesh, sets)?;
-                warn_of_merged_corners(&model, &tutorial.mesh);
-                (tutorial, SoupSource::Model(Rc::new(model)))
+                let model = Rc::new(model);
+                let soup_source = SoupSource::Model(Rc::clone(&model));
+                let tutorial = match cylinder.tangents {
+                    TangentSource::Tutorial => {
+                        let tutorial = Tutorial13::from_soup(
+                            gl,
+                            shader_dir,
+                            &model.soup,
+                            cylinder.mesh,
+                            sets,
+                        )?;
+                        warn_of_merged_corners(&model, &tutorial.mesh);
+                        tutorial
+                    }
+                    // Another source's mesh straight away: the tutorial's would be built for
+                    // nothing (seconds on a large model).
+                    source => {
+                        let start = std::time::Instant::now();
+                        let mesh = soup_source.mesh(source, cylinder.mesh)?;
+                        log::debug!(
+                            "{source} tangents and indexing: {:.1} ms",
+                            start.elapsed().as_secs_f64() * 1000.0
+                        );
+                        Tutorial13::from_mesh(gl, shader_dir, mesh, sets)?
+                    }
+                };
+                (tutorial, soup_source)
             }
         };
         if let Some(light) = cylinder.light {
@@ -214,9 +237,14 @@ impl SceneType for Cylinder {
             line_length: LINE_LENGTH,
             compare_start_split: cylinder.compare.map_or(0.5, |c| c.split.clamp(0.0, 1.0)),
             mesh: MeshState {
+                // A model's mesh is already the chosen source's; the tutorial's cylinder's is the
+                // tutorial's until the source is set below.
+                source: match &soup_source {
+                    SoupSource::Model(_) => cylinder.tangents,
+                    SoupSource::Tutorial(_) => TangentSource::Tutorial,
+                },
                 soup: soup_source,
                 options: cylinder.mesh,
-                source: TangentSource::Tutorial,
                 built: Vec::new(),
             },
             comparison: None,
