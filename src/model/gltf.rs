@@ -92,12 +92,6 @@ impl Reader<'_> {
             ));
         }
         let buffers = self.buffers(&document, blob)?;
-        log::info!(
-            "{}: glTF's metallic-roughness material is not the tutorial's lighting model: \
-             baseColorTexture is the diffuse map, normalTexture the normal map, specular is the \
-             tutorial's constant 0.3; metallic, roughness, occlusion and emission are left out",
-            self.path.display()
-        );
         let mut notices = Vec::new();
 
         // Materials in the order primitives first use them; `None` is glTF's default material.
@@ -187,6 +181,13 @@ impl Reader<'_> {
         for p in &mut soup.vertices {
             *p = placement.to_world(*p);
         }
+        // Said once the model is read (a refused file gets its one line alone).
+        log::info!(
+            "{}: glTF's metallic-roughness material is not the tutorial's lighting model: \
+             baseColorTexture is the diffuse map, normalTexture the normal map, specular is the \
+             tutorial's constant 0.3; metallic, roughness, occlusion and emission are left out",
+            self.path.display()
+        );
         let file_tangents = (!tangents_missing).then_some(tangents);
         Ok(Model {
             path: self.path.to_path_buf(),
