@@ -32,6 +32,11 @@ use crate::{Error, Result};
 /// The extension that moves and turns UVs per texture; this reader does not apply it.
 const TEXTURE_TRANSFORM: &str = "KHR_texture_transform";
 
+/// What a glTF's materials lose here, said once when a glTF model is drawn.
+pub const METALLIC_ROUGHNESS: &str = "glTF's metallic-roughness material is not the tutorial's \
+    lighting model: baseColorTexture is the diffuse map, normalTexture the normal map, specular is \
+    the tutorial's constant 0.3; metallic, roughness, occlusion and emission are left out";
+
 /// Whether `path` names a glTF file (`.gltf` or `.glb`) rather than an OBJ.
 pub fn is_gltf(path: &Path) -> bool {
     path.extension()
@@ -181,13 +186,6 @@ impl Reader<'_> {
         for p in &mut soup.vertices {
             *p = placement.to_world(*p);
         }
-        // Said once the model is read (a refused file gets its one line alone).
-        log::info!(
-            "{}: glTF's metallic-roughness material is not the tutorial's lighting model: \
-             baseColorTexture is the diffuse map, normalTexture the normal map, specular is the \
-             tutorial's constant 0.3; metallic, roughness, occlusion and emission are left out",
-            self.path.display()
-        );
         let file_tangents = (!tangents_missing).then_some(tangents);
         Ok(Model {
             path: self.path.to_path_buf(),

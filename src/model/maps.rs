@@ -140,7 +140,14 @@ pub fn decode(source: &MapSource, slot: Slot, notices: &mut Vec<String>) -> Resu
             named_by,
             bump_multiplier,
         } => {
-            let image = read_image_bytes(bytes, path)?;
+            // The picture's error names the model too: the picture may be one of its buffers.
+            let image = read_image_bytes(bytes, path).map_err(|e| match e {
+                Error::Image { path, reason } => Error::Image {
+                    path,
+                    reason: format!("{reason} ({named_by})"),
+                },
+                e => e,
+            })?;
             let scale = (*bump_multiplier, "scale");
             Ok(decoded(image, slot, path, named_by, scale, notices))
         }

@@ -553,8 +553,8 @@ fn a_gltf_picture_is_upright() {
 
 // Fails if a bad glTF draws, panics, or fails with anything but one line naming the file and the
 // reason and exit status 1, or if a screenshot is written: a .glb cut short, broken JSON, an
-// accessor past its buffer, a missing buffer or image, lines instead of triangles, no UVs,
-// KHR_texture_transform.
+// accessor past its buffer, a missing buffer or image, a PNG cut short, lines instead of
+// triangles, no UVs, KHR_texture_transform.
 #[test]
 fn bad_gltf_files_are_one_line_errors() {
     let dir = common::scratch("gltf_bad");
@@ -562,6 +562,7 @@ fn bad_gltf_files_are_one_line_errors() {
     std::fs::write(dir.join("picture.png"), &png).unwrap();
     let (json, bin) = quad_document(Some("quad.bin"), None);
     std::fs::write(dir.join("quad.bin"), &bin).unwrap();
+    std::fs::write(dir.join("garbled.png"), &png[..png.len() / 2]).unwrap();
     let (glb_json, glb_bin) = quad_document(None, Some(&png));
     let whole = glb(&glb_json, &glb_bin);
     let edit = |from: &str, to: &str| {
@@ -586,6 +587,11 @@ fn bad_gltf_files_are_one_line_errors() {
         ),
         ("buffer.gltf", edit("quad.bin", "gone.bin"), "gone.bin"),
         ("image.gltf", edit("picture.png", "gone.png"), "gone.png"),
+        (
+            "garbled.gltf",
+            edit("picture.png", "garbled.png"),
+            "garbled.png",
+        ),
         (
             "lines.gltf",
             edit(r#""material":0"#, r#""material":0,"mode":1"#),

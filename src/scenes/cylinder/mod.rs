@@ -182,6 +182,14 @@ impl SceneType for Cylinder {
                 let model = load_model(path, &cylinder.maps)?;
                 let parsed = start.elapsed();
                 let sets = model_texture_sets(gl, &model)?;
+                // Once the file and its maps are read: a refused file gets its one line alone.
+                if crate::model::gltf::is_gltf(path) {
+                    log::info!(
+                        "{}: {}",
+                        path.display(),
+                        crate::model::gltf::METALLIC_ROUGHNESS
+                    );
+                }
                 log::debug!(
                     "{}: read and parsed in {:.1} ms, maps decoded and uploaded in {:.1} ms",
                     path.display(),
