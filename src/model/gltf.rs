@@ -726,6 +726,33 @@ mod tests {
         }
     }
 
+    // Fails if a node's transform is not applied (the fuzz corpus's quad sits under a node that
+    // moves it by +2 in x and a child that mirrors x), if the mirror leaves the winding clockwise
+    // (the quad would face away from its normal), or if the file's tangent keeps its w there.
+    #[test]
+    fn node_transforms_move_mirror_and_keep_the_winding() {
+        let bytes = include_bytes!(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/fuzz/corpus/gltf/mirrored-tangents.gltf"
+        ));
+        let none = |_: &Path| Err(std::io::ErrorKind::NotFound.into());
+        let path = Path::new("quad.gltf");
+        let model =
+            super::super::load_model_bytes(bytes, path, &MapOverrides::default(), none).unwrap();
+        // The file's quad spans x 0..1; mirrored and moved it spans 1..2.
+        assert_eq!(model.placement.center, Vec3::new(1.5, 0.5, 0.0));
+        for t in model.soup.vertices.chunks(3) {
+            let face = (t[1] - t[0]).cross(t[2] - t[0]);
+            assert!(face.z > 0.0, "a triangle faces {face}");
+        }
+        assert!(model.soup.normals.iter().all(|&n| n == Vec3::Z));
+        let tangents = model.file_tangents.unwrap();
+        assert!(
+            tangents.iter().all(|&t| t == [-1.0, 0.0, 0.0, 1.0]),
+            "{tangents:?}"
+        );
+    }
+
     // Fails if a mirroring transform keeps w: the bitangent would point the wrong way.
     #[test]
     fn a_mirror_flips_the_tangents_sign() {
