@@ -3,7 +3,7 @@
 //!     cargo run --profile fuzz --example fuzz -- --seconds 1800
 //!
 //! Options: `--seconds N` (total, shared equally by the targets; default 60), `--target NAME`
-//! (obj, dds, bmp, pipeline, heightmap, model, photo, obj-tobj or lights; repeatable; default
+//! (obj, dds, bmp, pipeline, heightmap, model, photo, obj-tobj, lights or gltf; repeatable; default
 //! all), `--seed N` (default: from the clock,
 //! printed), `--slow-ms N` (a case slower than this fails; default 2000), `--replay FILE` (run one
 //! input on the target named before it, else the one its folder is named after, and print the
@@ -122,7 +122,7 @@ fn parse(s: &str) -> u64 {
 
 fn usage(problem: &str) -> ! {
     eprintln!(
-        "fuzz: {problem}\nusage: fuzz [--seconds N] [--target obj|dds|bmp|pipeline|heightmap|model|photo|obj-tobj|lights]... [--seed N] [--slow-ms N] [--replay FILE] [--make-corpus]"
+        "fuzz: {problem}\nusage: fuzz [--seconds N] [--target obj|dds|bmp|pipeline|heightmap|model|photo|obj-tobj|lights|gltf]... [--seed N] [--slow-ms N] [--replay FILE] [--make-corpus]"
     );
     std::process::exit(2);
 }
@@ -177,6 +177,10 @@ fn make_corpus() {
         "large.obj",
         b"v 1e38 0 0\nv -1e38 3e38 0\nv 3e38 -1e38 1e38\nvt 0 0\nvt 1e-6 0\nvt 0 1e-6\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 2/2/1 3/3/1\n",
     );
+
+    for (name, bytes) in gltf_seeds() {
+        write(Target::Gltf, name, &bytes);
+    }
 
     for (name, side) in [("4x4", 4u32), ("8x8", 8)] {
         let rgba: Vec<u8> = (0..side * side * 4).map(|i| (i * 37 % 256) as u8).collect();
@@ -273,4 +277,63 @@ fn make_corpus() {
         "fuzz: corpus written to {}",
         harness::fuzz_dir().join("corpus").display()
     );
+}
+
+/// A quad as glTF: JSON with its buffer as a data URI, with and without tangents, under a node
+/// that moves and mirrors it; and the same as a binary `.glb` (its buffer in the BIN chunk).
+fn gltf_seeds() -> Vec<(&'static str, Vec<u8>)> {
+    let floats = |v: &[f32]| -> Vec<u8> { v.iter().flat_map(|f| f.to_le_bytes()).collect() };
+    let mut bin = floats(&[0., 0., 0., 1., 0., 0., 1., 1., 0., 0., 1., 0.]);
+    bin.extend(floats(&[0., 0., 1.].repeat(4)));
+    bin.extend(floats(&[0., 1., 1., 1., 1., 0., 0., 0.]));
+    bin.extend(floats(&[1., 0., 0., -1.].repeat(4)));
+    bin.extend([0u16, 1, 2, 0, 2, 3].iter().flat_map(|i| i.to_le_bytes()));
+    let views = "[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":48},\
+        {\"buffer\":0,\"byteOffset\":48,\"byteLength\":48},\
+        {\"buffer\":0,\"byteOffset\":96,\"byteLength\":32},\
+        {\"buffer\":0,\"byteOffset\":128,\"byteLength\":64},\
+        {\"buffer\":0,\"byteOffset\":192,\"byteLength\":12}]";
+    let accessors = "[{\"bufferView\":0,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\",\
+        \"min\":[0,0,0],\"max\":[1,1,0]},\
+        {\"bufferView\":1,\"componentType\":5126,\"count\":4,\"type\":\"VEC3\"},\
+        {\"bufferView\":2,\"componentType\":5126,\"count\":4,\"type\":\"VEC2\"},\
+        {\"bufferView\":3,\"componentType\":5126,\"count\":4,\"type\":\"VEC4\"},\
+        {\"bufferView\":4,\"componentType\":5123,\"count\":6,\"type\":\"SCALAR\"}]";
+    let document = |tangent: &str, buffer: &str| {
+        format!(
+            "{{\"asset\":{{\"version\":\"2.0\"}},\"scene\":0,\"scenes\":[{{\"nodes\":[0]}}],\
+             \"nodes\":[{{\"children\":[1],\"translation\":[2,0,0]}},{{\"mesh\":0,\"scale\":[-1,1,1]}}],\
+             \"meshes\":[{{\"primitives\":[{{\"attributes\":{{\"POSITION\":0,\"NORMAL\":1,\
+             \"TEXCOORD_0\":2{tangent}}},\"indices\":4,\"material\":0}}]}}],\
+             \"materials\":[{{\"normalTexture\":{{\"index\":0,\"scale\":2}}}}],\
+             \"textures\":[{{\"source\":0}}],\"images\":[{{\"uri\":\"data:image/png;base64,\"}}],\
+             \"buffers\":[{{{buffer}\"byteLength\":204}}],\"bufferViews\":{views},\
+             \"accessors\":{accessors}}}"
+        )
+    };
+    let uri = format!(
+        "\"uri\":\"data:application/octet-stream;base64,{}\",",
+        tutorial13::model::gltf::encode_base64(&bin)
+    );
+    let with = document(",\"TANGENT\":3", &uri);
+    let without = document("", &uri);
+    let mut json = document(",\"TANGENT\":3", "").into_bytes();
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut glb = b"glTF".to_vec();
+    for n in [2, total, json.len()] {
+        glb.extend((n as u32).to_le_bytes());
+    }
+    glb.extend(b"JSON");
+    glb.extend(&json);
+    glb.extend((bin.len() as u32).to_le_bytes());
+    glb.extend(b"BIN\0");
+    glb.extend(&bin);
+    vec![
+        ("mirrored-tangents.gltf", with.into_bytes()),
+        ("mirrored.gltf", without.into_bytes()),
+        ("mirrored-tangents.glb", glb),
+    ]
 }

@@ -65,12 +65,16 @@ pub enum Target {
     /// the MTL every `mtllib` reads), in both modes, in one piece and cut into several: the same
     /// soup to the bit, the same materials, or the same error (`differ_from_tobj`).
     ObjTobj,
+    /// `model::load_model_bytes` on a glTF (JSON or binary; a file it names beside it is never
+    /// there): an error naming the file on one line, or a model as the `model` target's, with
+    /// file tangents (if any) one per corner, unit, w = ±1.
+    Gltf,
 }
 
 /// Where a `model` input's MTL text starts (the OBJ's `mtllib` should name `fuzz.mtl`).
 pub const MTL_SEPARATOR: &str = "#--- fuzz.mtl ---\n";
 
-pub const TARGETS: [Target; 9] = [
+pub const TARGETS: [Target; 10] = [
     Target::Obj,
     Target::Dds,
     Target::Bmp,
@@ -80,6 +84,7 @@ pub const TARGETS: [Target; 9] = [
     Target::Photo,
     Target::ObjTobj,
     Target::Lights,
+    Target::Gltf,
 ];
 
 /// Meshes up to this many corners are also indexed by the quadratic reference.
@@ -99,6 +104,7 @@ impl Target {
             Target::Photo => "photo",
             Target::ObjTobj => "obj-tobj",
             Target::Lights => "lights",
+            Target::Gltf => "gltf",
         }
     }
 
@@ -115,6 +121,7 @@ impl Target {
             Target::Model => "fuzz-model.obj",
             Target::Photo => "fuzz-photo.jpg",
             Target::Lights => "fuzz-lights.txt",
+            Target::Gltf => "fuzz.gltf",
         }
     }
 
@@ -330,6 +337,16 @@ fn check(target: Target, input: &[u8]) -> Result<Outcome, String> {
             }
             Ok(outcome)
         }
+        Target::Gltf => {
+            let nothing_beside = |_: &Path| Err(std::io::ErrorKind::NotFound.into());
+            match load_model_bytes(input, path, &MapOverrides::default(), nothing_beside) {
+                Err(e) => rejected(e),
+                Ok(model) => {
+                    check_model(&model)?;
+                    check_file_tangents(&model).map(|_| Outcome::Loaded)
+                }
+            }
+        }
         Target::Photo => match check_photo_bytes(input, path) {
             None => Ok(Outcome::Rejected("larger than the harness decodes".into())),
             Some(Err(e)) => rejected(e),
@@ -397,6 +414,28 @@ fn check_model(model: &Model) -> Result<(), String> {
         ));
     }
     Ok(())
+}
+
+/// A glTF model's own tangents: one per corner, xyz of unit length, w = ±1.
+fn check_file_tangents(model: &Model) -> Result<(), String> {
+    let Some(tangents) = &model.file_tangents else {
+        return Ok(());
+    };
+    if tangents.len() != model.soup.vertices.len() {
+        return Err(format!(
+            "{} file tangents for {} corners",
+            tangents.len(),
+            model.soup.vertices.len()
+        ));
+    }
+    let bad = |t: &&[f32; 4]| {
+        let length = glam::Vec3::new(t[0], t[1], t[2]).length();
+        (length - 1.0).abs() > 1e-3 || t[3].abs() != 1.0
+    };
+    match tangents.iter().find(bad) {
+        Some(t) => Err(format!("a file tangent {t:?}")),
+        None => Ok(()),
+    }
 }
 
 /// Photos that declare more texels than this are not decoded: a few hundred bytes of JPEG can

@@ -18,6 +18,9 @@ pub enum Error {
     /// The OBJ text is not something the tutorial's loader could use.
     #[error("{}: malformed OBJ: {reason}", path.display())]
     Obj { path: PathBuf, reason: String },
+    /// The glTF file (or a buffer or image it names) is not something this program can draw.
+    #[error("{}: {reason}", path.display())]
+    Gltf { path: PathBuf, reason: String },
     /// The DDS file is not a DXT1/DXT3/DXT5 texture the tutorial's loader accepts, or is cut short.
     #[error("{}: malformed DDS: {reason}", path.display())]
     Dds { path: PathBuf, reason: String },
@@ -82,6 +85,7 @@ impl Error {
         match self {
             Error::Io { path, .. }
             | Error::Obj { path, .. }
+            | Error::Gltf { path, .. }
             | Error::Dds { path, .. }
             | Error::Bmp { path, .. }
             | Error::Shader { path, .. }

@@ -8,7 +8,9 @@
 //!   everything matches exactly, so that each keeps its own frame; the bitangent is
 //!   `w × cross(N, T)`, as MikkTSpace's readers rebuild it;
 //! * `derivative`: no precomputed tangents at all; the fragment shader builds a cotangent frame per
-//!   pixel from screen-space derivatives (article 002), so the mesh goes up without tangent arrays.
+//!   pixel from screen-space derivatives (article 002), so the mesh goes up without tangent arrays;
+//! * `file`: a glTF model's own `TANGENT`s (the specification's default), indexed as MikkTSpace's
+//!   are; where the file supplies none, MikkTSpace, as the specification says a viewer computes.
 //!
 //! Where the UVs are mirrored (the tutorial's cylinder, seen through the loader's negated V, is
 //! mirrored everywhere), the tutorial's handedness fix flips the tangent, while MikkTSpace keeps
@@ -33,6 +35,8 @@ pub enum TangentSource {
     #[value(name = "mikktspace")]
     MikkTSpace,
     Derivative,
+    /// Listed (key F) only for a glTF model, whose file can supply tangents.
+    File,
 }
 
 impl TangentSource {
@@ -42,12 +46,24 @@ impl TangentSource {
     }
 
     /// The indexed mesh this source draws: with summed tangents (tutorial), MikkTSpace's
-    /// (mikktspace), or none (derivative). `options` are the tutorial pipeline's switches.
+    /// (mikktspace, and file for a soup without a file's tangents), or none (derivative).
+    /// `options` are the tutorial pipeline's switches.
     pub fn mesh(self, soup: &TriangleSoup, options: MeshOptions) -> Result<IndexedMesh> {
-        match self {
-            Self::Tutorial => Ok(build_mesh(soup, options)),
-            Self::MikkTSpace => mikktspace_mesh(soup),
-            Self::Derivative => Ok(index_vbo(soup)),
+        self.mesh_with(soup, None, options)
+    }
+
+    /// [`TangentSource::mesh`], with the file's tangents (one per corner) for `file`.
+    pub fn mesh_with(
+        self,
+        soup: &TriangleSoup,
+        file_tangents: Option<&[[f32; 4]]>,
+        options: MeshOptions,
+    ) -> Result<IndexedMesh> {
+        match (self, file_tangents) {
+            (Self::Tutorial, _) => Ok(build_mesh(soup, options)),
+            (Self::File, Some(tangents)) => Ok(welded_mesh(soup, tangents)),
+            (Self::MikkTSpace | Self::File, _) => mikktspace_mesh(soup),
+            (Self::Derivative, _) => Ok(index_vbo(soup)),
         }
     }
 }
@@ -102,7 +118,12 @@ pub fn mikktspace_tangents(soup: &TriangleSoup) -> Result<Vec<[f32; 4]>> {
 /// The soup indexed with MikkTSpace's frames: two corners become one vertex only when position,
 /// UV, normal and tangent (with its sign) are bit for bit the same, so no frame is averaged.
 pub fn mikktspace_mesh(soup: &TriangleSoup) -> Result<IndexedMesh> {
-    let tangents = mikktspace_tangents(soup)?;
+    Ok(welded_mesh(soup, &mikktspace_tangents(soup)?))
+}
+
+/// The soup indexed with a tangent per corner (xyz, w the bitangent's sign), welded as
+/// [`mikktspace_mesh`] welds.
+pub fn welded_mesh(soup: &TriangleSoup, tangents: &[[f32; 4]]) -> IndexedMesh {
     let (mut vertices, mut uvs, mut normals) = (Vec::new(), Vec::new(), Vec::new());
     let (mut tangents_out, mut bitangents) = (Vec::new(), Vec::new());
     let mut indices = Vec::with_capacity(tangents.len());
@@ -123,12 +144,12 @@ pub fn mikktspace_mesh(soup: &TriangleSoup) -> Result<IndexedMesh> {
         });
         indices.push(index);
     }
-    Ok(IndexedMesh {
+    IndexedMesh {
         indices: Indices::from_u32(indices, vertices.len()),
         vertices,
         uvs,
         normals,
         tangents: tangents_out,
         bitangents,
-    })
+    }
 }

@@ -131,37 +131,68 @@ pub fn decode(source: &MapSource, slot: Slot, notices: &mut Vec<String>) -> Resu
                 }
                 Err(e) => return Err(e),
             };
-            if slot != Slot::Normal {
-                return Ok(MapPixels::Image(image));
-            }
-            let multiplier = bump_multiplier.unwrap_or(1.0);
-            if image.is_grey() {
-                // A bump map in the old sense (heights): made into a normal map as `normalmap` does.
-                let strength = NormalMapOptions::default().strength * multiplier;
-                notices.push(format!(
-                    "{named_by}: {} is grey, so it is read as a height map (normalmap --strength \
-                     {strength})",
-                    path.display()
-                ));
-                let heights = HeightMap {
-                    width: image.width,
-                    height: image.height,
-                    values: image
-                        .rgba
-                        .chunks_exact(4)
-                        .map(|p| p[0] as f32 / 255.0)
-                        .collect(),
-                };
-                return Ok(MapPixels::Image(height_to_normals(&heights, strength)));
-            }
-            let mut image = image;
-            if multiplier != 1.0 {
-                image.scale_normal_xy(multiplier);
-                notices.push(format!("{named_by}: -bm {multiplier} applied"));
-            }
-            Ok(MapPixels::Image(image))
+            let scale = (*bump_multiplier, "-bm");
+            Ok(decoded(image, slot, path, named_by, scale, notices))
+        }
+        MapSource::Bytes {
+            bytes,
+            path,
+            named_by,
+            bump_multiplier,
+        } => {
+            // The picture's error names the model too: the picture may be one of its buffers.
+            let image = read_image_bytes(bytes, path).map_err(|e| match e {
+                Error::Image { path, reason } => Error::Image {
+                    path,
+                    reason: format!("{reason} ({named_by})"),
+                },
+                e => e,
+            })?;
+            let scale = (*bump_multiplier, "scale");
+            Ok(decoded(image, slot, path, named_by, scale, notices))
         }
     }
+}
+
+/// A decoded picture for `slot`: a grey normal map read as heights, `-bm` (or a glTF normal
+/// texture's scale) applied; `scale` is that multiplier and the name it is given in notices.
+fn decoded(
+    image: MapImage,
+    slot: Slot,
+    path: &Path,
+    named_by: &str,
+    (bump_multiplier, scale_name): (Option<f32>, &str),
+    notices: &mut Vec<String>,
+) -> MapPixels {
+    if slot != Slot::Normal {
+        return MapPixels::Image(image);
+    }
+    let multiplier = bump_multiplier.unwrap_or(1.0);
+    if image.is_grey() {
+        // A bump map in the old sense (heights): made into a normal map as `normalmap` does.
+        let strength = NormalMapOptions::default().strength * multiplier;
+        notices.push(format!(
+            "{named_by}: {} is grey, so it is read as a height map (normalmap --strength \
+             {strength})",
+            path.display()
+        ));
+        let heights = HeightMap {
+            width: image.width,
+            height: image.height,
+            values: image
+                .rgba
+                .chunks_exact(4)
+                .map(|p| p[0] as f32 / 255.0)
+                .collect(),
+        };
+        return MapPixels::Image(height_to_normals(&heights, strength));
+    }
+    let mut image = image;
+    if multiplier != 1.0 {
+        image.scale_normal_xy(multiplier);
+        notices.push(format!("{named_by}: {scale_name} {multiplier} applied"));
+    }
+    MapPixels::Image(image)
 }
 
 /// `tutorial13 normalmap` with its defaults and `strength`.

@@ -1,5 +1,6 @@
-//! A learner's own model (`--model FILE.obj`): an OBJ with the materials of its `.mtl`, read for the
-//! tutorial's pipeline (`computeTangentBasis`, `indexVBO_TBN`, `NormalMapping.*`).
+//! A learner's own model (`--model FILE.obj`): an OBJ with the materials of its `.mtl`, or a glTF 2.0
+//! file ([`gltf`]), read for the tutorial's pipeline (`computeTangentBasis`, `indexVBO_TBN`,
+//! `NormalMapping.*`).
 //!
 //! Three things differ from the tutorial's `loadOBJ`, because a model exported by a modelling tool is
 //! not the tutorial's cylinder:
@@ -14,6 +15,7 @@
 //!   and the shader's `LightPower` 40 with its falloff), the camera's speed, the debug lines' length.
 //!   [`Placement`] converts the file's own coordinates (e.g. `--light`) to the placed ones.
 
+pub mod gltf;
 pub mod maps;
 pub mod mtl;
 
@@ -86,6 +88,15 @@ pub enum MapSource {
     Height { path: PathBuf, strength: f32 },
     /// One colour (a material's `Kd` where it names no `map_Kd`).
     Colour([f32; 3]),
+    /// A picture already read (a glTF's image: embedded, or a file beside it). `path` names it in
+    /// messages; a picture that cannot be decoded is an error, as any glTF fault is.
+    Bytes {
+        bytes: std::sync::Arc<[u8]>,
+        path: PathBuf,
+        named_by: String,
+        /// A glTF `normalTexture`'s `scale`: the normal map's x and y are scaled by it.
+        bump_multiplier: Option<f32>,
+    },
     /// White diffuse or specular (the tutorial's constant specular 0.3 = white × 0.3), or the flat
     /// normal (0, 0, 1).
     Neutral,
@@ -164,12 +175,16 @@ pub struct Model {
     /// The file has no normals: they were computed (unit length). A file's own are kept as written,
     /// as the tutorial's `loadOBJ` keeps them.
     pub normals_computed: bool,
+    /// The file's own tangents, one per corner (xyz unit, w = ±1: the bitangent is
+    /// `w × cross(N, T)`), when every primitive of a glTF supplies them.
+    pub file_tangents: Option<Vec<[f32; 4]>>,
     /// What was filled in or left out (maps not named, normals computed, options ignored): one line
     /// each, for the log.
     pub notices: Vec<String>,
 }
 
-/// Reads `path` and the `.mtl` files it names (relative to its folder).
+/// Reads `path` and the `.mtl` files it names (relative to its folder), or a glTF file (`.gltf`,
+/// `.glb`) and the buffers and images it names.
 pub fn load_model(path: &Path, overrides: &MapOverrides) -> Result<Model> {
     let start = Instant::now();
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
@@ -182,13 +197,18 @@ pub fn load_model(path: &Path, overrides: &MapOverrides) -> Result<Model> {
     load_model_bytes(&bytes, path, overrides, |p| std::fs::read(p))
 }
 
-/// [`load_model`] on the OBJ's bytes; `read_mtl` reads a `.mtl` file (the fuzz harness gives its own).
+/// [`load_model`] on the model's bytes (an OBJ, or a glTF by `path`'s extension); `read_mtl` reads
+/// a file the model names: an OBJ's `.mtl`, a glTF's buffers and images (the fuzz harness gives its
+/// own).
 pub fn load_model_bytes(
     bytes: &[u8],
     path: &Path,
     overrides: &MapOverrides,
     read_mtl: impl Fn(&Path) -> std::io::Result<Vec<u8>>,
 ) -> Result<Model> {
+    if gltf::is_gltf(path) {
+        return gltf::load_gltf(bytes, path, overrides, &read_mtl);
+    }
     let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
     let notices = RefCell::new(Vec::new());
     // Each material's .mtl file, for the paths its maps give.
@@ -288,6 +308,7 @@ pub fn load_model_bytes(
         ranges,
         placement,
         normals_computed: read.normals_missing,
+        file_tangents: None,
         notices,
     })
 }
@@ -366,7 +387,7 @@ fn resolve(folder: &Path, file: &str) -> PathBuf {
     }
 }
 
-fn apply_overrides(material: &mut Material, overrides: &MapOverrides) {
+pub(crate) fn apply_overrides(material: &mut Material, overrides: &MapOverrides) {
     if let Some(path) = &overrides.diffuse {
         material.diffuse = MapSource::command_line(path, "--diffuse");
     }
@@ -381,7 +402,7 @@ fn apply_overrides(material: &mut Material, overrides: &MapOverrides) {
 /// The soup with its triangles grouped by material (stable: each material's triangles keep their
 /// order; materials in the order they are first used), and the ranges. A counting sort: linear in
 /// the triangles, and no copy at all when the soup is one run of a material already.
-fn group_by_material(
+pub(crate) fn group_by_material(
     soup: TriangleSoup,
     triangle_materials: &[usize],
 ) -> (TriangleSoup, Vec<MaterialRange>) {
@@ -433,7 +454,7 @@ fn group_by_material(
 }
 
 /// The bounding sphere the model is placed by, or `None` if it has no size (or no finite one).
-fn placement(vertices: &[Vec3]) -> Option<Placement> {
+pub(crate) fn placement(vertices: &[Vec3]) -> Option<Placement> {
     let (mut min, mut max) = (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN));
     for p in vertices {
         min = min.min(p.as_dvec3());

@@ -18,6 +18,7 @@ mod docs;
 mod flags_and_files;
 mod fuzz;
 mod gl_helpers;
+mod gltf;
 mod live_shaders;
 mod model;
 mod normal_map_conventions;

@@ -53,9 +53,11 @@ pub struct CylinderArgs {
     pub normalize_tbn: bool,
 
     /// Where the tangent frame comes from: the tutorial's computeTangentBasis + indexVBO_TBN,
-    /// MikkTSpace, or none (a per-pixel frame from screen-space derivatives) (key F)
-    #[arg(long, value_enum, value_name = "SOURCE", default_value_t = TangentSource::Tutorial)]
-    pub tangents: TangentSource,
+    /// MikkTSpace, none (a per-pixel frame from screen-space derivatives), or a glTF model's own
+    /// TANGENTs (MikkTSpace where it has none) [default: file for a glTF model, else tutorial]
+    /// (key F)
+    #[arg(long, value_enum, value_name = "SOURCE")]
+    pub tangents: Option<TangentSource>,
 
     /// Compare two tangent sources in one frame: A left of the split line, B right of it
     /// (e.g. tutorial,mikktspace) (key K; A and D move the split)
@@ -79,13 +81,14 @@ pub struct CylinderArgs {
     #[arg(long)]
     pub two_channel: bool,
 
-    /// Your own model instead of the tutorial's cylinder: an OBJ with UVs (normals are computed if
+    /// Your own model instead of the tutorial's cylinder: a glTF 2.0 file (.gltf or .glb: its
+    /// baseColorTexture and normalTexture, its TANGENTs for --tangents file), or an OBJ with UVs (normals are computed if
     /// it has none) and the maps its .mtl names (map_Kd, map_Bump/bump/norm, map_Ks; PNG, JPEG,
     /// TGA, BMP or DDS). A map the .mtl names but that is missing or unreadable is replaced by a
     /// neutral one with a notice; a map not named is neutral (Kd or white, flat normal, specular
     /// 0.3). The model is scaled onto the tutorial's cylinder, so its camera, light and debug lines
-    /// fit it. Dropping an .obj file on the window loads it too
-    #[arg(long, value_name = "FILE.obj")]
+    /// fit it. Dropping an .obj, .gltf or .glb file on the window loads it too
+    #[arg(long, value_name = "FILE")]
     pub model: Option<PathBuf>,
 
     /// Diffuse map over the material's (or the tutorial's diffuse.DDS); a missing or unreadable
@@ -156,7 +159,9 @@ impl SceneArgs for CylinderArgs {
             },
             debug_lines: self.debug_lines,
             line_mode: self.debug_lines_mode,
-            tangents: self.tangents,
+            tangents: self
+                .tangents
+                .unwrap_or_else(|| default_tangents(self.model.as_deref())),
             compare: self.compare.map(|sources| CompareOptions {
                 sources,
                 mode: if self.compare_difference {
@@ -179,6 +184,14 @@ impl SceneArgs for CylinderArgs {
             normal_strength: self.normal_strength,
             line_length: self.line_length,
         })
+    }
+}
+
+/// A glTF model's own tangents, as its specification says; the tutorial's otherwise.
+pub fn default_tangents(model: Option<&std::path::Path>) -> TangentSource {
+    match model.is_some_and(crate::model::gltf::is_gltf) {
+        true => TangentSource::File,
+        false => TangentSource::Tutorial,
     }
 }
 

@@ -12,10 +12,9 @@ use super::Cylinder;
 impl Cylinder {
     /// Shows `sources` in the compare view (each drawn whole, the first left of the split).
     pub fn start_comparison(&mut self, sources: [TangentSource; 2]) -> Result<()> {
-        let soup = self.mesh.soup.soup()?;
         self.mesh.built.extend(sources);
         let upload = |source: TangentSource| -> Result<MeshBuffers> {
-            MeshBuffers::new(&self.gl, &source.mesh(&soup, self.mesh.options)?)
+            MeshBuffers::new(&self.gl, &self.mesh.soup.mesh(source, self.mesh.options)?)
         };
         self.comparison = Some((sources, [upload(sources[0])?, upload(sources[1])?]));
         Ok(())

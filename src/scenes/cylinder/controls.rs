@@ -233,8 +233,8 @@ pub(super) const CONTROLS: &[C] = &[
     C::choice(
         'F',
         "tangent frame",
-        "tangent frame: tutorial, MikkTSpace, per-pixel derivatives",
-        |_| crate::choices::names::<TangentSource>(),
+        "tangent frame: tutorial, MikkTSpace, per-pixel derivatives, a glTF file's own",
+        tangent_source_names,
         |c| c.mesh.source.to_string(),
         |c, name| match crate::choices::by_name(name) {
             Some(source) => c.set_tangent_source(source),
@@ -327,6 +327,15 @@ pub(super) const CONTROLS: &[C] = &[
     )
     .inert_when(no_split),
 ];
+
+/// The tangent sources key F steps through: `file` only for a glTF model.
+fn tangent_source_names(cylinder: &Cylinder) -> Vec<String> {
+    let mut all = crate::choices::names::<TangentSource>();
+    if !cylinder.mesh.soup.is_gltf() {
+        all.retain(|n| *n != TangentSource::File.to_string());
+    }
+    all
+}
 
 /// A colour view's name without its component ("light01").
 fn view_name(vector: crate::debug::views::DebugVector, mapped: bool) -> String {

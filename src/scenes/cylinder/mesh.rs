@@ -50,6 +50,28 @@ impl SoupSource {
         }
     }
 
+    /// A glTF model's own tangents, one per corner, if it supplies them.
+    pub(super) fn file_tangents(&self) -> Option<&[[f32; 4]]> {
+        match self {
+            SoupSource::Model(model) => model.file_tangents.as_deref(),
+            SoupSource::Tutorial(_) => None,
+        }
+    }
+
+    /// Whether the `file` tangent source applies: a glTF model (its file can supply tangents).
+    pub(super) fn is_gltf(&self) -> bool {
+        matches!(self, SoupSource::Model(model) if crate::model::gltf::is_gltf(&model.path))
+    }
+
+    /// The mesh `source` draws with `options`.
+    pub(super) fn mesh(
+        &self,
+        source: TangentSource,
+        options: MeshOptions,
+    ) -> Result<crate::common::vboindexer::IndexedMesh> {
+        source.mesh_with(&*self.soup()?, self.file_tangents(), options)
+    }
+
     pub(super) fn soup(&self) -> Result<std::borrow::Cow<'_, TriangleSoup>> {
         Ok(match self {
             SoupSource::Tutorial(path) => std::borrow::Cow::Owned(load_obj(path)?),
@@ -116,10 +138,7 @@ impl Cylinder {
             (SoupSource::Tutorial(path), TangentSource::Tutorial) => {
                 self.tutorial.reload_mesh(path, options)?
             }
-            (soup_source, _) => {
-                let soup = soup_source.soup()?;
-                self.tutorial.set_mesh(source.mesh(&soup, options)?)?;
-            }
+            (soup_source, _) => self.tutorial.set_mesh(soup_source.mesh(source, options)?)?,
         }
         if source == TangentSource::Derivative {
             self.lines.drop_built();

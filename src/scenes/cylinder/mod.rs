@@ -61,15 +61,22 @@ pub static SCENE: SceneDescriptor = SceneDescriptor {
     )
 };
 
-/// A dropped `.obj` file is opened as `--model` (the other options stay as they were).
+/// A dropped `.obj`, `.gltf` or `.glb` file is opened as `--model` (the other options stay as they
+/// were, but the tangent source, when it is the default of the model it replaces, becomes the new
+/// model's default).
 fn open_model(path: &Path, options: &mut SceneOptions) -> bool {
     let is_obj = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
-    if is_obj {
-        options.get_mut::<CylinderOptions>().model = Some(path.to_path_buf());
+    let opened = is_obj || crate::model::gltf::is_gltf(path);
+    if opened {
+        let cylinder = options.get_mut::<CylinderOptions>();
+        if cylinder.tangents == args::default_tangents(cylinder.model.as_deref()) {
+            cylinder.tangents = args::default_tangents(Some(path));
+        }
+        cylinder.model = Some(path.to_path_buf());
     }
-    is_obj
+    opened
 }
 
 /// The tutorial's state (`init_gl_state`), applied at the start of every frame: another scene may
@@ -101,7 +108,7 @@ pub struct CylinderOptions {
     pub tangents: TangentSource,
     /// Start in the compare view.
     pub compare: Option<CompareOptions>,
-    /// `--model FILE.obj`: a learner's model in place of the tutorial's cylinder.
+    /// `--model FILE`: a learner's model (OBJ or glTF) in place of the tutorial's cylinder.
     pub model: Option<PathBuf>,
     /// `--diffuse`, `--normal-map`, `--specular`, `--height`: maps over the model's or the tutorial's.
     pub maps: MapOverrides,
@@ -180,16 +187,47 @@ impl SceneType for Cylinder {
                 let model = load_model(path, &cylinder.maps)?;
                 let parsed = start.elapsed();
                 let sets = model_texture_sets(gl, &model)?;
+                // Once the file and its maps are read: a refused file gets its one line alone.
+                if crate::model::gltf::is_gltf(path) {
+                    log::info!(
+                        "{}: {}",
+                        path.display(),
+                        crate::model::gltf::METALLIC_ROUGHNESS
+                    );
+                }
                 log::debug!(
                     "{}: read and parsed in {:.1} ms, maps decoded and uploaded in {:.1} ms",
                     path.display(),
                     parsed.as_secs_f64() * 1000.0,
                     (start.elapsed() - parsed).as_secs_f64() * 1000.0
                 );
-                let tutorial =
-                    Tutorial13::from_soup(gl, shader_dir, &model.soup, cylinder.mesh, sets)?;
-                warn_of_merged_corners(&model, &tutorial.mesh);
-                (tutorial, SoupSource::Model(Rc::new(model)))
+                let model = Rc::new(model);
+                let soup_source = SoupSource::Model(Rc::clone(&model));
+                let tutorial = match cylinder.tangents {
+                    TangentSource::Tutorial => {
+                        let tutorial = Tutorial13::from_soup(
+                            gl,
+                            shader_dir,
+                            &model.soup,
+                            cylinder.mesh,
+                            sets,
+                        )?;
+                        warn_of_merged_corners(&model, &tutorial.mesh);
+                        tutorial
+                    }
+                    // Another source's mesh straight away: the tutorial's would be built for
+                    // nothing (seconds on a large model).
+                    source => {
+                        let start = std::time::Instant::now();
+                        let mesh = soup_source.mesh(source, cylinder.mesh)?;
+                        log::debug!(
+                            "{source} tangents and indexing: {:.1} ms",
+                            start.elapsed().as_secs_f64() * 1000.0
+                        );
+                        Tutorial13::from_mesh(gl, shader_dir, mesh, sets)?
+                    }
+                };
+                (tutorial, soup_source)
             }
         };
         if let Some(light) = cylinder.light {
@@ -217,9 +255,14 @@ impl SceneType for Cylinder {
             line_length: cylinder.line_length.unwrap_or(LINE_LENGTH),
             compare_start_split: cylinder.compare.map_or(0.5, |c| c.split.clamp(0.0, 1.0)),
             mesh: MeshState {
+                // A model's mesh is already the chosen source's; the tutorial's cylinder's is the
+                // tutorial's until the source is set below.
+                source: match &soup_source {
+                    SoupSource::Model(_) => cylinder.tangents,
+                    SoupSource::Tutorial(_) => TangentSource::Tutorial,
+                },
                 soup: soup_source,
                 options: cylinder.mesh,
-                source: TangentSource::Tutorial,
                 built: Vec::new(),
             },
             comparison: None,

@@ -150,15 +150,12 @@ impl Tutorial13 {
         mesh_options: MeshOptions,
         texture_sets: Vec<TextureSet>,
     ) -> Result<Self> {
-        init_gl_state(gl);
-        let [vertex_shader, fragment_shader] = SHADERS;
-        let program = NormalMappingProgram::load(gl, vertex_shader, fragment_shader, shader_dir)?;
         let start = std::time::Instant::now();
         let basis = compute_tangent_basis(soup, mesh_options.tangents);
         let tangents = start.elapsed();
         let mesh = index_vbo_tbn(soup, &basis, mesh_options.indexing);
         let indexing = start.elapsed() - tangents;
-        let buffers = MeshBuffers::new(gl, &mesh)?;
+        let tutorial = Self::from_mesh(gl, shader_dir, mesh, texture_sets)?;
         let ms = |d: std::time::Duration| d.as_secs_f64() * 1000.0;
         log::debug!(
             "computeTangentBasis {:.1} ms, indexVBO_TBN {:.1} ms, upload {:.1} ms",
@@ -166,6 +163,20 @@ impl Tutorial13 {
             ms(indexing),
             ms(start.elapsed() - tangents - indexing)
         );
+        Ok(tutorial)
+    }
+
+    /// The tutorial's program and state with a mesh made another way (another tangent source).
+    pub fn from_mesh(
+        gl: &Gl,
+        shader_dir: Option<&Path>,
+        mesh: IndexedMesh,
+        texture_sets: Vec<TextureSet>,
+    ) -> Result<Self> {
+        init_gl_state(gl);
+        let [vertex_shader, fragment_shader] = SHADERS;
+        let program = NormalMappingProgram::load(gl, vertex_shader, fragment_shader, shader_dir)?;
+        let buffers = MeshBuffers::new(gl, &mesh)?;
         Ok(Tutorial13 {
             gl: gl.clone(),
             program,
