@@ -83,9 +83,8 @@ pub struct SharedArgs {
     #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
     pub light: Option<glam::Vec3>,
 
-    /// The light's power, as the panel's "light power" slider sets it. cylinder: the tutorial's
-    /// LightPower [default: 40]; cube: a factor on its light [default: 1]; wall: its light's
-    /// intensity [default: 50]
+    /// The light's power, as the panel's slider sets it [default: the tutorial's LightPower 40;
+    /// cube: a factor 1 on its light; wall: the article's intensity 50]
     #[arg(long, value_name = "P", value_parser = parse_power)]
     pub light_power: Option<f32>,
 }

@@ -81,13 +81,9 @@ pub struct CylinderArgs {
     #[arg(long)]
     pub two_channel: bool,
 
-    /// Your own model instead of the tutorial's cylinder: a glTF 2.0 file (.gltf or .glb: its
-    /// baseColorTexture and normalTexture, its TANGENTs for --tangents file), or an OBJ with UVs (normals are computed if
-    /// it has none) and the maps its .mtl names (map_Kd, map_Bump/bump/norm, map_Ks; PNG, JPEG,
-    /// TGA, BMP or DDS). A map the .mtl names but that is missing or unreadable is replaced by a
-    /// neutral one with a notice; a map not named is neutral (Kd or white, flat normal, specular
-    /// 0.3). The model is scaled onto the tutorial's cylinder, so its camera, light and debug lines
-    /// fit it. Dropping an .obj, .gltf or .glb file on the window loads it too
+    /// Your own model instead of the tutorial's cylinder, scaled onto it: a glTF 2.0 file (.gltf,
+    /// .glb) with its textures, or an OBJ with UVs and the maps its .mtl names (docs/model.md says
+    /// which and how). Dropping one on the window loads it too
     #[arg(long, value_name = "FILE")]
     pub model: Option<PathBuf>,
 
@@ -119,13 +115,12 @@ pub struct CylinderArgs {
     )]
     pub strength: Option<f32>,
 
-    /// A factor on the normal map's x and y before normalizing, as the panel's "normal strength"
-    /// slider sets it [default: 1, the map as it is; another value draws with the debugging shader]
+    /// A factor on the normal map's x and y, as the panel's "normal strength" slider sets it
+    /// [default: 1, the map as it is]
     #[arg(long, value_name = "S", value_parser = parse_finite)]
     pub normal_strength: Option<f32>,
 
-    /// The TBN debug lines' length, as the panel's "TBN line length" slider sets it [default: 0.1,
-    /// the tutorial's]
+    /// The TBN debug lines' length, as the panel's slider sets it [default: the tutorial's 0.1]
     #[arg(long, value_name = "L", value_parser = parse_length)]
     pub line_length: Option<f32>,
 }
