@@ -80,7 +80,49 @@ fn the_heat_map_is_the_difference_of_the_sources_alone() {
     let mut r = compare_renderer(sources, CompareMode::Difference, 0.5);
     let view = frame(&mut r);
     let to_rgba = |img: RgbImage| image::DynamicImage::ImageRgb8(img).into_rgba8();
-    let (heat, difference) = heat_map(&to_rgba(alone(sources[0])), &to_rgba(alone(sources[1])));
+    let (a, b) = (alone(sources[0]), alone(sources[1]));
+    // Without the view's own function: each pixel's largest channel difference, and the colours the
+    // ramp must give it (black where the sources agree, white at the largest difference, a dark
+    // red of at least 96 for the smallest).
+    let deltas: Vec<u8> = a
+        .pixels()
+        .zip(b.pixels())
+        .map(|(p, q)| (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap())
+        .collect();
+    let max = *deltas.iter().max().unwrap();
+    let smallest = *deltas.iter().filter(|&&d| d > 0).min().unwrap();
+    let expected = |d: u8| {
+        match d {
+            0 => [0, 0, 0],
+            d if d == max => [255, 255, 255],
+            d if d == smallest && (d as f32) / (max as f32) < 0.34 => {
+                let red = (((d as f32 / max as f32) + 0.5) / 0.84 * 255.0) as u8;
+                [red.max(96), 0, 0]
+            }
+            _ => return None,
+        }
+        .into()
+    };
+    let mut checked = [0usize; 3];
+    for (i, p) in view.pixels().enumerate() {
+        let d = deltas[i];
+        if let Some(colour) = expected(d) {
+            assert_eq!(p.0, colour, "pixel {i}: difference {d} of at most {max}");
+            checked[usize::from(d > 0) + usize::from(d == max)] += 1;
+        }
+    }
+    let drawn = view.pixels().filter(|p| p.0 != [0, 0, 0]).count();
+    let differing_sources = deltas.iter().filter(|&&d| d > 0).count();
+    println!(
+        "checked {checked:?} pixels (same, smallest, largest); largest {max}, smallest {smallest}"
+    );
+    assert_eq!(drawn, differing_sources, "pixels lit in the heat map");
+    assert!(checked.iter().all(|&n| n > 0), "{checked:?}");
+    let (heat, difference) = heat_map(&to_rgba(a), &to_rgba(b));
+    assert_eq!(
+        (difference.max, difference.pixels),
+        (max, differing_sources)
+    );
     let (differing, _, _) = pixel_diff(&view, &rgb(heat));
     let status = r.scene_ref::<Cylinder>().status();
     println!("{status}");
