@@ -768,3 +768,81 @@ fn make_assets_reproduces_the_committed_assets() {
         );
     }
 }
+
+// Fails if a cylinder flag whose switch the library tests is not wired to it: the binary's headless
+// frame with the flag must equal bit for bit the frame of the options set in the library (and differ
+// from the plain frame, so that the flag is seen doing something).
+#[test]
+fn each_cylinder_flag_draws_the_frame_of_its_option() {
+    use tutorial13::debug::compare::CompareMode;
+    use tutorial13::scenes::cylinder::{CompareOptions, CylinderOptions};
+    use tutorial13::tangents::TangentSource;
+    let dir = common::scratch("cylinder_flags");
+    fn compare(mode: CompareMode, split: f32) -> CompareOptions {
+        CompareOptions {
+            sources: [TangentSource::Tutorial, TangentSource::MikkTSpace],
+            mode,
+            split,
+        }
+    }
+    type Set = fn(&mut CylinderOptions);
+    let cases: [(&[&str], Set); 15] = [
+        (&["--no-gram-schmidt"], |c| {
+            c.mesh.tangents.gram_schmidt = false
+        }),
+        (&["--no-handedness"], |c| c.mesh.tangents.handedness = false),
+        (&["--normalize-before-sum"], |c| {
+            c.mesh.indexing.normalize_before_sum = true
+        }),
+        (&["--no-specular-texture"], |c| {
+            c.switches.specular_texture = false
+        }),
+        (&["--normalize-tbn"], |c| c.switches.normalize_tbn = true),
+        (&["--exact-expansion"], |c| {
+            c.switches.convention.exact_expansion = true
+        }),
+        (&["--two-channel"], |c| {
+            c.switches.convention.two_channel = true
+        }),
+        (&["--green", "down"], |c| {
+            c.switches.convention.green_down = true
+        }),
+        (&["--view", "normal01.y"], |c| {
+            c.switches.view = "normal01.y".parse().unwrap()
+        }),
+        (&["--tangents", "mikktspace"], |c| {
+            c.tangents = TangentSource::MikkTSpace
+        }),
+        (&["--debug-lines"], |c| c.debug_lines = true),
+        (
+            &["--compare", "tutorial,mikktspace", "--split", "0.3"],
+            |c| c.compare = Some(compare(CompareMode::Split, 0.3)),
+        ),
+        (
+            &["--compare", "tutorial,mikktspace", "--compare-difference"],
+            |c| c.compare = Some(compare(CompareMode::Difference, 0.5)),
+        ),
+        (&["--normal-strength", "2.5"], |c| {
+            c.normal_strength = Some(2.5)
+        }),
+        (&["--debug-lines", "--line-length", "0.25"], |c| {
+            c.debug_lines = true;
+            c.line_length = Some(0.25)
+        }),
+    ];
+    let plain = common::headless_screenshot(&dir, "plain.png", &[]);
+    for (n, (args, set)) in cases.into_iter().enumerate() {
+        let flagged = common::headless_screenshot(&dir, &format!("{n}.png"), args);
+        let mut options = tutorial13::frontends::headless::HeadlessOptions::default();
+        set(common::cylinder_options(&mut options));
+        let mut renderer = common::renderer(&options);
+        let library = common::frame(&mut renderer);
+        drop(renderer);
+        assert!(flagged != plain, "{args:?} changed nothing");
+        let (differing, max, _) = common::pixel_diff(&flagged, &library);
+        assert_eq!(
+            differing, 0,
+            "{args:?}: differs from its option by up to {max}"
+        );
+    }
+}
