@@ -583,3 +583,60 @@ fn a_dense_model_is_warned_of_merged_corners() {
     let (_, stderr) = shot(&dir, "sparse.png", &["--model", "sparse.obj"]);
     assert!(!stderr.contains("tolerance moved"), "{stderr}");
 }
+
+// Fails if an MTL's bump statements (`map_Bump`, `bump`, `norm`) are not the same map, if a grey one
+// is not read as heights with `normalmap`'s strength times its `-bm` (bit for bit the frame of
+// `--height FILE --strength 16` for `-bm 2`), if `-bm` changes nothing, if `map_Ks` is not the
+// specular map `--specular` gives, or if a material's `Kd` without `map_Kd` is not its colour (the
+// frame of `--diffuse` with a 1×1 picture of Kd × 255).
+#[test]
+fn the_mtls_bump_specular_and_colour_statements_reach_the_frame() {
+    let dir = common::scratch("mtl_statements");
+    write_bumps(&dir.join("heights.png"));
+    write_picture(&dir.join("spec.png"), 64, |x, _| [(x * 4) as u8; 3]);
+    write_picture(&dir.join("kd.png"), 1, |_, _| [51, 102, 153]);
+    let quad = [Quad {
+        x0: -1.0,
+        material: Some("M"),
+    }];
+    std::fs::write(
+        dir.join("quad.obj"),
+        quads_obj(Some("quad.mtl"), &quad, true, true),
+    )
+    .unwrap();
+    let mut frames = Vec::new();
+    for (n, (statements, args)) in [
+        ("", &[][..]),
+        ("map_Bump heights.png", &[]),
+        ("bump heights.png", &[]),
+        ("norm heights.png", &[]),
+        ("map_Bump -bm 2 heights.png", &[]),
+        ("", &["--height", "heights.png", "--strength", "16"][..]),
+        ("map_Ks spec.png", &[]),
+        ("", &["--specular", "spec.png"][..]),
+        ("", &["--diffuse", "kd.png"][..]),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let mtl = format!("newmtl M\nKd 0.2 0.4 0.6\n{statements}\n");
+        std::fs::write(dir.join("quad.mtl"), mtl).unwrap();
+        let mut argv = vec!["--model", "quad.obj", "--light", "-1,1,2"];
+        argv.extend(args);
+        frames.push(shot(&dir, &format!("{n}.png"), &argv).0);
+    }
+    let same = |a: usize, b: usize| common::differing_pixels(&frames[a], &frames[b]) == 0;
+    assert!(!same(0, 1), "map_Bump changed nothing");
+    assert!(same(1, 2) && same(1, 3), "bump and norm are not map_Bump");
+    assert!(!same(1, 4), "-bm 2 changed nothing");
+    assert!(
+        same(4, 5),
+        "map_Bump -bm 2 of heights is not --height --strength 16"
+    );
+    assert!(!same(0, 6), "map_Ks changed nothing");
+    assert!(same(6, 7), "map_Ks is not --specular");
+    assert!(
+        same(0, 8),
+        "Kd 0.2 0.4 0.6 is not the colour (51, 102, 153)"
+    );
+}
