@@ -640,3 +640,79 @@ fn the_mtls_bump_specular_and_colour_statements_reach_the_frame() {
         "Kd 0.2 0.4 0.6 is not the colour (51, 102, 153)"
     );
 }
+
+// Fails if `--light X,Y,Z` (the model's own coordinates) does not put the light where it says: on a
+// flat quad with a flat normal map and no specular, the tutorial's diffuse term, LightPower · cos θ
+// / d², is brightest at the foot of the light on the quad (cos θ = h/d, so it goes as h/d³), and
+// the brightest pixels must sit, within 1 pixel, where the camera projects that foot (placement and
+// matrices from the library, the pixels from the frame; measured within 0.03 pixels). That holds
+// with the camera-space TBN normalized (T, the article's text); the repository's shader, which uses
+// it as summed (here B is longer than 1), puts the brightest spot 39 pixels off for the first light:
+// a finding the test keeps (more than 10 pixels off), not a fault.
+#[test]
+fn a_models_light_lands_where_it_is_put() {
+    use glam::Vec3;
+    use tutorial13::frontends::headless::HeadlessOptions;
+    let dir = common::scratch("light_lands");
+    let quad = [Quad {
+        x0: -1.0,
+        material: None,
+    }];
+    let obj = dir.join("quad.obj");
+    std::fs::write(&obj, quads_obj(None, &quad, true, true)).unwrap();
+    write_picture(&dir.join("black.png"), 1, |_, _| [0, 0, 0]);
+    let model = tutorial13::model::load_model(&obj, &Default::default()).unwrap();
+    let cases = [
+        (Vec3::new(-0.5, 0.4, 1.0), true),
+        (Vec3::new(0.6, -0.3, 1.2), true),
+        (Vec3::new(-0.5, 0.4, 1.0), false),
+    ];
+    for (light, normalize_tbn) in cases {
+        let mut options = HeadlessOptions::default();
+        let cylinder = common::cylinder_options(&mut options);
+        cylinder.model = Some(obj.clone());
+        cylinder.light = Some(light);
+        cylinder.light_power = Some(0.1);
+        cylinder.maps.specular = Some(dir.join("black.png"));
+        cylinder.switches.normalize_tbn = normalize_tbn;
+        let mut renderer = common::renderer(&options);
+        let frame = common::frame(&mut renderer);
+        let (view, projection) = (
+            renderer.controls.view_matrix(),
+            renderer.controls.projection_matrix(),
+        );
+        drop(renderer);
+        let foot = model.placement.to_world(Vec3::new(light.x, light.y, 0.0));
+        let clip = projection * view * foot.extend(1.0);
+        let ndc = clip.truncate() / clip.w;
+        let (w, h) = frame.dimensions();
+        let expected = glam::Vec2::new(
+            (ndc.x + 1.0) / 2.0 * w as f32,
+            (1.0 - ndc.y) / 2.0 * h as f32,
+        );
+        let level = |p: &Rgb<u8>| p.0.iter().map(|&c| u32::from(c)).sum::<u32>();
+        let drawn = frame
+            .enumerate_pixels()
+            .filter(|(_, _, p)| !common::is_background(p));
+        let brightest = drawn.clone().map(|(_, _, p)| level(p)).max().unwrap();
+        let top: Vec<glam::Vec2> = drawn
+            .filter(|(_, _, p)| level(p) + 1 >= brightest)
+            .map(|(x, y, _)| glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5))
+            .collect();
+        let centre = top.iter().copied().sum::<glam::Vec2>() / top.len() as f32;
+        println!(
+            "light {light} (TBN normalized: {normalize_tbn}): brightest {brightest} over {} pixels \
+             around {centre}, the foot projects to {expected}",
+            top.len()
+        );
+        assert!(brightest < 3 * 250, "saturated: the peak cannot be told");
+        let off = centre.distance(expected);
+        match normalize_tbn {
+            true => assert!(
+                off <= 1.0,
+                "light {light}: brightest at {centre}, its foot is at {expected}"
+            ),
+            false => assert!(off > 10.0, "as summed, the spot is only {off} pixels off"),
+        }
+    }
+}
