@@ -3,7 +3,7 @@
 //! `mtllib`, `o`, `usemtl`, quads, maps in a subfolder named with backslashes and spaces, PNG and
 //! JPEG pictures, a normal map made by `tutorial13 normalmap` from a height map of raised bumps.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use image::{Rgb, RgbImage};
 use tutorial13::frontends::headless::HeadlessRenderer;
@@ -89,6 +89,14 @@ fn quads_obj(mtllib: Option<&str>, quads: &[Quad], normals: bool, uvs: bool) -> 
         );
     }
     text
+}
+
+/// One quad from (-1, -1) to (1, 1) facing +z, with normals and UVs, written as `dir`/`name`.
+fn one_quad(dir: &Path, name: &str, mtllib: Option<&str>, material: Option<&str>) -> PathBuf {
+    let quad = [Quad { x0: -1.0, material }];
+    let path = dir.join(name);
+    std::fs::write(&path, quads_obj(mtllib, &quad, true, true)).unwrap();
+    path
 }
 
 /// The binary's headless frame with `args`, run in `dir`; panics with its stderr if it fails.
@@ -543,12 +551,7 @@ fn a_dds_map_is_upright_like_a_png() {
 #[test]
 fn a_dropped_obj_opens_as_the_model() {
     let dir = common::scratch("dropped");
-    let quads = [Quad {
-        x0: -1.0,
-        material: None,
-    }];
-    let obj = dir.join("panel.obj");
-    std::fs::write(&obj, quads_obj(None, &quads, true, true)).unwrap();
+    let obj = one_quad(&dir, "panel.obj", None, None);
     let (expected, _) = shot(&dir, "model.png", &["--model", "panel.obj"]);
 
     let options = common::options(common::own_assets(), Profile::Core);
@@ -595,15 +598,7 @@ fn the_mtls_bump_specular_and_colour_statements_reach_the_frame() {
     write_bumps(&dir.join("heights.png"));
     write_picture(&dir.join("spec.png"), 64, |x, _| [(x * 4) as u8; 3]);
     write_picture(&dir.join("kd.png"), 1, |_, _| [51, 102, 153]);
-    let quad = [Quad {
-        x0: -1.0,
-        material: Some("M"),
-    }];
-    std::fs::write(
-        dir.join("quad.obj"),
-        quads_obj(Some("quad.mtl"), &quad, true, true),
-    )
-    .unwrap();
+    one_quad(&dir, "quad.obj", Some("quad.mtl"), Some("M"));
     let mut frames = Vec::new();
     for (n, (statements, args)) in [
         ("", &[][..]),
@@ -654,12 +649,7 @@ fn a_models_light_lands_where_it_is_put() {
     use glam::Vec3;
     use tutorial13::frontends::headless::HeadlessOptions;
     let dir = common::scratch("light_lands");
-    let quad = [Quad {
-        x0: -1.0,
-        material: None,
-    }];
-    let obj = dir.join("quad.obj");
-    std::fs::write(&obj, quads_obj(None, &quad, true, true)).unwrap();
+    let obj = one_quad(&dir, "quad.obj", None, None);
     write_picture(&dir.join("black.png"), 1, |_, _| [0, 0, 0]);
     let model = tutorial13::model::load_model(&obj, &Default::default()).unwrap();
     let cases = [
