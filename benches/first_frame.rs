@@ -16,7 +16,7 @@
 mod common;
 
 use std::path::Path;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use common::{charted_cylinder, cylinder, slow_group, spread_soup};
 use criterion::Criterion;
