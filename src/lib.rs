@@ -19,6 +19,7 @@
 
 pub mod assets;
 pub mod choices;
+pub mod clock;
 pub mod common;
 pub mod debug;
 pub mod error;
@@ -34,6 +35,7 @@ pub mod pipeline;
 pub mod progress;
 pub mod scenes;
 pub mod tangents;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod tools;
 
 pub use error::{Error, Result};

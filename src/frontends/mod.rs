@@ -3,13 +3,19 @@
 //! Both drive any [`Scene`] through the same seam, so a test's pixels are the
 //! window's pixels.
 
+#[cfg(not(target_arch = "wasm32"))]
 pub mod headless;
 pub mod host;
 pub mod panel;
+#[cfg(target_arch = "wasm32")]
+pub mod web;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod window;
 
 use std::path::PathBuf;
-use std::time::{Duration, Instant, SystemTime};
+use std::time::{Duration, SystemTime};
+
+use crate::clock::Instant;
 
 use crate::scenes::{MouseMode, Scene, SceneDescriptor};
 

@@ -3,6 +3,7 @@
 //! headless EGL context with its offscreen targets ([`context`]).
 
 pub mod buffers;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod context;
 pub mod extensions;
 pub mod image;

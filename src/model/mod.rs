@@ -17,10 +17,10 @@
 pub mod maps;
 pub mod mtl;
 
+use crate::clock::Instant;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use glam::{DVec3, Vec3};
 

@@ -13,10 +13,10 @@
 //! refuses, and [`read_obj`] hands the file to the tutorial's reader, whose error is the one the
 //! user sees: one set of error messages, however the file was read.
 
+use crate::clock::Instant;
 use std::collections::HashMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
-use std::time::Instant;
 
 use glam::{Vec2, Vec3};
 

@@ -171,7 +171,7 @@ impl SceneType for Cylinder {
             }
             Some(path) => {
                 let _progress = Progress::start(format!("loading {}", path.display()));
-                let start = std::time::Instant::now();
+                let start = crate::clock::Instant::now();
                 let model = load_model(path, &cylinder.maps)?;
                 let parsed = start.elapsed();
                 let sets = model_texture_sets(gl, &model)?;

@@ -153,7 +153,7 @@ impl Tutorial13 {
         init_gl_state(gl);
         let [vertex_shader, fragment_shader] = SHADERS;
         let program = NormalMappingProgram::load(gl, vertex_shader, fragment_shader, shader_dir)?;
-        let start = std::time::Instant::now();
+        let start = crate::clock::Instant::now();
         let basis = compute_tangent_basis(soup, mesh_options.tangents);
         let tangents = start.elapsed();
         let mesh = index_vbo_tbn(soup, &basis, mesh_options.indexing);
