@@ -172,14 +172,14 @@ pub struct Model {
 /// Reads `path` and the `.mtl` files it names (relative to its folder).
 pub fn load_model(path: &Path, overrides: &MapOverrides) -> Result<Model> {
     let start = Instant::now();
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = crate::files::read(path).map_err(|e| Error::io(path, e))?;
     log::debug!(
         "{}: {:.1} MB read in {:.1} ms",
         path.display(),
         bytes.len() as f64 / 1e6,
         start.elapsed().as_secs_f64() * 1e3
     );
-    load_model_bytes(&bytes, path, overrides, |p| std::fs::read(p))
+    load_model_bytes(&bytes, path, overrides, crate::files::read)
 }
 
 /// [`load_model`] on the OBJ's bytes; `read_mtl` reads a `.mtl` file (the fuzz harness gives its own).
@@ -357,11 +357,11 @@ fn material(m: &tobj::Material, mtl: Option<&PathBuf>, notices: &mut Vec<String>
 /// (exporters often write the absolute path of the machine the model was made on).
 fn resolve(folder: &Path, file: &str) -> PathBuf {
     let written = folder.join(file);
-    if written.is_file() {
+    if crate::files::is_file(&written) {
         return written;
     }
     match Path::new(file).file_name() {
-        Some(name) if folder.join(name).is_file() => folder.join(name),
+        Some(name) if crate::files::is_file(&folder.join(name)) => folder.join(name),
         _ => written,
     }
 }

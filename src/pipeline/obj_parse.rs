@@ -28,7 +28,7 @@ use crate::{Error, Result};
 /// Reads `path` as the tutorial's `loadOBJ` does ([`crate::common::objloader::load_obj`]), on
 /// every core. Errors name the file and the reason.
 pub fn load_obj(path: &Path) -> Result<TriangleSoup> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = crate::files::read(path).map_err(|e| Error::io(path, e))?;
     load_obj_bytes(&bytes, path)
 }
 
