@@ -28,6 +28,7 @@ use super::panel::{Panel, PanelInfo};
 use super::FrameTimer;
 use crate::clock::Instant;
 use crate::gl::extensions::GlExtensions;
+use crate::gl::offscreen::OffscreenTarget;
 use crate::gl::{ContextInfo, Gl, Profile};
 use crate::scenes::{MouseMode, SceneContext, SceneOptions};
 
@@ -77,6 +78,10 @@ impl PageContract {
 /// The page's state: what the window's front end holds, minus the window.
 struct Page {
     host: SceneHost,
+    /// Where the scene and the panel are drawn, then copied onto the canvas: glow cannot read the
+    /// canvas's own framebuffer back as a binding (it panics on WebGL's null framebuffer), and the
+    /// panel and the compare view ask which framebuffer is bound.
+    target: OffscreenTarget,
     panel: Option<Panel>,
     panel_shown: bool,
     /// egui's input since the last frame (pointer and wheel over the panel).
@@ -94,12 +99,16 @@ struct Page {
     dragging: Option<Vec2>,
     /// Frames drawn so far (the page's `data-frames`, which the tests wait for).
     drawn: u32,
+    /// Each frame's time, drawn to completion (a one-texel read-back), in ms: the page's
+    /// `data-frame-ms` is their median, as `--bench` times the native frames.
+    frame_ms: Vec<f64>,
 }
 
 impl Page {
     /// One frame on the canvas, the panel over it if shown.
     fn frame(&mut self) {
         let now = Instant::now();
+        let start = now;
         let delta_time = (now - self.last_time).as_secs_f32();
         self.last_time = now;
         if let Some(ms) = self.timer.tick(now) {
@@ -107,11 +116,7 @@ impl Page {
         }
         let frozen = self.frames_left.is_some();
         let time = (now - self.started).as_secs_f32();
-        // SAFETY: the canvas's framebuffer on the page's context.
-        unsafe {
-            self.gl.bind_framebuffer(glow::FRAMEBUFFER, None);
-            self.gl.viewport(0, 0, WIDTH as i32, HEIGHT as i32);
-        }
+        self.target.bind();
         let input = self.host.draw(delta_time, time, frozen);
         if let Some(panel) = self.panel.as_mut().filter(|_| self.panel_shown) {
             let mut panel_input = Panel::headless_input(input.size);
@@ -123,10 +128,26 @@ impl Page {
             };
             let host = &mut self.host;
             let (output, _) = panel.run(panel_input, host.descriptor(), &mut *host.scene, info);
-            // SAFETY: as above.
-            unsafe { self.gl.bind_framebuffer(glow::FRAMEBUFFER, None) };
+            self.target.bind();
             panel.paint(input.size, output);
         }
+        self.target.blit_columns_to(None, 0, WIDTH);
+        // Waits for the frame to be drawn, to time it whole: WebGL's finish returns at once, a
+        // read-back cannot.
+        let mut texel = [0u8; 4];
+        // SAFETY: one texel of the bound target, into a buffer of its size.
+        unsafe {
+            self.gl.read_pixels(
+                0,
+                0,
+                1,
+                1,
+                glow::RGBA,
+                glow::UNSIGNED_BYTE,
+                glow::PixelPackData::Slice(Some(&mut texel)),
+            )
+        };
+        self.frame_ms.push(start.elapsed().as_secs_f64() * 1000.0);
         if let Err(e) = crate::gl::check_gl_errors(&self.gl, "frame") {
             show_error(&e.to_string());
         }
@@ -262,7 +283,14 @@ pub fn start() {
     // A panic would print a stack into the console and leave a frozen canvas: its message goes on
     // the page instead, as an error does.
     std::panic::set_hook(Box::new(|info| {
-        show_error(&format!("internal error: {info}"));
+        let line = format!("internal error: {info}");
+        web_sys::console::error_1(&JsValue::from_str(&line));
+        // The first is the one that says what went wrong (a second may follow from the state the
+        // first left).
+        let shown = element("message").and_then(|e| e.text_content());
+        if !shown.is_some_and(|text| text.starts_with("internal error")) {
+            show_error(&line);
+        }
     }));
     let _ = console_log();
     wasm_bindgen_futures::spawn_local(async {
@@ -329,6 +357,7 @@ async fn run() -> Result<(), String> {
     fetch_assets(&window).await?;
 
     // `Gl` is an `Arc` for the native threads' sake; the page has one thread.
+    crate::gl::set_webgl2_context(&webgl2);
     #[allow(clippy::arc_with_non_send_sync)]
     let gl = Gl::new(glow::Context::from_webgl2_context(webgl2));
     let info = webgl2_info(&gl);
@@ -338,6 +367,8 @@ async fn run() -> Result<(), String> {
         flip_y: None,
         legacy: Err(NO_IMMEDIATE_MODE.into()),
     };
+    let target = OffscreenTarget::new(&gl, WIDTH, HEIGHT).map_err(|e| e.to_string())?;
+    target.bind();
     let context = SceneContext {
         gl: &gl,
         info: &info,
@@ -354,6 +385,7 @@ async fn run() -> Result<(), String> {
     let now = Instant::now();
     let page = Rc::new(RefCell::new(Page {
         host,
+        target,
         panel: Some(panel),
         panel_shown: contract.panel,
         panel_events: Vec::new(),
@@ -367,6 +399,7 @@ async fn run() -> Result<(), String> {
         ms_per_frame: None,
         dragging: None,
         drawn: 0,
+        frame_ms: Vec::new(),
     }));
     input::listen(&window, &canvas, &page)?;
     // "loading…" goes.
@@ -380,17 +413,27 @@ async fn run() -> Result<(), String> {
 async fn fetch_assets(window: &web_sys::Window) -> Result<(), String> {
     let list = fetch(window, "assets/list.txt").await?;
     let list = String::from_utf8(list).map_err(|_| "assets/list.txt: not text")?;
-    for name in list.lines().filter(|l| !l.trim().is_empty()) {
-        let url = format!("assets/{name}");
-        let bytes = fetch(window, &url).await?;
+    let names: Vec<&str> = list.lines().filter(|l| !l.trim().is_empty()).collect();
+    // Every request is sent before the first is awaited: the files come in side by side.
+    let requests: Vec<_> = names
+        .iter()
+        .map(|name| window.fetch_with_str(&format!("assets/{name}")))
+        .collect();
+    for (name, request) in names.into_iter().zip(requests) {
+        let bytes = body(&format!("assets/{name}"), request).await?;
         crate::files::provide(&Path::new("assets").join(name), bytes);
     }
     Ok(())
 }
 
 async fn fetch(window: &web_sys::Window, url: &str) -> Result<Vec<u8>, String> {
+    body(url, window.fetch_with_str(url)).await
+}
+
+/// The bytes `request` (a `fetch` of `url`) answers with.
+async fn body(url: &str, request: js_sys::Promise) -> Result<Vec<u8>, String> {
     let failed = |why: &str| format!("{url}: {why}");
-    let response = wasm_bindgen_futures::JsFuture::from(window.fetch_with_str(url))
+    let response = wasm_bindgen_futures::JsFuture::from(request)
         .await
         .map_err(|_| failed("cannot be fetched (serve the folder over HTTP)"))?;
     let response: web_sys::Response = response.dyn_into().map_err(|_| failed("no response"))?;
@@ -412,9 +455,16 @@ fn animate(page: Rc<RefCell<Page>>) {
     let callback: Rc<RefCell<Option<FrameCallback>>> = Rc::new(RefCell::new(None));
     let again = callback.clone();
     *callback.borrow_mut() = Some(Closure::new(move || {
-        let mut page = page.borrow_mut();
+        let Ok(mut page) = page.try_borrow_mut() else {
+            // An input handler holds the page (it cannot, one thread running one event at a
+            // time; but a frame skipped is better than a panic).
+            if let Some(callback) = again.borrow().as_ref() {
+                request_animation_frame(callback);
+            }
+            return;
+        };
         page.frame();
-        set_frames_drawn(page.drawn);
+        set_frames_drawn(&page);
         if page.frames_left != Some(0) {
             if let Some(callback) = again.borrow().as_ref() {
                 request_animation_frame(callback);
@@ -433,11 +483,22 @@ fn request_animation_frame(callback: &Closure<dyn FnMut()>) {
     }
 }
 
-/// `data-frames` on the canvas: how many frames are drawn (the tests wait for it).
-fn set_frames_drawn(drawn: u32) {
-    if let Some(canvas) = element("canvas") {
-        let _ = canvas.set_attribute("data-frames", &drawn.to_string());
+/// `data-frames` on the canvas: how many frames are drawn (the tests wait for it); with the
+/// figures BENCHMARKS.md gives: `data-first-frame-ms`, when the first frame was drawn since the
+/// page's navigation began, and `data-frame-ms`, the median frame time so far.
+fn set_frames_drawn(page: &Page) {
+    let Some(canvas) = element("canvas") else {
+        return;
+    };
+    let _ = canvas.set_attribute("data-frames", &page.drawn.to_string());
+    if page.drawn == 1 {
+        let now = web_sys::window()
+            .and_then(|w| w.performance())
+            .map_or(f64::NAN, |p| p.now());
+        let _ = canvas.set_attribute("data-first-frame-ms", &format!("{now:.0}"));
     }
+    let (_, median) = super::min_median(&page.frame_ms);
+    let _ = canvas.set_attribute("data-frame-ms", &format!("{median:.2}"));
 }
 
 /// The mouse mode of the scene on the page.
