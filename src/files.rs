@@ -110,6 +110,9 @@ mod page {
             .as_ref()
             .and_then(|files| files.get(path))
             .map(|bytes| bytes.to_vec())
-            .ok_or_else(|| std::io::ErrorKind::NotFound.into())
+            // In the words Linux uses, which the native program's messages carry.
+            .ok_or_else(|| {
+                std::io::Error::new(std::io::ErrorKind::NotFound, "No such file or directory")
+            })
     }
 }

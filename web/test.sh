@@ -26,5 +26,5 @@ for _ in $(seq 50); do
 done
 
 say "running the browser tests (cargo test --release -- web::)"
-TUTORIAL13_WEB_URL="http://127.0.0.1:$port" TUTORIAL13_REQUIRE_WEB=1 \
+TUTORIAL13_WEB_URL="http://127.0.0.1:$port" TUTORIAL13_WEB_DIR="$PWD/target/web" TUTORIAL13_REQUIRE_WEB=1 \
   cargo test --release --test all -- web:: --test-threads=1 --nocapture

@@ -47,29 +47,30 @@ struct Loaded {
 }
 
 impl Loaded {
-    /// The DOM's `data-frames`, the page's message and what reached the console as an error.
+    /// The text of the element `id`.
+    fn text(&self, id: &str) -> Option<String> {
+        let start = self.dom.find(&format!("id=\"{id}\""))?;
+        let rest = &self.dom[start..];
+        let open = rest.find('>')? + 1;
+        let close = rest.find("</")?;
+        Some(rest[open..close].trim().to_owned())
+    }
+
+    /// The page's message and what reached the console as an error: nothing.
     fn check_clean(&self, what: &str) {
-        let text = |id: &str| {
-            let start = self.dom.find(&format!("id=\"{id}\""))?;
-            let rest = &self.dom[start..];
-            let open = rest.find('>')? + 1;
-            let close = rest.find("</")?;
-            Some(rest[open..close].trim().to_owned())
-        };
-        assert_eq!(
-            text("message").as_deref(),
-            Some(""),
-            "{what}: the page's message"
-        );
-        assert_eq!(
-            text("console-errors").as_deref(),
-            Some(""),
-            "{what}: the console's errors"
-        );
+        let message = self.text("message");
+        assert_eq!(message.as_deref(), Some(""), "{what}: the page's message");
+        self.check_console(what);
+    }
+
+    /// What reached the console as an error: nothing.
+    fn check_console(&self, what: &str) {
+        let errors = self.text("console-errors");
+        assert_eq!(errors.as_deref(), Some(""), "{what}: the console's errors");
     }
 }
 
-fn chromium(url: &str, action: &str, out: &Path) -> Command {
+fn chromium(url: &str, action: &str, out: &Path, flags: &[&str]) -> Command {
     let binary = std::env::var("TUTORIAL13_CHROMIUM").unwrap_or_else(|_| "chromium".into());
     let mut command = Command::new(binary);
     command.args([
@@ -83,13 +84,18 @@ fn chromium(url: &str, action: &str, out: &Path) -> Command {
         "--virtual-time-budget=20000",
         &format!("--user-data-dir={}", out.join("profile").display()),
         action,
-        url,
     ]);
+    command.args(flags).arg(url);
     command
 }
 
 /// Loads `query` (after `?`) in Chromium: a screenshot, then the DOM.
 fn load(test: &str, base: &str, query: &str) -> Loaded {
+    load_with(test, base, query, &[])
+}
+
+/// [`load`] with more of Chromium's flags.
+fn load_with(test: &str, base: &str, query: &str, flags: &[&str]) -> Loaded {
     let out = common::scratch(&format!("{test}-{}", query.replace(['&', '=', ','], "_")));
     let url = format!("{base}/index.html?{query}");
     let png = out.join("page.png");
@@ -97,9 +103,10 @@ fn load(test: &str, base: &str, query: &str) -> Loaded {
         &url,
         &format!("--screenshot={}", png.display()),
         &out,
+        flags,
     ));
     assert!(png.is_file(), "{url}: no screenshot: {shot:?}");
-    let dumped = common::run(&mut chromium(&url, "--dump-dom", &out));
+    let dumped = common::run(&mut chromium(&url, "--dump-dom", &out, flags));
     let dom = String::from_utf8_lossy(&dumped.stdout).into_owned();
     let shot = image::open(&png).expect("Chromium's PNG").into_rgb8();
     assert_eq!(
@@ -197,12 +204,20 @@ fn a_click_on_a_switch_does_what_its_key_does() {
         .expect("the L switch")
         .center();
     let panel_right = panel.rect().expect("the panel's rectangle").max.x.ceil() as u32;
-    let clicked = load("click", &base, &format!("frames=7&click={},{}", at.x, at.y));
-    let pressed = load("key", &base, "frames=7&key=l");
-    let untouched = load("none", &base, "frames=7");
-    for (loaded, what) in [(&clicked, "click"), (&pressed, "key"), (&untouched, "none")] {
-        loaded.check_clean(what);
+    let clicked = load("click", &base, &format!("frames=9&click={},{}", at.x, at.y));
+    let pressed = load("key", &base, "frames=9&key=l");
+    let untouched = load("none", &base, "frames=9");
+    untouched.check_clean("none");
+    // L on says, as natively, that the lines fall back to the line shader: the same line both ways.
+    for (loaded, what) in [(&clicked, "click"), (&pressed, "key")] {
+        loaded.check_console(what);
+        let message = loaded.text("message").unwrap_or_default();
+        assert!(
+            message.contains("line shader"),
+            "{what}: the page says {message}"
+        );
     }
+    assert_eq!(clicked.text("message"), pressed.text("message"));
     // The scene's part of the frame (the panel differs by the hovered switch).
     let scene_part = |image: &RgbImage| {
         image::imageops::crop_imm(image, panel_right, 0, 1024 - panel_right, 768).to_image()
@@ -221,4 +236,77 @@ fn a_click_on_a_switch_does_what_its_key_does() {
     let changed = frame_diff(&clicked, &untouched).differing();
     eprintln!("web: the click on L changed {changed} pixels of the scene, as the key did");
     assert!(changed > 100, "the click changed {changed} pixels");
+}
+
+// Fails if a dropped file that is no model or an OBJ without texture coordinates does not put the
+// native program's one line on the page (the folder aside), if an MTL naming a missing map does
+// not give its notice there too, or if any of them logs an error to the console.
+#[test]
+fn bad_drops_give_the_native_lines() {
+    let Some(base) = page_url("web::bad_drops_give_the_native_lines") else {
+        return;
+    };
+    let served =
+        std::env::var("TUTORIAL13_WEB_DIR").expect("TUTORIAL13_WEB_DIR (web/test.sh sets it)");
+    let drops = Path::new(&served).join("drops");
+    std::fs::create_dir_all(&drops).expect("drops/ in the served folder");
+    let triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\n";
+    let files = [
+        ("notes.txt", "not a model\n".to_owned()),
+        ("bare.obj", format!("{triangle}f 1//1 2//1 3//1\n")),
+        (
+            "lost.obj",
+            format!("mtllib lost.mtl\n{triangle}vt 0 0\nvt 1 0\nvt 0 1\nusemtl m\nf 1/1/1 2/2/1 3/3/1\n"),
+        ),
+        ("lost.mtl", "newmtl m\nmap_Kd nothere.png\n".to_owned()),
+    ];
+    for (name, text) in &files {
+        std::fs::write(drops.join(name), text).expect("a dropped file");
+    }
+    let in_page = |line: &str| line.replace(&format!("{}/", drops.display()), "dropped/");
+    let mut renderer = native_renderer("cylinder");
+    for name in ["notes.txt", "bare.obj"] {
+        let native = match renderer.open_file(&drops.join(name)) {
+            Err(e) => e.to_string(),
+            Ok(()) => panic!("{name} opened natively"),
+        };
+        let page = load("drop", &base, &format!("frames=2&drop={name}"));
+        page.check_console(name);
+        assert_eq!(page.text("message"), Some(in_page(&native)), "{name}");
+    }
+    let native = common::run(
+        common::tutorial13()
+            .args(["--headless", "--model", "lost.obj", "--frames", "1"])
+            .args(["--screenshot", "lost.png"])
+            .current_dir(&drops),
+    );
+    // The page has no OS error codes: "No such file or directory", without " (os error 2)".
+    let stderr = String::from_utf8_lossy(&native.stderr).replace(" (os error 2)", "");
+    let page = load("drop", &base, "frames=2&drop=lost.obj,lost.mtl");
+    page.check_console("lost.obj");
+    let message = page.text("message").unwrap_or_default();
+    assert!(message.contains("nothere.png"), "the page says: {message}");
+    for line in message.lines() {
+        let line = line.replace("dropped/", "");
+        assert!(
+            stderr.contains(&line),
+            "{line:?} is not in the native {stderr:?}"
+        );
+    }
+}
+
+// Fails if a browser without WebGL2 gets a blank canvas instead of a line saying so, or an error
+// in its console.
+#[test]
+fn no_webgl2_is_said_on_the_page() {
+    let Some(base) = page_url("web::no_webgl2_is_said_on_the_page") else {
+        return;
+    };
+    let page = load_with("no-webgl", &base, "frames=1", &["--disable-webgl"]);
+    page.check_console("no WebGL2");
+    let message = page.text("message").unwrap_or_default();
+    assert!(
+        message.contains("no WebGL2 context"),
+        "the page says: {message}"
+    );
 }

@@ -172,6 +172,8 @@ impl Page {
         if !pressed {
             return;
         }
+        // The last message goes; what this key brings (an error, a notice) replaces it.
+        clear_error();
         let done = match key {
             "Enter" => {
                 let (context, host) = (self.scene_context_parts(), &mut self.host);
@@ -190,9 +192,8 @@ impl Page {
                 None => Ok(()),
             },
         };
-        match done {
-            Ok(()) => clear_error(),
-            Err(e) => show_error(&e.to_string()),
+        if let Err(e) = done {
+            show_error(&e.to_string());
         }
     }
 
@@ -219,10 +220,10 @@ impl Page {
         let Some(model) = model else {
             return;
         };
+        clear_error();
         let (context, host) = (self.scene_context_parts(), &mut self.host);
-        match with_context(context, |c| host.open_file(c, &model)) {
-            Ok(()) => clear_error(),
-            Err(e) => show_error(&e.to_string()),
+        if let Err(e) = with_context(context, |c| host.open_file(c, &model)) {
+            show_error(&e.to_string());
         }
     }
 }
@@ -259,10 +260,24 @@ fn webgl2_info(gl: &glow::Context) -> ContextInfo {
 
 /// The page's one-line message (an error, or why there is no frame), in `#message`.
 pub fn show_error(line: &str) {
-    log::error!("{line}");
+    web_sys::console::warn_1(&JsValue::from_str(line));
+    show_line(line, "error");
+}
+
+/// A line under the canvas: an error, or a notice (a warning the native program prints, such as a
+/// map that falls back), below any already there.
+fn show_line(line: &str, class: &str) {
     if let Some(element) = element("message") {
-        element.set_text_content(Some(line));
-        let _ = element.set_attribute("class", "error");
+        let text = element.text_content().unwrap_or_default();
+        let text = if text.is_empty() {
+            line.to_owned()
+        } else {
+            format!("{text}\n{line}")
+        };
+        element.set_text_content(Some(&text));
+        if element.get_attribute("class").as_deref() != Some("error") {
+            let _ = element.set_attribute("class", class);
+        }
     }
 }
 
@@ -313,9 +328,13 @@ fn console_log() -> Result<(), log::SetLoggerError> {
             if !self.enabled(record.metadata()) {
                 return;
             }
-            let line = JsValue::from_str(&record.args().to_string());
+            let text = record.args().to_string();
+            let line = JsValue::from_str(&text);
             match record.level() {
-                log::Level::Error | log::Level::Warn => web_sys::console::warn_1(&line),
+                log::Level::Error | log::Level::Warn => {
+                    web_sys::console::warn_1(&line);
+                    show_line(&text, "warning");
+                }
                 _ => web_sys::console::log_1(&line),
             }
         }
