@@ -60,7 +60,7 @@ pub fn write_bytes_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
 
 /// Reads a file the scenes load (a model, a map, a texture). Natively `std::fs::read`; in the
 /// browser, which has no file system, the bytes the page fetched or the learner dropped
-/// ([`provide`]), under the same relative paths.
+/// (`provide`, in a wasm32 build), under the same relative paths.
 pub fn read(path: &Path) -> std::io::Result<Vec<u8>> {
     #[cfg(not(target_arch = "wasm32"))]
     return fs::read(path);

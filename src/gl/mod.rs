@@ -83,7 +83,7 @@ impl fmt::Display for ContextInfo {
 /// The object bound at binding point `pname` (e.g. `GL_ARRAY_BUFFER_BINDING`), asked through
 /// `query` (glow's `get_parameter_buffer`, …): `None` where none is bound. In the browser glow
 /// panics on WebGL's null for "none", so the page's raw context is asked first
-/// ([`set_webgl2_context`]).
+/// (`set_webgl2_context`, in a wasm32 build).
 ///
 /// # Safety
 /// A current context.
