@@ -420,6 +420,7 @@ async fn run() -> Result<(), String> {
         drawn: 0,
         frame_ms: Vec::new(),
     }));
+    FROZEN.with(|frozen| frozen.set(contract.frames.is_some()));
     input::listen(&window, &canvas, &page)?;
     // "loading…" goes.
     clear_error();
@@ -497,9 +498,22 @@ fn animate(page: Rc<RefCell<Page>>) {
 }
 
 fn request_animation_frame(callback: &Closure<dyn FnMut()>) {
-    if let Some(window) = web_sys::window() {
-        let _ = window.request_animation_frame(callback.as_ref().unchecked_ref());
+    let Some(window) = web_sys::window() else {
+        return;
+    };
+    let callback = callback.as_ref().unchecked_ref();
+    // `frames=N` (time frozen) draws on a timer: a headless browser may hold animation frames
+    // back, and a test must get its N frames.
+    if FROZEN.with(std::cell::Cell::get) {
+        let _ = window.set_timeout_with_callback_and_timeout_and_arguments_0(callback, 16);
+    } else {
+        let _ = window.request_animation_frame(callback);
     }
+}
+
+thread_local! {
+    /// Whether the page draws `frames=N` (see [`request_animation_frame`]).
+    static FROZEN: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
 /// `data-frames` on the canvas: how many frames are drawn (the tests wait for it); with the
