@@ -1,5 +1,6 @@
 //! Files the program writes, written so that nothing is left half-way: a temporary file in the same
-//! folder, made durable, then renamed into place. Used by screenshots and `make-assets`.
+//! folder, made durable, then renamed into place. Used by screenshots and `make-assets`. And the
+//! files the scenes read, through [`read`], which the browser page serves from memory.
 
 use std::fs;
 use std::io::{BufWriter, Write};
@@ -55,4 +56,63 @@ pub fn write_bytes_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     write_atomically(path, |out| {
         out.write_all(bytes).map_err(|e| Error::io(path, e))
     })
+}
+
+/// Reads a file the scenes load (a model, a map, a texture). Natively `std::fs::read`; in the
+/// browser, which has no file system, the bytes the page fetched or the learner dropped
+/// (`provide`, in a wasm32 build), under the same relative paths.
+pub fn read(path: &Path) -> std::io::Result<Vec<u8>> {
+    #[cfg(not(target_arch = "wasm32"))]
+    return fs::read(path);
+    #[cfg(target_arch = "wasm32")]
+    return page::read(path);
+}
+
+/// Whether [`read`] would find a file at `path` (`Path::is_file` natively).
+pub fn is_file(path: &Path) -> bool {
+    #[cfg(not(target_arch = "wasm32"))]
+    return path.is_file();
+    #[cfg(target_arch = "wasm32")]
+    return page::read(path).is_ok();
+}
+
+/// `Path::try_exists` natively; in the browser, whether the page holds the file.
+pub fn try_exists(path: &Path) -> std::io::Result<bool> {
+    #[cfg(not(target_arch = "wasm32"))]
+    return path.try_exists();
+    #[cfg(target_arch = "wasm32")]
+    return Ok(page::read(path).is_ok());
+}
+
+/// Gives [`read`] a file's bytes in the browser: the crate's assets the page fetched, and files a
+/// learner dropped on it.
+#[cfg(target_arch = "wasm32")]
+pub fn provide(path: &Path, bytes: Vec<u8>) {
+    page::FILES
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+        .get_or_insert_with(Default::default)
+        .insert(path.to_path_buf(), std::sync::Arc::new(bytes));
+}
+
+#[cfg(target_arch = "wasm32")]
+mod page {
+    use std::collections::HashMap;
+    use std::path::{Path, PathBuf};
+    use std::sync::{Arc, Mutex, PoisonError};
+
+    /// The page's files by path (one thread: the lock is never contended).
+    pub(super) static FILES: Mutex<Option<HashMap<PathBuf, Arc<Vec<u8>>>>> = Mutex::new(None);
+
+    pub(super) fn read(path: &Path) -> std::io::Result<Vec<u8>> {
+        let files = FILES.lock().unwrap_or_else(PoisonError::into_inner);
+        files
+            .as_ref()
+            .and_then(|files| files.get(path))
+            .map(|bytes| bytes.to_vec())
+            // In the words Linux uses, which the native program's messages carry.
+            .ok_or_else(|| {
+                std::io::Error::new(std::io::ErrorKind::NotFound, "No such file or directory")
+            })
+    }
 }

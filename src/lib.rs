@@ -11,7 +11,7 @@
 //! | GL helpers          | [`gl`]        | the `Gl` handle, context info, error draining, mesh buffers, read-back and image files, the headless context and offscreen targets |
 //! | debugging aids      | [`debug`]     | the TBN lines (immediate mode and line shader), colour views  |
 //! | scenes              | [`scenes`]    | `tutorial13.rs` (`tutorial13.cpp`), the cylinder scene, the [`scenes::Scene`] seam |
-//! | front ends          | [`frontends`] | the window, headless rendering (`--headless`, `--bench`, tests) |
+//! | front ends          | [`frontends`] | the window, headless rendering (`--headless`, `--bench`, tests), the browser page (wasm32 only, `web/build.sh`) |
 //! | commands            | [`tools`]     | what the binary runs: a scene (window or headless), `make-assets`, `normalmap`, `photometric`; `--help`'s layout |
 //!
 //! `docs/reading-guide.md` maps every block of `tutorial13.cpp` and every `common/*.cpp` function to
@@ -19,6 +19,7 @@
 
 pub mod assets;
 pub mod choices;
+pub mod clock;
 pub mod common;
 pub mod debug;
 pub mod error;
@@ -34,6 +35,7 @@ pub mod pipeline;
 pub mod progress;
 pub mod scenes;
 pub mod tangents;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod tools;
 
 pub use error::{Error, Result};

@@ -4,7 +4,9 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{mpsc, Arc};
 use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+use crate::clock::Instant;
 
 /// How long a load runs before it is announced.
 pub const ANNOUNCE_AFTER: Duration = Duration::from_millis(500);
@@ -23,18 +25,25 @@ impl Progress {
         let (done, finished) = mpsc::channel::<()>();
         let announced = Arc::new(AtomicBool::new(false));
         let (line, flag) = (what.clone(), announced.clone());
-        let watcher = std::thread::spawn(move || {
+        // The browser has no threads to watch from (and no terminal to say it on).
+        #[cfg(target_arch = "wasm32")]
+        let watcher = {
+            drop((finished, line, flag));
+            None
+        };
+        #[cfg(not(target_arch = "wasm32"))]
+        let watcher = Some(std::thread::spawn(move || {
             // A message or a hang-up (the load ended) before the time: nothing to say.
             if let Err(mpsc::RecvTimeoutError::Timeout) = finished.recv_timeout(ANNOUNCE_AFTER) {
                 log::info!("{line} ...");
                 flag.store(true, Ordering::SeqCst);
             }
-        });
+        }));
         Progress {
             what,
             start: Instant::now(),
             done: Some(done),
-            watcher: Some(watcher),
+            watcher,
             announced,
         }
     }

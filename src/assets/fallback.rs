@@ -7,9 +7,13 @@ use std::sync::{Mutex, PoisonError};
 
 use crate::{Error, Result};
 
-/// The crate's own assets/ folder, wherever the binary is started from.
+/// The crate's own assets/ folder, wherever the binary is started from; in the browser, the page's
+/// `assets/` (fetched beside index.html).
 pub fn crate_assets_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets")
+    #[cfg(target_arch = "wasm32")]
+    return PathBuf::from("assets");
+    #[cfg(not(target_arch = "wasm32"))]
+    return Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
 }
 
 /// Where one scene load's asset files are (see [`find_assets`]).
@@ -34,9 +38,9 @@ pub fn find_assets<const N: usize>(
     for name in names {
         let (asked, own) = (dir.join(name), crate_dir.join(name));
         // `dir` being the crate's folder, its loader says what is wrong with the file.
-        if own == asked || asked.try_exists().map_err(|e| Error::io(&asked, e))? {
+        if own == asked || crate::files::try_exists(&asked).map_err(|e| Error::io(&asked, e))? {
             paths.push(asked);
-        } else if own.is_file() {
+        } else if crate::files::is_file(&own) {
             missing.push(asked);
             paths.push(own);
         } else {

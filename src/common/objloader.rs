@@ -31,7 +31,7 @@ impl TriangleSoup {
 
 /// Reads `path` as the tutorial's `loadOBJ` does. Errors name the file and the reason.
 pub fn load_obj(path: &Path) -> Result<TriangleSoup> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = crate::files::read(path).map_err(|e| Error::io(path, e))?;
     load_obj_bytes(&bytes, path)
 }
 
@@ -102,27 +102,26 @@ pub fn read_obj(
     // The face check and tobj's parse read the same text: they run on both cores (a quarter of a
     // large file's load), and tobj's result is used only once the check has passed. A panic in tobj
     // on a file the check refuses is caught, so that the check's error is what the user sees.
-    let (scan, parsed) = std::thread::scope(|scope| {
-        let checker = scope.spawn(|| check_faces(text, mode));
-        // tobj reads `l` lines with its face parser, so a polyline of three or more points would
-        // become a triangle. The tutorial's loader skips lines it does not know, `l` included: drop
-        // them here, keeping the line count so that tobj's view of the file is otherwise the same.
-        let text = if has_polylines(text) {
-            std::borrow::Cow::Owned(drop_polylines(text))
-        } else {
-            std::borrow::Cow::Borrowed(text)
-        };
-        // The tutorial never touches the .mtl file: its caller passes a loader that reads nothing.
-        let parsed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            tobj::load_obj_buf(&mut text.as_bytes(), &options, &materials)
-        }));
-        let scan = checker
-            .join()
-            .unwrap_or_else(|_| Err("the face check failed".into()));
-        (scan, parsed)
-    });
+    let (scan, parsed) = beside(
+        || check_faces(text, mode),
+        || {
+            // tobj reads `l` lines with its face parser, so a polyline of three or more points would
+            // become a triangle. The tutorial's loader skips lines it does not know, `l` included: drop
+            // them here, keeping the line count so that tobj's view of the file is otherwise the same.
+            let text = if has_polylines(text) {
+                std::borrow::Cow::Owned(drop_polylines(text))
+            } else {
+                std::borrow::Cow::Borrowed(text)
+            };
+            // The tutorial never touches the .mtl file: its caller passes a loader that reads nothing.
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                tobj::load_obj_buf(&mut text.as_bytes(), &options, &materials)
+            }))
+        },
+    );
     let scan = scan.map_err(err)?;
     let (models, loaded) = parsed
+        .ok_or_else(|| err("the face check failed".into()))?
         .map_err(|_| err("tobj's parser panicked".into()))?
         .map_err(|e| err(e.to_string()))?;
 
@@ -312,6 +311,30 @@ fn check_corner(
 const NEEDS_UV_AND_NORMAL: &str = "needs a UV and a normal index (v/vt/vn): the tutorial uses both";
 const NEEDS_UV: &str = "needs a texture coordinate index (v/vt or v/vt/vn): normal mapping reads \
                         its maps at each point's UV, and the model has none there";
+
+/// `check` on another core while `parse` runs here. In the browser (wasm32: no threads, and a panic
+/// aborts rather than being caught) `parse` runs after `check` and only if it passed, so `None`
+/// there means the check failed. A panic in `check` reads as a failed check.
+fn beside<C: Send, P>(
+    check: impl FnOnce() -> std::result::Result<C, String> + Send,
+    parse: impl FnOnce() -> P,
+) -> (std::result::Result<C, String>, Option<P>) {
+    #[cfg(target_arch = "wasm32")]
+    return {
+        let scan = check();
+        let parsed = scan.is_ok().then(parse);
+        (scan, parsed)
+    };
+    #[cfg(not(target_arch = "wasm32"))]
+    return std::thread::scope(|scope| {
+        let checker = scope.spawn(check);
+        let parsed = Some(parse());
+        let scan = checker
+            .join()
+            .unwrap_or_else(|_| Err("the face check failed".into()));
+        (scan, parsed)
+    });
+}
 
 #[cfg(test)]
 mod tests {

@@ -137,8 +137,32 @@ pub fn load_shaders(gl: &Gl, vertex: &ShaderFile, fragment: &ShaderFile) -> Resu
     }
 }
 
+/// What WebGL2 replaces `#version 330 core` with: GLSL ES 3.00, which has no default precision for
+/// floats in a fragment shader and a low one for samplers (desktop GL computes both in full), then
+/// `#line 2`, so that a compile error names the line of the file as it is.
+pub const GLSL_ES_HEADER: &str = "#version 300 es\n\
+     precision highp float;\n\
+     precision highp int;\n\
+     precision highp sampler2D;\n\
+     #line 2";
+
+/// A shader file of this repository (`#version 330 core`, GLSL 3.30) as WebGL2 compiles it: the
+/// version line becomes [`GLSL_ES_HEADER`], the rest is unchanged (the files use nothing GLSL ES
+/// 3.00 lacks). A source without that line is returned as it is, and its compile error says why.
+pub fn glsl_es(source: &str) -> String {
+    let (first, rest) = source.split_once('\n').unwrap_or((source, ""));
+    if first.trim() != "#version 330 core" {
+        return source.to_owned();
+    }
+    format!("{GLSL_ES_HEADER}\n{rest}")
+}
+
 unsafe fn compile(gl: &Gl, kind: u32, file: &ShaderFile) -> Result<glow::Shader> {
     let shader = gl.create_shader(kind).map_err(|e| Error::gl("shader", e))?;
+    // WebGL2 compiles GLSL ES 3.00: the same files, their first line adapted.
+    #[cfg(target_arch = "wasm32")]
+    gl.shader_source(shader, &glsl_es(&file.source));
+    #[cfg(not(target_arch = "wasm32"))]
     gl.shader_source(shader, &file.source);
     gl.compile_shader(shader);
     if gl.get_shader_compile_status(shader) {
@@ -210,4 +234,25 @@ pub fn declared_uniforms(source: &str) -> Vec<String> {
         }
     }
     names
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Fails if a file of shaders/ would reach WebGL2 with its desktop version line, without float
+    // precision, or with its lines renumbered (an error's line would not be the file's).
+    #[test]
+    fn every_shader_file_adapts_to_glsl_es() {
+        for (name, source) in EMBEDDED {
+            let adapted = glsl_es(source);
+            assert!(adapted.starts_with("#version 300 es\n"), "{name}");
+            assert!(adapted.contains("\nprecision highp float;\n"), "{name}");
+            assert!(!adapted.contains("330"), "{name}");
+            let (header, rest) = adapted.split_once("\n#line 2\n").expect("a #line 2");
+            assert!(header.lines().count() == 4, "{name}");
+            assert_eq!(rest, source.split_once('\n').unwrap().1, "{name}");
+        }
+        assert_eq!(glsl_es("void main() {}"), "void main() {}");
+    }
 }

@@ -87,6 +87,22 @@ pub struct DdsImage {
     pub levels: Vec<DdsLevel>,
 }
 
+impl DdsLevel {
+    /// The level's texels decompressed to RGBA8 (rows in the file's order): for a map read into
+    /// memory, and for a browser without `WEBGL_compressed_texture_s3tc`.
+    pub fn decompress(&self, format: DxtFormat) -> Vec<u8> {
+        let format = match format {
+            DxtFormat::Dxt1 => texpresso::Format::Bc1,
+            DxtFormat::Dxt3 => texpresso::Format::Bc2,
+            DxtFormat::Dxt5 => texpresso::Format::Bc3,
+        };
+        let (width, height) = (self.width as usize, self.height as usize);
+        let mut rgba = vec![0; width * height * 4];
+        format.decompress(&self.data, width, height, &mut rgba);
+        rgba
+    }
+}
+
 /// Size in bytes of one compressed level, the tutorial's formula `((w+3)/4) * ((h+3)/4) * block`:
 /// every started 4×4 block is stored whole.
 ///
@@ -106,7 +122,7 @@ pub fn read_dds(path: &Path) -> Result<DdsImage> {
 
 /// Reads `path` whole and parses it with `parse` (which names `path` in its errors).
 fn read_with<T>(path: &Path, parse: fn(&[u8], &Path) -> Result<T>) -> Result<T> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = crate::files::read(path).map_err(|e| Error::io(path, e))?;
     parse(&bytes, path)
 }
 
@@ -471,6 +487,9 @@ impl Drop for Texture {
 /// The extension that provides DXT1/3/5 textures (llvmpipe and every desktop driver have it).
 pub const S3TC_EXTENSION: &str = "GL_EXT_texture_compression_s3tc";
 
+/// WebGL2's name for it (Chromium's SwiftShader has it; some phones do not).
+pub const WEBGL_S3TC_EXTENSION: &str = "WEBGL_compressed_texture_s3tc";
+
 /// `loadDDS`: reads `path` and uploads every level, compressed.
 pub fn load_dds(gl: &Gl, path: &Path) -> Result<Texture> {
     upload_dds(gl, &read_dds(path)?, path)
@@ -481,7 +500,13 @@ pub fn load_dds(gl: &Gl, path: &Path) -> Result<Texture> {
 /// file with fewer levels than a full chain is still complete instead of sampling as black; with a
 /// full chain, as the tutorial's, that changes nothing.
 pub fn upload_dds(gl: &Gl, dds: &DdsImage, path: &Path) -> Result<Texture> {
-    if !gl.supported_extensions().contains(S3TC_EXTENSION) {
+    let extensions = gl.supported_extensions();
+    let s3tc = extensions.contains(S3TC_EXTENSION) || extensions.contains(WEBGL_S3TC_EXTENSION);
+    #[cfg(target_arch = "wasm32")]
+    if !s3tc {
+        return upload_dds_decompressed(gl, dds);
+    }
+    if !s3tc {
         return Err(Error::Dds {
             path: path.to_path_buf(),
             reason: format!("this GL driver lacks {S3TC_EXTENSION}, needed for DXT textures"),
@@ -513,6 +538,37 @@ pub fn upload_dds(gl: &Gl, dds: &DdsImage, path: &Path) -> Result<Texture> {
     }
 }
 
+/// [`upload_dds`] where the browser cannot take DXT: every level decompressed on the CPU and uploaded
+/// as RGBA8, sampled as the compressed texture would be (GL's defaults, the same levels).
+#[cfg(target_arch = "wasm32")]
+fn upload_dds_decompressed(gl: &Gl, dds: &DdsImage) -> Result<Texture> {
+    let texture = Texture::create_bound(gl)?;
+    // SAFETY: each level's RGBA8 texels, tightly packed, match its dimensions.
+    unsafe {
+        gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
+        for (level, data) in dds.levels.iter().enumerate() {
+            let rgba = data.decompress(dds.format);
+            gl.tex_image_2d(
+                glow::TEXTURE_2D,
+                level as i32,
+                glow::RGBA8 as i32,
+                data.width as i32,
+                data.height as i32,
+                0,
+                glow::RGBA,
+                glow::UNSIGNED_BYTE,
+                glow::PixelUnpackData::Slice(Some(&rgba)),
+            );
+        }
+        gl.tex_parameter_i32(
+            glow::TEXTURE_2D,
+            glow::TEXTURE_MAX_LEVEL,
+            dds.levels.len() as i32 - 1,
+        );
+    }
+    Ok(texture)
+}
+
 /// `loadBMP_custom`: reads `path` and uploads it.
 pub fn load_bmp_custom(gl: &Gl, path: &Path) -> Result<Texture> {
     upload_bmp(gl, &read_bmp_custom(path)?)
@@ -521,6 +577,19 @@ pub fn load_bmp_custom(gl: &Gl, path: &Path) -> Result<Texture> {
 /// Uploads BGR data as GL_RGB with the tutorial's sampling: REPEAT, trilinear, generated mipmaps.
 pub fn upload_bmp(gl: &Gl, bmp: &BmpImage) -> Result<Texture> {
     let size = (bmp.width, bmp.height);
+    // WebGL2 takes no BGR: the bytes are swapped to RGB first.
+    #[cfg(target_arch = "wasm32")]
+    return upload_texels(
+        gl,
+        glow::RGB8,
+        size,
+        (glow::RGB, glow::UNSIGNED_BYTE),
+        &bmp.bgr
+            .chunks_exact(3)
+            .flat_map(|bgr| [bgr[2], bgr[1], bgr[0]])
+            .collect::<Vec<u8>>(),
+    );
+    #[cfg(not(target_arch = "wasm32"))]
     upload_texels(
         gl,
         glow::RGB,

@@ -72,7 +72,8 @@ impl CompareView {
     ) -> Result<()> {
         let gl = self.gl.clone();
         // SAFETY: a binding query on the current context.
-        let destination = unsafe { gl.get_parameter_framebuffer(glow::DRAW_FRAMEBUFFER_BINDING) };
+        let destination =
+            unsafe { crate::gl::bound_framebuffer(&gl, glow::DRAW_FRAMEBUFFER_BINDING) };
         let targets = self.targets_for(size)?;
         targets[0].bind();
         first();

@@ -222,8 +222,8 @@ impl ShaderLines {
         let buffer = Owned::<glow::Buffer>::create(gl, PART)?;
         // SAFETY: the objects belong to this context; the previous bindings are restored.
         unsafe {
-            let previous_vao = gl.get_parameter_vertex_array(glow::VERTEX_ARRAY_BINDING);
-            let previous_buffer = gl.get_parameter_buffer(glow::ARRAY_BUFFER_BINDING);
+            let previous_vao = crate::gl::bound_vertex_array(gl, glow::VERTEX_ARRAY_BINDING);
+            let previous_buffer = crate::gl::bound_buffer(gl, glow::ARRAY_BUFFER_BINDING);
             gl.bind_vertex_array(Some(lines_vao.name()));
             gl.bind_buffer(glow::ARRAY_BUFFER, Some(buffer.name()));
             gl.enable_vertex_attrib_array(0);
@@ -257,7 +257,7 @@ impl ShaderLines {
         // SAFETY: the buffer belongs to this context; the slice lives through the call; the previous
         // ARRAY_BUFFER binding is restored.
         unsafe {
-            let previous = gl.get_parameter_buffer(glow::ARRAY_BUFFER_BINDING);
+            let previous = crate::gl::bound_buffer(gl, glow::ARRAY_BUFFER_BINDING);
             gl.bind_buffer(glow::ARRAY_BUFFER, Some(self.buffer.name()));
             gl.buffer_data_u8_slice(
                 glow::ARRAY_BUFFER,
@@ -274,8 +274,8 @@ impl ShaderLines {
         let gl = &self.gl;
         // SAFETY: program and VAO belong to this context; the previous program and VAO are restored.
         unsafe {
-            let previous_program = gl.get_parameter_program(glow::CURRENT_PROGRAM);
-            let previous_vao = gl.get_parameter_vertex_array(glow::VERTEX_ARRAY_BINDING);
+            let previous_program = crate::gl::bound_program(gl, glow::CURRENT_PROGRAM);
+            let previous_vao = crate::gl::bound_vertex_array(gl, glow::VERTEX_ARRAY_BINDING);
             gl.use_program(Some(self.program.program.id));
             let location = self.program.mvp.as_ref();
             gl.uniform_matrix_4_f32_slice(location, false, &mvp.to_cols_array());
@@ -449,7 +449,7 @@ impl DebugLines {
         // SAFETY: the entry points were loaded from this context, a compatibility one, which is
         // current; every pointer passed points at 16 (matrices) or 3 (vertices) live floats.
         unsafe {
-            let previous_program = gl.get_parameter_program(glow::CURRENT_PROGRAM);
+            let previous_program = crate::gl::bound_program(gl, glow::CURRENT_PROGRAM);
             // Saves the current colour and the matrix mode; the matrices themselves are pushed.
             (legacy.push_attrib)(GL_CURRENT_BIT | GL_TRANSFORM_BIT);
             (legacy.matrix_mode)(GL_PROJECTION);

@@ -1,15 +1,22 @@
 //! The front ends: the window (glutin + winit, in place of the tutorial's GLFW) and headless
 //! rendering (EGL + an offscreen target), which also serves `--bench`, screenshots and the tests.
 //! Both drive any [`Scene`] through the same seam, so a test's pixels are the
-//! window's pixels.
+//! window's pixels. In a wasm32 build the browser page (`web`) drives it too, and the window and
+//! headless rendering are left out.
 
+#[cfg(not(target_arch = "wasm32"))]
 pub mod headless;
 pub mod host;
 pub mod panel;
+#[cfg(target_arch = "wasm32")]
+pub mod web;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod window;
 
 use std::path::PathBuf;
-use std::time::{Duration, Instant, SystemTime};
+use std::time::{Duration, SystemTime};
+
+use crate::clock::Instant;
 
 use crate::scenes::{MouseMode, Scene, SceneDescriptor};
 

@@ -252,7 +252,7 @@ impl Panel {
         let (destination, samples) = unsafe {
             gl.disable(glow::SCISSOR_TEST);
             (
-                gl.get_parameter_framebuffer(glow::DRAW_FRAMEBUFFER_BINDING),
+                crate::gl::bound_framebuffer(&gl, glow::DRAW_FRAMEBUFFER_BINDING),
                 gl.get_parameter_i32(glow::SAMPLES),
             )
         };

@@ -35,7 +35,7 @@ pub fn read_pixels_rgba(gl: &glow::Context, width: u32, height: u32) -> image::R
     // writes exactly width × height × 4 bytes from the start of `raw`, which is that long.
     unsafe {
         let saved = PACK_STATE.map(|p| gl.get_parameter_i32(p));
-        let pack_buffer = gl.get_parameter_buffer(glow::PIXEL_PACK_BUFFER_BINDING);
+        let pack_buffer = crate::gl::bound_buffer(gl, glow::PIXEL_PACK_BUFFER_BINDING);
         gl.bind_buffer(glow::PIXEL_PACK_BUFFER, None);
         for (param, value) in PACK_STATE.into_iter().zip([1, 0, 0, 0]) {
             gl.pixel_store_i32(param, value);

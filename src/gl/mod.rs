@@ -3,6 +3,7 @@
 //! headless EGL context with its offscreen targets ([`context`]).
 
 pub mod buffers;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod context;
 pub mod extensions;
 pub mod image;
@@ -77,6 +78,63 @@ impl fmt::Display for ContextInfo {
             self.version.0, self.version.1, self.profile, self.renderer, self.vendor
         )
     }
+}
+
+/// The object bound at binding point `pname` (e.g. `GL_ARRAY_BUFFER_BINDING`), asked through
+/// `query` (glow's `get_parameter_buffer`, …): `None` where none is bound. In the browser glow
+/// panics on WebGL's null for "none", so the page's raw context is asked first
+/// (`set_webgl2_context`, in a wasm32 build).
+///
+/// # Safety
+/// A current context.
+pub unsafe fn bound<T>(
+    gl: &glow::Context,
+    pname: u32,
+    query: unsafe fn(&glow::Context, u32) -> Option<T>,
+) -> Option<T> {
+    #[cfg(target_arch = "wasm32")]
+    if WEBGL2.with(|raw| {
+        raw.borrow()
+            .as_ref()
+            .is_some_and(|raw| raw.get_parameter(pname).map_or(true, |v| v.is_null()))
+    }) {
+        return None;
+    }
+    query(gl, pname)
+}
+
+/// [`bound`] for each kind of object the program saves and restores a binding of.
+macro_rules! bound_kind {
+    ($($name:ident, $query:ident, $kind:ty;)*) => {$(
+        /// The object bound at `pname`, if any (see [`bound`]).
+        ///
+        /// # Safety
+        /// A current context.
+        pub unsafe fn $name(gl: &glow::Context, pname: u32) -> Option<$kind> {
+            bound(gl, pname, glow::Context::$query)
+        }
+    )*};
+}
+
+bound_kind! {
+    bound_buffer, get_parameter_buffer, glow::Buffer;
+    bound_framebuffer, get_parameter_framebuffer, glow::Framebuffer;
+    bound_program, get_parameter_program, glow::Program;
+    bound_texture, get_parameter_texture, glow::Texture;
+    bound_vertex_array, get_parameter_vertex_array, glow::VertexArray;
+}
+
+#[cfg(target_arch = "wasm32")]
+thread_local! {
+    /// The page's WebGL2 context, for [`bound`].
+    static WEBGL2: std::cell::RefCell<Option<web_sys::WebGl2RenderingContext>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// Gives [`bound`] the page's WebGL2 context (the one glow's context wraps).
+#[cfg(target_arch = "wasm32")]
+pub fn set_webgl2_context(raw: &web_sys::WebGl2RenderingContext) {
+    WEBGL2.with(|c| *c.borrow_mut() = Some(raw.clone()));
 }
 
 // GL_CONTEXT_PROFILE_MASK's core bit; named here because not every GL binding exports it.

@@ -38,36 +38,41 @@ macro_rules! gl_object {
     };
 }
 
+// The concrete types (not glow's `Buffer`, … aliases, which the trait system cannot tell apart):
+// desktop GL's names natively, glow's keys into WebGL2's objects in the browser.
+#[cfg(not(target_arch = "wasm32"))]
+use glow::{
+    NativeBuffer as BufferName, NativeFramebuffer as FramebufferName,
+    NativeRenderbuffer as RenderbufferName, NativeTexture as TextureName,
+    NativeVertexArray as VertexArrayName,
+};
+#[cfg(target_arch = "wasm32")]
+use glow::{
+    WebBufferKey as BufferName, WebFramebufferKey as FramebufferName,
+    WebRenderbufferKey as RenderbufferName, WebTextureKey as TextureName,
+    WebVertexArrayKey as VertexArrayName,
+};
+
+gl_object!(BufferName, "glGenBuffers", create_buffer, delete_buffer);
 gl_object!(
-    glow::NativeBuffer,
-    "glGenBuffers",
-    create_buffer,
-    delete_buffer
-);
-gl_object!(
-    glow::NativeVertexArray,
+    VertexArrayName,
     "glGenVertexArrays",
     create_vertex_array,
     delete_vertex_array
 );
 gl_object!(
-    glow::NativeFramebuffer,
+    FramebufferName,
     "glGenFramebuffers",
     create_framebuffer,
     delete_framebuffer
 );
 gl_object!(
-    glow::NativeRenderbuffer,
+    RenderbufferName,
     "glGenRenderbuffers",
     create_renderbuffer,
     delete_renderbuffer
 );
-gl_object!(
-    glow::NativeTexture,
-    "glGenTextures",
-    create_texture,
-    delete_texture
-);
+gl_object!(TextureName, "glGenTextures", create_texture, delete_texture);
 
 /// One GL object, deleted when the value is dropped. Keep it (or what holds it) shorter-lived than
 /// its context; the shared `Gl` keeps the function table alive.

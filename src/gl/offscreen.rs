@@ -147,7 +147,7 @@ impl OffscreenTarget {
                 }
                 Color::Texture(texture) => {
                     let texture = texture.name();
-                    let previous = gl.get_parameter_texture(glow::TEXTURE_BINDING_2D);
+                    let previous = crate::gl::bound_texture(gl, glow::TEXTURE_BINDING_2D);
                     gl.bind_texture(glow::TEXTURE_2D, Some(texture));
                     // Mesa stores an unsized RGBA texture in the order of the data it is given.
                     let (format, order) = match color {
@@ -275,9 +275,7 @@ impl OffscreenTarget {
         }
         // SAFETY: binding queries and binds on the current context; the framebuffer is alive.
         unsafe {
-            let previous = self
-                .gl
-                .get_parameter_framebuffer(glow::READ_FRAMEBUFFER_BINDING);
+            let previous = crate::gl::bound_framebuffer(&self.gl, glow::READ_FRAMEBUFFER_BINDING);
             self.gl
                 .bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.framebuffer.name()));
             self.gl.read_buffer(glow::COLOR_ATTACHMENT0);
@@ -294,8 +292,8 @@ impl OffscreenTarget {
         // SAFETY: binding queries, binds and a blit on the current context; this target is alive.
         unsafe {
             let gl = &self.gl;
-            let read = gl.get_parameter_framebuffer(glow::READ_FRAMEBUFFER_BINDING);
-            let draw = gl.get_parameter_framebuffer(glow::DRAW_FRAMEBUFFER_BINDING);
+            let read = crate::gl::bound_framebuffer(gl, glow::READ_FRAMEBUFFER_BINDING);
+            let draw = crate::gl::bound_framebuffer(gl, glow::DRAW_FRAMEBUFFER_BINDING);
             gl.bind_framebuffer(glow::READ_FRAMEBUFFER, framebuffer);
             gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, Some(self.framebuffer.name()));
             let (mask, filter) = (glow::COLOR_BUFFER_BIT, glow::NEAREST);
@@ -313,8 +311,8 @@ impl OffscreenTarget {
         // SAFETY: binding queries, binds and a blit on the current context; this target is alive.
         unsafe {
             let gl = &self.gl;
-            let read = gl.get_parameter_framebuffer(glow::READ_FRAMEBUFFER_BINDING);
-            let draw = gl.get_parameter_framebuffer(glow::DRAW_FRAMEBUFFER_BINDING);
+            let read = crate::gl::bound_framebuffer(gl, glow::READ_FRAMEBUFFER_BINDING);
+            let draw = crate::gl::bound_framebuffer(gl, glow::DRAW_FRAMEBUFFER_BINDING);
             gl.bind_framebuffer(glow::READ_FRAMEBUFFER, Some(self.framebuffer.name()));
             gl.bind_framebuffer(glow::DRAW_FRAMEBUFFER, framebuffer);
             let (mask, filter) = (glow::COLOR_BUFFER_BIT, glow::NEAREST);
@@ -349,7 +347,7 @@ impl OffscreenTarget {
         // SAFETY: the texture is alive and of this size; the previous binding is restored.
         unsafe {
             let gl = &self.gl;
-            let previous = gl.get_parameter_texture(glow::TEXTURE_BINDING_2D);
+            let previous = crate::gl::bound_texture(gl, glow::TEXTURE_BINDING_2D);
             gl.bind_texture(glow::TEXTURE_2D, Some(texture));
             gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
             let data = glow::PixelUnpackData::Slice(Some(&bytes));

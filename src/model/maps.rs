@@ -12,7 +12,7 @@
 use std::path::Path;
 
 use super::MapSource;
-use crate::common::texture::{read_dds_bytes, DxtFormat};
+use crate::common::texture::read_dds_bytes;
 use crate::normalmap::{decode_image, normal_map, HeightMap, NormalMapOptions};
 use crate::{Error, Result};
 
@@ -208,7 +208,7 @@ fn height_to_normals(heights: &HeightMap, strength: f32) -> MapImage {
 /// Decodes an image file into RGBA8, row 0 at the top: DDS (DXT1/3/5, first level) by its
 /// extension, anything else by its contents (PNG, JPEG, TGA, BMP).
 pub fn read_image(path: &Path) -> Result<MapImage> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = crate::files::read(path).map_err(|e| Error::io(path, e))?;
     read_image_bytes(&bytes, path)
 }
 
@@ -233,18 +233,10 @@ pub fn read_image_bytes(bytes: &[u8], path: &Path) -> Result<MapImage> {
 fn read_dds_image(bytes: &[u8], path: &Path) -> Result<MapImage> {
     let dds = read_dds_bytes(bytes, path)?;
     let level = &dds.levels[0];
-    let format = match dds.format {
-        DxtFormat::Dxt1 => texpresso::Format::Bc1,
-        DxtFormat::Dxt3 => texpresso::Format::Bc2,
-        DxtFormat::Dxt5 => texpresso::Format::Bc3,
-    };
-    let (width, height) = (level.width as usize, level.height as usize);
-    let mut rgba = vec![0; width * height * 4];
-    format.decompress(&level.data, width, height, &mut rgba);
     Ok(MapImage {
         width: level.width,
         height: level.height,
-        rgba,
+        rgba: level.decompress(dds.format),
     })
 }
 

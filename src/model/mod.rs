@@ -19,10 +19,10 @@ pub mod gltf;
 pub mod maps;
 pub mod mtl;
 
+use crate::clock::Instant;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use glam::{DVec3, Vec3};
 
@@ -187,14 +187,14 @@ pub struct Model {
 /// `.glb`) and the buffers and images it names.
 pub fn load_model(path: &Path, overrides: &MapOverrides) -> Result<Model> {
     let start = Instant::now();
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = crate::files::read(path).map_err(|e| Error::io(path, e))?;
     log::debug!(
         "{}: {:.1} MB read in {:.1} ms",
         path.display(),
         bytes.len() as f64 / 1e6,
         start.elapsed().as_secs_f64() * 1e3
     );
-    load_model_bytes(&bytes, path, overrides, |p| std::fs::read(p))
+    load_model_bytes(&bytes, path, overrides, crate::files::read)
 }
 
 /// [`load_model`] on the model's bytes (an OBJ, or a glTF by `path`'s extension); `read_mtl` reads
@@ -378,11 +378,11 @@ fn material(m: &tobj::Material, mtl: Option<&PathBuf>, notices: &mut Vec<String>
 /// (exporters often write the absolute path of the machine the model was made on).
 fn resolve(folder: &Path, file: &str) -> PathBuf {
     let written = folder.join(file);
-    if written.is_file() {
+    if crate::files::is_file(&written) {
         return written;
     }
     match Path::new(file).file_name() {
-        Some(name) if folder.join(name).is_file() => folder.join(name),
+        Some(name) if crate::files::is_file(&folder.join(name)) => folder.join(name),
         _ => written,
     }
 }

@@ -13,10 +13,10 @@
 //! refuses, and [`read_obj`] hands the file to the tutorial's reader, whose error is the one the
 //! user sees: one set of error messages, however the file was read.
 
+use crate::clock::Instant;
 use std::collections::HashMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
-use std::time::Instant;
 
 use glam::{Vec2, Vec3};
 
@@ -28,7 +28,7 @@ use crate::{Error, Result};
 /// Reads `path` as the tutorial's `loadOBJ` does ([`crate::common::objloader::load_obj`]), on
 /// every core. Errors name the file and the reason.
 pub fn load_obj(path: &Path) -> Result<TriangleSoup> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = crate::files::read(path).map_err(|e| Error::io(path, e))?;
     load_obj_bytes(&bytes, path)
 }
 

@@ -38,4 +38,5 @@ mod tangent_overflow;
 mod tangent_sources;
 mod texture;
 mod views;
+mod web;
 mod window_input;

@@ -183,7 +183,7 @@ impl SceneType for Cylinder {
             }
             Some(path) => {
                 let _progress = Progress::start(format!("loading {}", path.display()));
-                let start = std::time::Instant::now();
+                let start = crate::clock::Instant::now();
                 let model = load_model(path, &cylinder.maps)?;
                 let parsed = start.elapsed();
                 let sets = model_texture_sets(gl, &model)?;
@@ -218,7 +218,7 @@ impl SceneType for Cylinder {
                     // Another source's mesh straight away: the tutorial's would be built for
                     // nothing (seconds on a large model).
                     source => {
-                        let start = std::time::Instant::now();
+                        let start = crate::clock::Instant::now();
                         let mesh = soup_source.mesh(source, cylinder.mesh)?;
                         log::debug!(
                             "{source} tangents and indexing: {:.1} ms",

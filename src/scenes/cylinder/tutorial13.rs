@@ -150,7 +150,7 @@ impl Tutorial13 {
         mesh_options: MeshOptions,
         texture_sets: Vec<TextureSet>,
     ) -> Result<Self> {
-        let start = std::time::Instant::now();
+        let start = crate::clock::Instant::now();
         let basis = compute_tangent_basis(soup, mesh_options.tangents);
         let tangents = start.elapsed();
         let mesh = index_vbo_tbn(soup, &basis, mesh_options.indexing);

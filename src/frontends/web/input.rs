@@ -1,0 +1,160 @@
+//! The page's input: the DOM's key, mouse, wheel and drop events, turned into what the window's
+//! front end gives the host and the panel.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use glam::Vec2;
+use wasm_bindgen::prelude::*;
+use wasm_bindgen::JsCast;
+use web_sys::{DragEvent, HtmlCanvasElement, KeyboardEvent, MouseEvent, WheelEvent};
+
+use super::{mouse_mode, show_error, Page};
+use crate::frontends::host::Arrow;
+use crate::scenes::MouseMode;
+
+/// An arrow key by its DOM `key`.
+pub fn arrow(key: &str) -> Option<Arrow> {
+    match key {
+        "ArrowUp" => Some(Arrow::Up),
+        "ArrowDown" => Some(Arrow::Down),
+        "ArrowLeft" => Some(Arrow::Left),
+        "ArrowRight" => Some(Arrow::Right),
+        _ => None,
+    }
+}
+
+/// A scene key by its DOM `key`: a letter, upper-case (as the scenes' lists give them).
+pub fn key_char(key: &str) -> Option<char> {
+    let mut chars = key.chars();
+    match (chars.next(), chars.next()) {
+        (Some(c), None) if c.is_ascii_alphabetic() => Some(c.to_ascii_uppercase()),
+        _ => None,
+    }
+}
+
+/// Where a mouse event is, in canvas pixels (x right, y down).
+fn at(event: &MouseEvent) -> Vec2 {
+    Vec2::new(event.offset_x() as f32, event.offset_y() as f32)
+}
+
+fn on<E: JsCast + 'static>(
+    target: &web_sys::EventTarget,
+    kind: &str,
+    page: &Rc<RefCell<Page>>,
+    mut handle: impl FnMut(&mut Page, E) + 'static,
+) -> Result<(), String> {
+    let page = page.clone();
+    let closure = Closure::<dyn FnMut(web_sys::Event)>::new(move |event: web_sys::Event| {
+        if let Ok(event) = event.dyn_into::<E>() {
+            // A handler never runs inside a frame (one thread, one event at a time).
+            if let Ok(mut page) = page.try_borrow_mut() {
+                handle(&mut page, event);
+            }
+        }
+    });
+    target
+        .add_event_listener_with_callback(kind, closure.as_ref().unchecked_ref())
+        .map_err(|_| format!("cannot listen to {kind}"))?;
+    // The page lives as long as the tab: the listener is never removed.
+    closure.forget();
+    Ok(())
+}
+
+/// Listens to the window's keys and the canvas's mouse, wheel and drops.
+pub fn listen(
+    window: &web_sys::Window,
+    canvas: &HtmlCanvasElement,
+    page: &Rc<RefCell<Page>>,
+) -> Result<(), String> {
+    let button = |pos: Vec2, pressed: bool| egui::Event::PointerButton {
+        pos: egui::pos2(pos.x, pos.y),
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: egui::Modifiers::default(),
+    };
+    on(window, "keydown", page, |page, event: KeyboardEvent| {
+        let key = event.key();
+        // The page must not scroll or reload on the keys the scenes use.
+        if arrow(&key).is_some() || key == "F1" || key == "Enter" {
+            event.prevent_default();
+        }
+        if !event.repeat() || arrow(&key).is_some() {
+            page.key(&key, true);
+        }
+    })?;
+    on(window, "keyup", page, |page, event: KeyboardEvent| {
+        page.key(&event.key(), false);
+    })?;
+    on(canvas, "mousedown", page, move |page, event: MouseEvent| {
+        let pos = at(&event);
+        if page.over_panel(pos) {
+            page.panel_events.push(button(pos, true));
+            return;
+        }
+        match mouse_mode(page) {
+            MouseMode::Look => page.dragging = Some(pos),
+            MouseMode::Cursor => page.host.click(),
+        }
+    })?;
+    on(canvas, "mouseup", page, move |page, event: MouseEvent| {
+        page.dragging = None;
+        page.panel_events.push(button(at(&event), false));
+    })?;
+    on(canvas, "mousemove", page, |page, event: MouseEvent| {
+        let pos = at(&event);
+        page.panel_events
+            .push(egui::Event::PointerMoved(egui::pos2(pos.x, pos.y)));
+        if let Some(from) = page.dragging {
+            page.dragging = Some(pos);
+            let moved = pos - from;
+            page.host.look((f64::from(moved.x), f64::from(moved.y)));
+        }
+        page.host.cursor = (!page.over_panel(pos)).then_some(pos);
+    })?;
+    on(canvas, "mouseleave", page, |page, _: MouseEvent| {
+        page.dragging = None;
+        page.host.cursor = None;
+        page.panel_events.push(egui::Event::PointerGone);
+    })?;
+    on(canvas, "wheel", page, |page, event: WheelEvent| {
+        event.prevent_default();
+        let pos = Vec2::new(event.offset_x() as f32, event.offset_y() as f32);
+        if page.over_panel(pos) {
+            page.panel_events.push(egui::Event::MouseWheel {
+                unit: egui::MouseWheelUnit::Point,
+                delta: egui::vec2(-event.delta_x() as f32, -event.delta_y() as f32),
+                modifiers: egui::Modifiers::default(),
+                phase: egui::TouchPhase::Move,
+                source: egui::MouseWheelSource::Unknown,
+            });
+        } else {
+            // A notch is about 100 pixels of DOM delta; positive away from the user, as winit's.
+            page.host.scroll((-event.delta_y() / 100.0) as f32);
+        }
+    })?;
+    on(canvas, "dragover", page, |_, event: DragEvent| {
+        event.prevent_default();
+    })?;
+    let dropped = page.clone();
+    on(canvas, "drop", page, move |_, event: DragEvent| {
+        event.prevent_default();
+        let Some(list) = event.data_transfer().and_then(|d| d.files()) else {
+            return;
+        };
+        let files: Vec<web_sys::File> = (0..list.length()).filter_map(|i| list.get(i)).collect();
+        let page = dropped.clone();
+        wasm_bindgen_futures::spawn_local(async move {
+            let mut read = Vec::new();
+            for file in files {
+                let name = file.name();
+                match wasm_bindgen_futures::JsFuture::from(file.array_buffer()).await {
+                    Ok(buffer) => read.push((name, js_sys::Uint8Array::new(&buffer).to_vec())),
+                    Err(_) => return show_error(&format!("{name}: cannot be read")),
+                }
+            }
+            page.borrow_mut().open_files(read);
+        });
+    })?;
+    Ok(())
+}

@@ -1,0 +1,540 @@
+//! The browser page (wasm32 only): a 1024×768 canvas with a WebGL2 context, driven through the same
+//! [`SceneHost`] as the window and headless rendering, with the window's panel painted by egui on the
+//! same context. `web/build.sh` builds it into `target/web/`.
+//!
+//! The page contract (tests and links use it): `index.html?scene=NAME&panel=off&frames=N` draws
+//! scene NAME (the cylinder without it), without the panel when `panel=off`, and with `frames=N`
+//! draws N frames with time frozen at 0, as `--frames N` does, then stops.
+//!
+//! The keys are the window's (scene keys, arrows, R, Enter, F1); a drag on the frame looks around
+//! (a page cannot grab the cursor the way the window does without the user's leave). A dropped OBJ
+//! with its MTL and maps opens as a dropped file does in the window. Errors are one line on the
+//! page, the same line the native program prints.
+
+mod input;
+
+use std::cell::RefCell;
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+
+use glam::Vec2;
+use glow::HasContext;
+use wasm_bindgen::prelude::*;
+use wasm_bindgen::JsCast;
+use web_sys::{HtmlCanvasElement, WebGl2RenderingContext};
+
+use super::host::SceneHost;
+use super::panel::{Panel, PanelInfo};
+use super::FrameTimer;
+use crate::clock::Instant;
+use crate::gl::extensions::GlExtensions;
+use crate::gl::offscreen::OffscreenTarget;
+use crate::gl::{ContextInfo, Gl, Profile};
+use crate::scenes::{MouseMode, SceneContext, SceneOptions};
+
+/// The canvas's size: the tutorial's window.
+pub const WIDTH: u32 = 1024;
+pub const HEIGHT: u32 = 768;
+
+/// Why the TBN lines have no immediate-mode variant here (the panel greys that choice with it).
+pub const NO_IMMEDIATE_MODE: &str =
+    "WebGL2 has no immediate mode (glBegin/glEnd): the TBN lines are drawn by the line shader";
+
+/// What the page's URL asks for (see the module's documentation).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PageContract {
+    pub scene: Option<String>,
+    pub panel: bool,
+    pub frames: Option<u32>,
+}
+
+impl PageContract {
+    /// Reads `?scene=NAME&panel=off&frames=N` (a query string without its `?` too).
+    pub fn parse(query: &str) -> Result<Self, String> {
+        let mut contract = PageContract {
+            scene: None,
+            panel: true,
+            frames: None,
+        };
+        for pair in query.trim_start_matches('?').split('&') {
+            let (key, value) = pair.split_once('=').unwrap_or((pair, ""));
+            match key {
+                "scene" => contract.scene = Some(value.to_owned()),
+                "panel" => contract.panel = value != "off",
+                "frames" => {
+                    let frames =
+                        value.parse().ok().filter(|&n| n > 0).ok_or_else(|| {
+                            format!("frames={value}: a number of frames, 1 or more")
+                        })?;
+                    contract.frames = Some(frames);
+                }
+                _ => {}
+            }
+        }
+        Ok(contract)
+    }
+}
+
+/// The page's state: what the window's front end holds, minus the window.
+struct Page {
+    host: SceneHost,
+    /// Where the scene and the panel are drawn, then copied onto the canvas: glow cannot read the
+    /// canvas's own framebuffer back as a binding (it panics on WebGL's null framebuffer), and the
+    /// panel and the compare view ask which framebuffer is bound.
+    target: OffscreenTarget,
+    panel: Option<Panel>,
+    panel_shown: bool,
+    /// egui's input since the last frame (pointer and wheel over the panel).
+    panel_events: Vec<egui::Event>,
+    gl: Gl,
+    info: ContextInfo,
+    extensions: GlExtensions,
+    /// Frames still to draw with time frozen (`frames=N`); `None`: run.
+    frames_left: Option<u32>,
+    started: Instant,
+    last_time: Instant,
+    timer: FrameTimer,
+    ms_per_frame: Option<f64>,
+    /// The pointer, in canvas pixels, while the left button drags the camera.
+    dragging: Option<Vec2>,
+    /// Frames drawn so far (the page's `data-frames`, which the tests wait for).
+    drawn: u32,
+    /// Each frame's time, drawn to completion (a one-texel read-back), in ms: the page's
+    /// `data-frame-ms` is their median, as `--bench` times the native frames.
+    frame_ms: Vec<f64>,
+}
+
+impl Page {
+    /// One frame on the canvas, the panel over it if shown.
+    fn frame(&mut self) {
+        let now = Instant::now();
+        let start = now;
+        let delta_time = (now - self.last_time).as_secs_f32();
+        self.last_time = now;
+        if let Some(ms) = self.timer.tick(now) {
+            self.ms_per_frame = Some(ms);
+        }
+        let frozen = self.frames_left.is_some();
+        let time = (now - self.started).as_secs_f32();
+        self.target.bind();
+        let input = self.host.draw(delta_time, time, frozen);
+        if let Some(panel) = self.panel.as_mut().filter(|_| self.panel_shown) {
+            let mut panel_input = Panel::headless_input(input.size);
+            panel_input.events = std::mem::take(&mut self.panel_events);
+            panel_input.time = Some(if frozen { 0.0 } else { f64::from(time) });
+            let info = PanelInfo {
+                ms_per_frame: self.ms_per_frame,
+                shader_error: None,
+            };
+            let host = &mut self.host;
+            let (output, _) = panel.run(panel_input, host.descriptor(), &mut *host.scene, info);
+            self.target.bind();
+            panel.paint(input.size, output);
+        }
+        self.target.blit_columns_to(None, 0, WIDTH);
+        // Waits for the frame to be drawn, to time it whole: WebGL's finish returns at once, a
+        // read-back cannot.
+        let mut texel = [0u8; 4];
+        // SAFETY: one texel of the bound target, into a buffer of its size.
+        unsafe {
+            self.gl.read_pixels(
+                0,
+                0,
+                1,
+                1,
+                glow::RGBA,
+                glow::UNSIGNED_BYTE,
+                glow::PixelPackData::Slice(Some(&mut texel)),
+            )
+        };
+        self.frame_ms.push(start.elapsed().as_secs_f64() * 1000.0);
+        if let Err(e) = crate::gl::check_gl_errors(&self.gl, "frame") {
+            show_error(&e.to_string());
+        }
+        self.drawn += 1;
+        if let Some(left) = &mut self.frames_left {
+            *left = left.saturating_sub(1);
+        }
+    }
+
+    /// Whether a point of the canvas is on the panel as last drawn.
+    fn over_panel(&self, at: Vec2) -> bool {
+        let rect = self.panel.as_ref().filter(|_| self.panel_shown);
+        rect.and_then(Panel::rect)
+            .is_some_and(|r| r.contains(egui::pos2(at.x, at.y)))
+    }
+
+    /// A key went down (`pressed`) or up: the window's keys, through the host.
+    fn key(&mut self, key: &str, pressed: bool) {
+        if let Some(arrow) = input::arrow(key) {
+            return self.host.arrow(arrow, pressed);
+        }
+        if !pressed {
+            return;
+        }
+        // The last message goes; what this key brings (an error, a notice) replaces it.
+        clear_error();
+        let done = match key {
+            "Enter" => {
+                let (context, host) = (self.scene_context_parts(), &mut self.host);
+                with_context(context, |c| host.next_scene(c))
+            }
+            "F1" => {
+                self.panel_shown = !self.panel_shown;
+                Ok(())
+            }
+            "r" | "R" => {
+                self.host.reset_camera();
+                Ok(())
+            }
+            _ => match input::key_char(key) {
+                Some(c) => self.host.scene_key(c).map(|_| ()),
+                None => Ok(()),
+            },
+        };
+        if let Err(e) = done {
+            show_error(&e.to_string());
+        }
+    }
+
+    fn scene_context_parts(&self) -> (Gl, ContextInfo, GlExtensions) {
+        (self.gl.clone(), self.info.clone(), self.extensions.clone())
+    }
+
+    /// Files dropped on the page: kept where the scenes' loaders read them, then the model among
+    /// them (an `.obj`, else the first file) opened as the window opens a dropped file.
+    fn open_files(&mut self, files: Vec<(String, Vec<u8>)>) {
+        let folder = Path::new("dropped");
+        let mut model: Option<PathBuf> = None;
+        for (name, bytes) in files {
+            let path = folder.join(&name);
+            let is_obj = name.to_ascii_lowercase().ends_with(".obj");
+            if is_obj || model.is_none() {
+                model = Some(path.clone())
+                    .filter(|_| is_obj)
+                    .or(model)
+                    .or(Some(path.clone()));
+            }
+            crate::files::provide(&path, bytes);
+        }
+        let Some(model) = model else {
+            return;
+        };
+        clear_error();
+        let (context, host) = (self.scene_context_parts(), &mut self.host);
+        if let Err(e) = with_context(context, |c| host.open_file(c, &model)) {
+            show_error(&e.to_string());
+        }
+    }
+}
+
+/// `f` with a scene context made of owned parts (the page is borrowed mutably meanwhile).
+fn with_context<T>(
+    (gl, info, extensions): (Gl, ContextInfo, GlExtensions),
+    f: impl FnOnce(&SceneContext) -> T,
+) -> T {
+    f(&SceneContext {
+        gl: &gl,
+        info: &info,
+        extensions: &extensions,
+    })
+}
+
+/// What WebGL2 is, as [`ContextInfo`]: OpenGL ES 3.0 without profiles (read as core: no immediate
+/// mode). The desktop queries `context_info` makes (`GL_CONTEXT_PROFILE_MASK`) do not exist here.
+fn webgl2_info(gl: &glow::Context) -> ContextInfo {
+    let mut extensions: Vec<String> = gl.supported_extensions().iter().cloned().collect();
+    extensions.sort();
+    // SAFETY: queries WebGL2 has.
+    unsafe {
+        ContextInfo {
+            version: (3, 0),
+            profile: Profile::Core,
+            renderer: gl.get_parameter_string(glow::RENDERER),
+            vendor: gl.get_parameter_string(glow::VENDOR),
+            version_string: gl.get_parameter_string(glow::VERSION),
+            extensions,
+        }
+    }
+}
+
+/// The page's one-line message (an error, or why there is no frame), in `#message`.
+pub fn show_error(line: &str) {
+    web_sys::console::warn_1(&JsValue::from_str(line));
+    show_line(line, "error");
+}
+
+/// A line under the canvas: an error, or a notice (a warning the native program prints, such as a
+/// map that falls back), below any already there.
+fn show_line(line: &str, class: &str) {
+    if let Some(element) = element("message") {
+        let text = element.text_content().unwrap_or_default();
+        let text = if text.is_empty() {
+            line.to_owned()
+        } else {
+            format!("{text}\n{line}")
+        };
+        element.set_text_content(Some(&text));
+        if element.get_attribute("class").as_deref() != Some("error") {
+            let _ = element.set_attribute("class", class);
+        }
+    }
+}
+
+fn clear_error() {
+    if let Some(element) = element("message") {
+        element.set_text_content(None);
+        let _ = element.remove_attribute("class");
+    }
+}
+
+fn element(id: &str) -> Option<web_sys::Element> {
+    web_sys::window()?.document()?.get_element_by_id(id)
+}
+
+/// Starts the page: the context, the assets fetched, the scene built, then a frame per animation
+/// frame. Every failure is one line on the page.
+pub fn start() {
+    // A panic would print a stack into the console and leave a frozen canvas: its message goes on
+    // the page instead, as an error does.
+    std::panic::set_hook(Box::new(|info| {
+        let line = format!("internal error: {info}");
+        web_sys::console::error_1(&JsValue::from_str(&line));
+        // The first is the one that says what went wrong (a second may follow from the state the
+        // first left).
+        let shown = element("message").and_then(|e| e.text_content());
+        if !shown.is_some_and(|text| text.starts_with("internal error")) {
+            show_error(&line);
+        }
+    }));
+    let _ = console_log();
+    wasm_bindgen_futures::spawn_local(async {
+        if let Err(line) = run().await {
+            show_error(&line);
+        }
+    });
+}
+
+/// `log`'s lines go to the browser's console (info and debug as console.log, warnings as
+/// console.warn; errors are shown on the page by [`show_error`] and logged as warnings, so that a
+/// console with an error means a bug, not bad input).
+fn console_log() -> Result<(), log::SetLoggerError> {
+    struct Console;
+    impl log::Log for Console {
+        fn enabled(&self, metadata: &log::Metadata) -> bool {
+            metadata.level() <= log::Level::Info
+        }
+        fn log(&self, record: &log::Record) {
+            if !self.enabled(record.metadata()) {
+                return;
+            }
+            let text = record.args().to_string();
+            let line = JsValue::from_str(&text);
+            match record.level() {
+                log::Level::Error | log::Level::Warn => {
+                    web_sys::console::warn_1(&line);
+                    show_line(&text, "warning");
+                }
+                _ => web_sys::console::log_1(&line),
+            }
+        }
+        fn flush(&self) {}
+    }
+    log::set_logger(&Console).map(|()| log::set_max_level(log::LevelFilter::Info))
+}
+
+async fn run() -> Result<(), String> {
+    let window = web_sys::window().ok_or("no window")?;
+    let document = window.document().ok_or("no document")?;
+    let contract = PageContract::parse(&window.location().search().unwrap_or_default())?;
+    let canvas: HtmlCanvasElement = document
+        .get_element_by_id("canvas")
+        .and_then(|e| e.dyn_into().ok())
+        .ok_or("the page has no <canvas id=\"canvas\">")?;
+    canvas.set_width(WIDTH);
+    canvas.set_height(HEIGHT);
+    // No multisampling, as the tutorial's window; the frame is kept after it is shown, for
+    // screenshots of `frames=N`.
+    let attributes = js_sys::Object::new();
+    for (key, value) in [("antialias", false), ("preserveDrawingBuffer", true)] {
+        js_sys::Reflect::set(&attributes, &key.into(), &value.into())
+            .map_err(|_| "cannot set the context's attributes")?;
+    }
+    let webgl2: WebGl2RenderingContext = canvas
+        .get_context_with_context_options("webgl2", &attributes)
+        .ok()
+        .flatten()
+        .and_then(|c| c.dyn_into().ok())
+        .ok_or(
+            "this browser gives no WebGL2 context (the scenes need it): \
+             try another browser, or turn on hardware acceleration",
+        )?;
+    let descriptor = match &contract.scene {
+        Some(name) => crate::scenes::find(name)?,
+        None => crate::scenes::default_scene(),
+    };
+    fetch_assets(&window).await?;
+
+    // `Gl` is an `Arc` for the native threads' sake; the page has one thread.
+    crate::gl::set_webgl2_context(&webgl2);
+    #[allow(clippy::arc_with_non_send_sync)]
+    let gl = Gl::new(glow::Context::from_webgl2_context(webgl2));
+    let info = webgl2_info(&gl);
+    log::info!("WebGL2 on {} ({})", info.renderer, info.vendor);
+    let extensions = GlExtensions {
+        renderer: info.renderer.clone(),
+        flip_y: None,
+        legacy: Err(NO_IMMEDIATE_MODE.into()),
+    };
+    let target = OffscreenTarget::new(&gl, WIDTH, HEIGHT).map_err(|e| e.to_string())?;
+    target.bind();
+    let context = SceneContext {
+        gl: &gl,
+        info: &info,
+        extensions: &extensions,
+    };
+    let host = SceneHost::new(
+        &context,
+        descriptor,
+        &SceneOptions::default(),
+        (WIDTH, HEIGHT),
+    )
+    .map_err(|e| e.to_string())?;
+    let panel = Panel::new(&gl, &extensions).map_err(|e| e.to_string())?;
+    let now = Instant::now();
+    let page = Rc::new(RefCell::new(Page {
+        host,
+        target,
+        panel: Some(panel),
+        panel_shown: contract.panel,
+        panel_events: Vec::new(),
+        gl,
+        info,
+        extensions,
+        frames_left: contract.frames,
+        started: now,
+        last_time: now,
+        timer: FrameTimer::new(),
+        ms_per_frame: None,
+        dragging: None,
+        drawn: 0,
+        frame_ms: Vec::new(),
+    }));
+    FROZEN.with(|frozen| frozen.set(contract.frames.is_some()));
+    input::listen(&window, &canvas, &page)?;
+    // "loading…" goes.
+    clear_error();
+    animate(page);
+    Ok(())
+}
+
+/// Fetches `assets/list.txt` (written by web/build.sh) and every file it names, for the scenes'
+/// loaders ([`crate::files::read`]).
+async fn fetch_assets(window: &web_sys::Window) -> Result<(), String> {
+    let list = fetch(window, "assets/list.txt").await?;
+    let list = String::from_utf8(list).map_err(|_| "assets/list.txt: not text")?;
+    let names: Vec<&str> = list.lines().filter(|l| !l.trim().is_empty()).collect();
+    // Every request is sent before the first is awaited: the files come in side by side.
+    let requests: Vec<_> = names
+        .iter()
+        .map(|name| window.fetch_with_str(&format!("assets/{name}")))
+        .collect();
+    for (name, request) in names.into_iter().zip(requests) {
+        let bytes = body(&format!("assets/{name}"), request).await?;
+        crate::files::provide(&Path::new("assets").join(name), bytes);
+    }
+    Ok(())
+}
+
+async fn fetch(window: &web_sys::Window, url: &str) -> Result<Vec<u8>, String> {
+    body(url, window.fetch_with_str(url)).await
+}
+
+/// The bytes `request` (a `fetch` of `url`) answers with.
+async fn body(url: &str, request: js_sys::Promise) -> Result<Vec<u8>, String> {
+    let failed = |why: &str| format!("{url}: {why}");
+    let response = wasm_bindgen_futures::JsFuture::from(request)
+        .await
+        .map_err(|_| failed("cannot be fetched (serve the folder over HTTP)"))?;
+    let response: web_sys::Response = response.dyn_into().map_err(|_| failed("no response"))?;
+    if !response.ok() {
+        return Err(failed(&format!("HTTP {}", response.status())));
+    }
+    let buffer = response.array_buffer().map_err(|_| failed("no body"))?;
+    let buffer = wasm_bindgen_futures::JsFuture::from(buffer)
+        .await
+        .map_err(|_| failed("its body cannot be read"))?;
+    Ok(js_sys::Uint8Array::new(&buffer).to_vec())
+}
+
+/// What `requestAnimationFrame` calls.
+type FrameCallback = Closure<dyn FnMut()>;
+
+/// A frame per animation frame; after `frames=N`, the last one stays.
+fn animate(page: Rc<RefCell<Page>>) {
+    let callback: Rc<RefCell<Option<FrameCallback>>> = Rc::new(RefCell::new(None));
+    let again = callback.clone();
+    *callback.borrow_mut() = Some(Closure::new(move || {
+        let Ok(mut page) = page.try_borrow_mut() else {
+            // An input handler holds the page (it cannot, one thread running one event at a
+            // time; but a frame skipped is better than a panic).
+            if let Some(callback) = again.borrow().as_ref() {
+                request_animation_frame(callback);
+            }
+            return;
+        };
+        page.frame();
+        set_frames_drawn(&page);
+        if page.frames_left != Some(0) {
+            if let Some(callback) = again.borrow().as_ref() {
+                request_animation_frame(callback);
+            }
+        }
+    }));
+    let first = callback.borrow();
+    if let Some(callback) = first.as_ref() {
+        request_animation_frame(callback);
+    }
+}
+
+fn request_animation_frame(callback: &Closure<dyn FnMut()>) {
+    let Some(window) = web_sys::window() else {
+        return;
+    };
+    let callback = callback.as_ref().unchecked_ref();
+    // `frames=N` (time frozen) draws on a timer: a headless browser may hold animation frames
+    // back, and a test must get its N frames.
+    if FROZEN.with(std::cell::Cell::get) {
+        let _ = window.set_timeout_with_callback_and_timeout_and_arguments_0(callback, 16);
+    } else {
+        let _ = window.request_animation_frame(callback);
+    }
+}
+
+thread_local! {
+    /// Whether the page draws `frames=N` (see [`request_animation_frame`]).
+    static FROZEN: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// `data-frames` on the canvas: how many frames are drawn (the tests wait for it); with the
+/// figures BENCHMARKS.md gives: `data-first-frame-ms`, when the first frame was drawn since the
+/// page's navigation began, and `data-frame-ms`, the median frame time so far.
+fn set_frames_drawn(page: &Page) {
+    let Some(canvas) = element("canvas") else {
+        return;
+    };
+    let _ = canvas.set_attribute("data-frames", &page.drawn.to_string());
+    if page.drawn == 1 {
+        let now = web_sys::window()
+            .and_then(|w| w.performance())
+            .map_or(f64::NAN, |p| p.now());
+        let _ = canvas.set_attribute("data-first-frame-ms", &format!("{now:.0}"));
+    }
+    let (_, median) = super::min_median(&page.frame_ms);
+    let _ = canvas.set_attribute("data-frame-ms", &format!("{median:.2}"));
+}
+
+/// The mouse mode of the scene on the page.
+fn mouse_mode(page: &Page) -> MouseMode {
+    page.host.descriptor().mouse_mode
+}

@@ -1,0 +1,312 @@
+//! The browser page in a real browser: Chromium headless on SwiftShader's WebGL2, loading the page
+//! `web/build.sh` wrote from the server `web/test.sh` starts (`TUTORIAL13_WEB_URL`). Each scene's
+//! frame is compared with the native headless frame (SwiftShader rasterizes on its own, so "within
+//! 8 levels on 90 % of the pixels", the share measured printed), the panel shows, a click on a
+//! switch does what its key does, and the page's console holds no error.
+//!
+//! Without `TUTORIAL13_WEB_URL` these tests say they are skipped (the README's test command builds no
+//! browser page); with `TUTORIAL13_REQUIRE_WEB=1` (web/test.sh) they fail instead.
+
+use std::path::Path;
+use std::process::Command;
+
+use image::RgbImage;
+use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
+use tutorial13::frontends::panel::PanelWidget;
+use tutorial13::scenes::{self, SCENES};
+
+use crate::common::{self, frame, frame_diff};
+
+/// The share of pixels that must be within [`TOLERANCE`] of the native frame.
+const WITHIN: f64 = 0.90;
+/// Levels (of 255, per channel) a pixel of the page may differ from the native one by.
+const TOLERANCE: u8 = 8;
+
+/// The page's address, or `None` (said) where the browser tests are not run.
+fn page_url(test: &str) -> Option<String> {
+    match std::env::var("TUTORIAL13_WEB_URL") {
+        Ok(url) => Some(url),
+        Err(_) if std::env::var_os("TUTORIAL13_REQUIRE_WEB").is_some() => {
+            panic!("{test}: TUTORIAL13_REQUIRE_WEB is set but TUTORIAL13_WEB_URL is not")
+        }
+        Err(_) => {
+            common::skip(
+                test,
+                "no TUTORIAL13_WEB_URL (the browser tests run with web/test.sh)",
+            );
+            None
+        }
+    }
+}
+
+/// What Chromium showed for `query`: the 1024×768 screenshot and the page's DOM once the frames
+/// were drawn.
+struct Loaded {
+    shot: RgbImage,
+    dom: String,
+}
+
+impl Loaded {
+    /// The text of the element `id`.
+    fn text(&self, id: &str) -> Option<String> {
+        let start = self.dom.find(&format!("id=\"{id}\""))?;
+        let rest = &self.dom[start..];
+        let open = rest.find('>')? + 1;
+        let close = rest.find("</")?;
+        Some(rest[open..close].trim().to_owned())
+    }
+
+    /// The page's message and what reached the console as an error: nothing.
+    fn check_clean(&self, what: &str) {
+        let message = self.text("message");
+        assert_eq!(message.as_deref(), Some(""), "{what}: the page's message");
+        self.check_console(what);
+    }
+
+    /// What reached the console as an error: nothing.
+    fn check_console(&self, what: &str) {
+        let errors = self.text("console-errors");
+        assert_eq!(errors.as_deref(), Some(""), "{what}: the console's errors");
+    }
+}
+
+fn chromium(url: &str, action: &str, out: &Path, flags: &[&str]) -> Command {
+    let binary = std::env::var("TUTORIAL13_CHROMIUM").unwrap_or_else(|_| "chromium".into());
+    let mut command = Command::new(binary);
+    command.args([
+        "--headless=new",
+        "--use-angle=swiftshader",
+        "--enable-unsafe-swiftshader",
+        "--no-sandbox",
+        "--no-first-run",
+        "--hide-scrollbars",
+        "--window-size=1024,768",
+        "--virtual-time-budget=20000",
+        &format!("--user-data-dir={}", out.join("profile").display()),
+        action,
+    ]);
+    command.args(flags).arg(url);
+    command
+}
+
+/// Loads `query` (after `?`) in Chromium: a screenshot, then the DOM.
+fn load(test: &str, base: &str, query: &str) -> Loaded {
+    load_with(test, base, query, &[])
+}
+
+/// [`load`] with more of Chromium's flags.
+fn load_with(test: &str, base: &str, query: &str, flags: &[&str]) -> Loaded {
+    let out = common::scratch(&format!("{test}-{}", query.replace(['&', '=', ','], "_")));
+    let url = format!("{base}/index.html?{query}");
+    let png = out.join("page.png");
+    let shot = common::run(&mut chromium(
+        &url,
+        &format!("--screenshot={}", png.display()),
+        &out,
+        flags,
+    ));
+    assert!(png.is_file(), "{url}: no screenshot: {shot:?}");
+    let dumped = common::run(&mut chromium(&url, "--dump-dom", &out, flags));
+    let dom = String::from_utf8_lossy(&dumped.stdout).into_owned();
+    let shot = image::open(&png).expect("Chromium's PNG").into_rgb8();
+    assert_eq!(
+        shot.dimensions(),
+        (1024, 768),
+        "{url}: the screenshot's size"
+    );
+    Loaded { shot, dom }
+}
+
+/// The share of pixels of `page` within [`TOLERANCE`] of `native`.
+fn share_within(page: &RgbImage, native: &RgbImage) -> f64 {
+    let d = frame_diff(page, native);
+    1.0 - d.over(TOLERANCE) as f64 / d.pixels() as f64
+}
+
+fn native_renderer(name: &str) -> HeadlessRenderer {
+    common::renderer(&HeadlessOptions {
+        descriptor: scenes::find(name).expect("a scene"),
+        ..Default::default()
+    })
+}
+
+// Fails if a scene's page frame (`frames=1`, panel off) is not the native headless frame within
+// the tolerance, or the page shows a message or logs an error.
+#[test]
+fn each_scene_in_the_page_is_the_native_frame() {
+    let Some(base) = page_url("web::each_scene_in_the_page_is_the_native_frame") else {
+        return;
+    };
+    for scene in SCENES {
+        let page = load(
+            "scene",
+            &base,
+            &format!("scene={}&panel=off&frames=1", scene.name),
+        );
+        page.check_clean(scene.name);
+        let native = frame(&mut native_renderer(scene.name));
+        let share = share_within(&page.shot, &native);
+        eprintln!(
+            "web: {}: {:.2} % of pixels within {TOLERANCE} levels of the native frame",
+            scene.name,
+            share * 100.0
+        );
+        assert!(
+            share >= WITHIN,
+            "{}: {:.4} within {TOLERANCE}",
+            scene.name,
+            share
+        );
+    }
+}
+
+// Fails if the page without `panel=off` does not show the panel as the native headless `--panel`
+// frame does.
+#[test]
+fn the_page_shows_the_panel() {
+    let Some(base) = page_url("web::the_page_shows_the_panel") else {
+        return;
+    };
+    let page = load("panel", &base, "scene=cylinder&frames=1");
+    page.check_clean("panel");
+    let mut renderer = native_renderer("cylinder");
+    renderer.show_panel().expect("the panel");
+    let native = frame(&mut renderer);
+    let share = share_within(&page.shot, &native);
+    eprintln!(
+        "web: cylinder with the panel: {:.2} % of pixels within {TOLERANCE} levels",
+        share * 100.0
+    );
+    assert!(
+        share >= WITHIN,
+        "with the panel: {share:.4} within {TOLERANCE}"
+    );
+    let without = frame(&mut native_renderer("cylinder"));
+    assert!(
+        share_within(&page.shot, &without) < share,
+        "the page's frame is nearer the frame without the panel"
+    );
+}
+
+// Fails if a click on the panel's L switch (at the centre the native panel draws it) does not
+// change the frame as the L key does, or changes nothing.
+#[test]
+fn a_click_on_a_switch_does_what_its_key_does() {
+    let Some(base) = page_url("web::a_click_on_a_switch_does_what_its_key_does") else {
+        return;
+    };
+    let mut renderer = native_renderer("cylinder");
+    renderer.show_panel().expect("the panel");
+    frame(&mut renderer);
+    let panel = renderer.panel.as_ref().expect("the panel");
+    let at = panel
+        .widget_rect(&PanelWidget::Key('L'))
+        .expect("the L switch")
+        .center();
+    let panel_right = panel.rect().expect("the panel's rectangle").max.x.ceil() as u32;
+    let clicked = load("click", &base, &format!("frames=9&click={},{}", at.x, at.y));
+    let pressed = load("key", &base, "frames=9&key=l");
+    let untouched = load("none", &base, "frames=9");
+    untouched.check_clean("none");
+    // L on says, as natively, that the lines fall back to the line shader: the same line both ways.
+    for (loaded, what) in [(&clicked, "click"), (&pressed, "key")] {
+        loaded.check_console(what);
+        let message = loaded.text("message").unwrap_or_default();
+        assert!(
+            message.contains("line shader"),
+            "{what}: the page says {message}"
+        );
+    }
+    assert_eq!(clicked.text("message"), pressed.text("message"));
+    // The scene's part of the frame (the panel differs by the hovered switch).
+    let scene_part = |image: &RgbImage| {
+        image::imageops::crop_imm(image, panel_right, 0, 1024 - panel_right, 768).to_image()
+    };
+    let (clicked, pressed, untouched) = (
+        scene_part(&clicked.shot),
+        scene_part(&pressed.shot),
+        scene_part(&untouched.shot),
+    );
+    assert_eq!(
+        frame_diff(&clicked, &pressed).differing(),
+        0,
+        "the click and the key differ"
+    );
+    // The lines are thin: a few hundred pixels of the scene's part.
+    let changed = frame_diff(&clicked, &untouched).differing();
+    eprintln!("web: the click on L changed {changed} pixels of the scene, as the key did");
+    assert!(changed > 100, "the click changed {changed} pixels");
+}
+
+// Fails if a dropped file that is no model or an OBJ without texture coordinates does not put the
+// native program's one line on the page (the folder aside), if an MTL naming a missing map does
+// not give its notice there too, or if any of them logs an error to the console.
+#[test]
+fn bad_drops_give_the_native_lines() {
+    let Some(base) = page_url("web::bad_drops_give_the_native_lines") else {
+        return;
+    };
+    let served =
+        std::env::var("TUTORIAL13_WEB_DIR").expect("TUTORIAL13_WEB_DIR (web/test.sh sets it)");
+    let drops = Path::new(&served).join("drops");
+    std::fs::create_dir_all(&drops).expect("drops/ in the served folder");
+    let triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\n";
+    let files = [
+        ("notes.txt", "not a model\n".to_owned()),
+        ("bare.obj", format!("{triangle}f 1//1 2//1 3//1\n")),
+        (
+            "lost.obj",
+            format!("mtllib lost.mtl\n{triangle}vt 0 0\nvt 1 0\nvt 0 1\nusemtl m\nf 1/1/1 2/2/1 3/3/1\n"),
+        ),
+        ("lost.mtl", "newmtl m\nmap_Kd nothere.png\n".to_owned()),
+    ];
+    for (name, text) in &files {
+        std::fs::write(drops.join(name), text).expect("a dropped file");
+    }
+    let in_page = |line: &str| line.replace(&format!("{}/", drops.display()), "dropped/");
+    let mut renderer = native_renderer("cylinder");
+    for name in ["notes.txt", "bare.obj"] {
+        let native = match renderer.open_file(&drops.join(name)) {
+            Err(e) => e.to_string(),
+            Ok(()) => panic!("{name} opened natively"),
+        };
+        let page = load("drop", &base, &format!("frames=2&drop={name}"));
+        page.check_console(name);
+        assert_eq!(page.text("message"), Some(in_page(&native)), "{name}");
+    }
+    let native = common::run(
+        common::tutorial13()
+            .args(["--headless", "--model", "lost.obj", "--frames", "1"])
+            .args(["--screenshot", "lost.png"])
+            .current_dir(&drops),
+    );
+    // The page has no OS error codes: "No such file or directory", without " (os error 2)".
+    let stderr = String::from_utf8_lossy(&native.stderr).replace(" (os error 2)", "");
+    let page = load("drop", &base, "frames=2&drop=lost.obj,lost.mtl");
+    page.check_console("lost.obj");
+    let message = page.text("message").unwrap_or_default();
+    assert!(message.contains("nothere.png"), "the page says: {message}");
+    for line in message.lines() {
+        let line = line.replace("dropped/", "");
+        assert!(
+            stderr.contains(&line),
+            "{line:?} is not in the native {stderr:?}"
+        );
+    }
+}
+
+// Fails if a browser without WebGL2 gets a blank canvas instead of a line saying so, or an error
+// in its console.
+#[test]
+fn no_webgl2_is_said_on_the_page() {
+    let Some(base) = page_url("web::no_webgl2_is_said_on_the_page") else {
+        return;
+    };
+    let page = load_with("no-webgl", &base, "frames=1", &["--disable-webgl"]);
+    page.check_console("no WebGL2");
+    let message = page.text("message").unwrap_or_default();
+    assert!(
+        message.contains("no WebGL2 context"),
+        "the page says: {message}"
+    );
+}
