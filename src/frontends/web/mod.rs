@@ -202,16 +202,18 @@ impl Page {
     }
 
     /// Files dropped on the page: kept where the scenes' loaders read them, then the model among
-    /// them (an `.obj`, else the first file) opened as the window opens a dropped file.
+    /// them (an `.obj`, `.gltf` or `.glb`, else the first file) opened as the window opens a
+    /// dropped file.
     fn open_files(&mut self, files: Vec<(String, Vec<u8>)>) {
         let folder = Path::new("dropped");
         let mut model: Option<PathBuf> = None;
         for (name, bytes) in files {
             let path = folder.join(&name);
-            let is_obj = name.to_ascii_lowercase().ends_with(".obj");
-            if is_obj || model.is_none() {
+            let lower = name.to_ascii_lowercase();
+            let is_model = [".obj", ".gltf", ".glb"].iter().any(|e| lower.ends_with(e));
+            if is_model || model.is_none() {
                 model = Some(path.clone())
-                    .filter(|_| is_obj)
+                    .filter(|_| is_model)
                     .or(model)
                     .or(Some(path.clone()));
             }
