@@ -1,5 +1,6 @@
 //! The TBN debug lines' cost per frame: the tutorial's immediate mode against the core-profile line
-//! shader, on a 150k-triangle cylinder, headless on llvmpipe: `cargo bench --bench debug_lines`.
+//! shader, on a 150k-triangle cylinder, headless on llvmpipe:
+//! `cargo bench -p tutorial13-benches --bench debug_lines`.
 //!
 //! Each sample is one draw of the lines alone, finished with glFinish; the cylinder is drawn once
 //! beforehand so the lines are depth-tested against it as in a real frame. Immediate mode sends

@@ -1,5 +1,5 @@
 //! The CPU half of a first frame, against the tool people index meshes with:
-//! `cargo bench --bench first_frame --features meshopt-bench`. Figures go to BENCHMARKS.md.
+//! `cargo bench -p tutorial13-benches --bench first_frame`. Figures go to BENCHMARKS.md.
 //!
 //! * `indexing`: `index_vbo`, `index_vbo_tbn` and meshoptimizer's remap (`generate_vertex_remap`,
 //!   `remap_vertex_buffer`, `remap_index_buffer`, on the same corners interleaved, as meshoptimizer

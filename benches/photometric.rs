@@ -1,4 +1,5 @@
-//! Photometric stereo's speed: `cargo bench --bench photometric`. Figures go to BENCHMARKS.md.
+//! Photometric stereo's speed: `cargo bench -p tutorial13-benches --bench photometric`.
+//! Figures go to BENCHMARKS.md.
 //!
 //! A capture as the public sets ship one: 96 linear 16-bit PNGs of 612×512, 96 lights of differing
 //! brightness per channel. Reading the photos (decoding on every core) and solving them (the robust

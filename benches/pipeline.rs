@@ -1,4 +1,4 @@
-//! The CPU pipeline's speed: `cargo bench --bench pipeline`. Figures go to BENCHMARKS.md.
+//! The CPU pipeline's speed: `cargo bench -p tutorial13-benches --bench pipeline`. Figures go to BENCHMARKS.md.
 //!
 //! Meshes are generated open cylinders (the tutorial's shape) scaled so that neighbouring vertices
 //! stay more than 0.01 apart: the tutorial's indexer would otherwise merge them, and the mesh would

@@ -1,6 +1,6 @@
 //! A stable-toolchain fuzz harness for the readers and the CPU pipeline (no libFuzzer, no nightly).
 //!
-//! Shared by `examples/fuzz.rs` (the long runs) and `tests/all/fuzz.rs` (regression replay and a short
+//! Shared by `fuzz/main.rs` (the long runs) and `tests/all/fuzz.rs` (regression replay and a short
 //! seeded run inside `cargo test`). Each case runs in-process under `catch_unwind`: a panic, a
 //! broken invariant or a case slower than the limit is a failure, and the input is saved to
 //! `fuzz/regressions/<target>/`. Inputs come from a seed corpus (`fuzz/corpus/<target>/`) through a

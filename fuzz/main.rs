@@ -1,6 +1,6 @@
 //! The fuzz harness's long runs, on the stable toolchain:
 //!
-//!     cargo run --profile fuzz --example fuzz -- --seconds 1800
+//!     cargo run -p tutorial13-fuzz --profile fuzz -- --seconds 1800
 //!
 //! Options: `--seconds N` (total, shared equally by the targets; default 60), `--target NAME`
 //! (obj, dds, bmp, pipeline, heightmap, model, photo, obj-tobj, lights or gltf; repeatable; default
@@ -13,7 +13,6 @@
 
 #[path = "../tests/support/differential.rs"]
 mod differential;
-#[path = "../fuzz/harness.rs"]
 mod harness;
 
 use std::time::{Duration, Instant};

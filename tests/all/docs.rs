@@ -6,7 +6,7 @@
 //! issue by its number, which a reader of the repository cannot look up.
 //!
 //! What the name check does, and what it does not (it reads text; it does not compile anything):
-//! - It reads every `.rs` file under src/, tests/, benches/, fuzz/ and examples/ with comments,
+//! - It reads every `.rs` file under src/, tests/, benches/ and fuzz/ with comments,
 //!   strings and character literals blanked out, and records the names defined there: `fn`,
 //!   `struct`, `enum`, `union`, `trait`, `const`, `static`, `type` and `mod` items, the named fields
 //!   of structs and the variants of enums, and, for the `fn`, `const` and `type` items of an `impl`
@@ -21,8 +21,8 @@
 //!   English or a scene's name), lowerCamelCase (`glfwInit`: the C++ and GLSL names), and paths
 //!   starting with another crate's or library's name (`glow::`, `glm::`, `std::`, …).
 //! - A path `a::b::Name` or `a::b::Type::member`: the leading lower-case segments are modules, and
-//!   each must have its file (`a.rs` or `a/mod.rs`, from src/, tests/all/, benches/, fuzz/ or
-//!   examples/; a leading `crate::` or `tutorial13::` is dropped). `Name` must be defined in that
+//!   each must have its file (`a.rs` or `a/mod.rs`, from src/, tests/all/, benches/ or fuzz/;
+//!   a leading `crate::` or `tutorial13::` is dropped). `Name` must be defined in that
 //!   module's file or folder, or named in the module's file (a `pub use`). `Type` must be a struct,
 //!   enum, union, trait or type alias and `Type::member` one of its recorded members (a method or
 //!   associated item of an `impl`/`trait` block, a field or a variant). Not checked: that the item
@@ -61,22 +61,14 @@ const README_DIFFERENCES: &str = "## Where this port deliberately differs from t
 const DIFFERENCE_GROUPS: &[&str] = &["and-from-the-articles-code"];
 
 /// Where the code is read from.
-const CODE_DIRS: &[&str] = &["src", "tests", "benches", "fuzz", "examples"];
+const CODE_DIRS: &[&str] = &["src", "tests", "benches", "fuzz"];
 
 /// Where a module path starts.
-const MODULE_ROOTS: &[&str] = &["src", "tests/all", "benches", "fuzz", "examples"];
+const MODULE_ROOTS: &[&str] = &["src", "tests/all", "benches", "fuzz"];
 
 /// Folders of this repository that a backticked path may point into.
 const REPO_DIRS: &[&str] = &[
-    "src/",
-    "tests/",
-    "benches/",
-    "fuzz/",
-    "examples/",
-    "shaders/",
-    "docs/",
-    "assets/",
-    ".ci/",
+    "src/", "tests/", "benches/", "fuzz/", "shaders/", "docs/", "assets/", ".ci/",
 ];
 
 /// Paths under these names belong to other crates or libraries (or the C++ original's GLM) and are

@@ -1,6 +1,6 @@
 //! The differential checks that only the tests and the fuzz harness run: the program's OBJ parse
 //! against the tutorial's reader (tobj and the checks). Included with `#[path]` by tests/all and
-//! examples/fuzz.rs, so that the library's API carries none of it.
+//! fuzz/main.rs, so that the library's API carries none of it.
 
 use std::path::Path;
 
