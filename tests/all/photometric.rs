@@ -255,6 +255,45 @@ fn the_walls_normals_and_albedo_come_back_from_its_photos() {
     }
 }
 
+// Fails if `--green down` does not store the same normals with green the other way: red and blue
+// equal to the green-up map's and green = 255 − green-up's (each texel; the encoding rounds
+// 127.5 · (1 ± y), which sum to 255 but where y = 0), on four photos of the wall.
+#[test]
+fn green_down_stores_the_same_normals_with_green_turned() {
+    let surface = wall();
+    let dir = scratch("photometric-green-down");
+    let args = shoot(&dir, &surface, &lights(4), Format::Png, |_, _| {});
+    let with = |extra: &[&str]| {
+        let mut all = args.clone();
+        all.extend(extra.iter().map(|s| s.to_string()));
+        photometric(&dir, &all);
+    };
+    with(&["-o", "up.png"]);
+    with(&["-o", "down.png", "--green", "down"]);
+    let (up, down) = (
+        read_rgb(&dir.join("up.png")),
+        read_rgb(&dir.join("down.png")),
+    );
+    assert_eq!(up.dimensions(), down.dimensions());
+    let (mut tilted, mut flats) = (0, 0);
+    for (u, d) in up.pixels().zip(down.pixels()) {
+        assert_eq!((u[0], u[2]), (d[0], d[2]), "red or blue changed");
+        // y = 0 exactly (a flat texel) is the one tie that matters: 127.5 rounds to 128 both ways.
+        let flat = u[1] == 128 && d[1] == 128;
+        assert!(
+            flat || u16::from(u[1]) + u16::from(d[1]) == 255,
+            "green {} and {}",
+            u[1],
+            d[1]
+        );
+        flats += usize::from(flat);
+        tilted += usize::from(u[1].abs_diff(128) > 8);
+    }
+    // The wall's relief tilts many texels up or down: a map of flat normals would pass the above.
+    println!("{tilted} texels lean up or down, {flats} flat");
+    assert!(tilted > 1000, "only {tilted} texels lean up or down");
+}
+
 // Fails if a shadow (black) or a highlight (saturated) over part of one photo spoils the texels
 // under it when three other photos remain, or if with only three photos the shadowed texels are not
 // given the flat normal and counted in the one line, or if the rest of the texels suffer for it.
@@ -604,6 +643,68 @@ fn from_photo_of_one_colour_is_flat_at_any_radius() {
         assert!(
             map.pixels().all(|p| p.0 == [128, 128, 255]),
             "--radius {radius}"
+        );
+    }
+}
+
+// What --radius does, predicted: a photo whose linear brightness is 0.5 + 0.2·sin(2πx/64) (stripes
+// 64 texels wide, constant down the picture) becomes heights of the stripes minus their blur. Three
+// box blurs of 2R + 1 texels scale a sinusoid of period 64 by A³, A = Σ_{|j|≤R} cos(2πj/64) / (2R + 1),
+// so the heights keep an amplitude of 0.2·(1 − A³): 0.2 · 0.0096 at R = 1 (the stripes are wider
+// than the radius, so they count as lighting and go), 0.2 · 1.0000 at R = 32 (they count as relief).
+// Fails if the heights' amplitude is off that by more than 3 % at either radius (the photo is a
+// 16-bit PNG, so quantisation costs about 0.1 %), or if the binary's map for either radius is not
+// bit for bit the library's map of those heights (--radius ignored or read wrong).
+#[test]
+fn from_photo_radius_decides_which_widths_are_relief() {
+    use tutorial13::normalmap::{normal_map, Green, Kernel, NormalMapOptions};
+    use tutorial13::photo::height_from_photo;
+
+    let dir = scratch("from-photo-radius");
+    let period = 64.0f64;
+    let photo = image::ImageBuffer::from_fn(128, 8, |x, _| {
+        let linear = 0.5 + 0.2 * (std::f64::consts::TAU * (x as f64 + 0.5) / period).sin();
+        let stored = Encoding::Srgb.from_linear(linear as f32);
+        image::Luma([(f64::from(stored) * 65535.0).round() as u16])
+    });
+    photo.save(dir.join("stripes.png")).unwrap();
+    let loaded = Photo::load(&dir.join("stripes.png")).unwrap();
+    for radius in [1u32, 32] {
+        let a = (-(radius as i32)..=radius as i32)
+            .map(|j| (std::f64::consts::TAU * f64::from(j) / period).cos())
+            .sum::<f64>()
+            / f64::from(2 * radius + 1);
+        let predicted = 0.2 * (1.0 - a.powi(3));
+        let heights = height_from_photo(&loaded, radius);
+        let (low, high) = heights
+            .values
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(l, h), &v| (l.min(v), h.max(v)));
+        let amplitude = f64::from(high - low) / 2.0;
+        println!("--radius {radius}: amplitude {amplitude:.6}, predicted {predicted:.6}");
+        assert!(
+            (amplitude / predicted - 1.0).abs() < 0.03,
+            "--radius {radius}: heights' amplitude {amplitude:.6}, predicted {predicted:.6}"
+        );
+
+        let out = format!("r{radius}.png");
+        let args = ["normalmap", "--from-photo", "stripes.png", "-o", &out];
+        let radius_text = radius.to_string();
+        let ran = run(tutorial13()
+            .args(args)
+            .args(["--strength", "40", "--radius", &radius_text])
+            .current_dir(&dir));
+        assert!(ran.status.success(), "{}", text(&ran.stderr));
+        let options = NormalMapOptions {
+            strength: 40.0,
+            kernel: Kernel::Sobel,
+            green: Green::Up,
+            two_channel: false,
+        };
+        let expected: Vec<u8> = normal_map(&heights, options).concat();
+        assert!(
+            read_rgb(&dir.join(&out)).into_raw() == expected,
+            "--radius {radius}: the binary's map is not the library's for these heights"
         );
     }
 }
