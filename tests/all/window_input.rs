@@ -187,6 +187,75 @@ fn saving_a_shader_reloads_it_in_the_window() {
     );
 }
 
+// Fails if F5 does not reload the shaders: an edit the file watcher cannot see (the same length and
+// modification time as the file it replaces) must stay off the screen until F5, and F5 must then draw
+// bit for bit the headless frame of the edited shaders.
+#[test]
+fn f5_reloads_an_edit_the_watcher_cannot_see() {
+    if !common::reference_renderer_here("f5_reloads_an_edit_the_watcher_cannot_see") {
+        return;
+    }
+    let dir = common::scratch("f5-reload");
+    let copy_shaders = |to: &Path| {
+        std::fs::create_dir_all(to).unwrap();
+        for entry in std::fs::read_dir(common::manifest().join("shaders")).unwrap() {
+            let path = entry.unwrap().path();
+            std::fs::copy(&path, to.join(path.file_name().unwrap())).unwrap();
+        }
+    };
+    let (shaders, edited_shaders) = (dir.join("shaders"), dir.join("edited"));
+    copy_shaders(&shaders);
+    copy_shaders(&edited_shaders);
+    let fragment = shaders.join("NormalMapping.fragmentshader");
+    let good = std::fs::read_to_string(&fragment).unwrap();
+    // The colour halved at the end of main(), and as many letters taken out of the first comment.
+    let added = "    color *= 0.5;\n";
+    let comment = good.find("// ").unwrap() + 3;
+    let end = good.rfind('}').unwrap();
+    let edited = format!(
+        "{}{}{added}}}\n",
+        &good[..comment],
+        &good[comment + added.len()..end]
+    );
+    assert_eq!(edited.len(), good.len());
+    std::fs::write(edited_shaders.join("NormalMapping.fragmentshader"), &edited).unwrap();
+    let start_frame = headless_first_frame(&dir);
+    let edited_arg = edited_shaders.to_str().unwrap();
+    let edited_frame = common::headless_screenshot(&dir, "edited.png", &["--shaders", edited_arg]);
+    assert!(edited_frame != start_frame, "the edit draws nothing new");
+
+    let xvfb = Xvfb::start();
+    let (mut app, _window) = xvfb.open_window(&dir, &["--shaders".as_ref(), shaders.as_os_str()]);
+    let mut shots = 0;
+    let mut shot = || {
+        shots += 1;
+        xvfb.screenshot(&dir, shots)
+    };
+    assert!(
+        shot() == start_frame,
+        "the first frame is not the tutorial's"
+    );
+    let modified = std::fs::metadata(&fragment).unwrap().modified().unwrap();
+    std::fs::write(&fragment, &edited).unwrap();
+    let file = std::fs::File::options()
+        .write(true)
+        .open(&fragment)
+        .unwrap();
+    file.set_modified(modified).unwrap();
+    drop(file);
+    // The watcher looks every 250 ms: after three of its looks, the frame is still the first one.
+    std::thread::sleep(Duration::from_millis(800));
+    assert!(
+        shot() == start_frame,
+        "the watcher saw an edit it should not see"
+    );
+    xvfb.xdotool(&["key", "F5"]);
+    wait_for("F5's reload", || {
+        Some(shot()).filter(|f| *f == edited_frame)
+    });
+    xvfb.quit(&mut app);
+}
+
 /// Where the panel draws what the test clicks, in window pixels: the headless panel of the same
 /// size is laid out the same (one pixel per point, the same fonts and rows).
 struct PanelLayout {
