@@ -130,22 +130,14 @@ fn saving_a_shader_reloads_it_in_the_window() {
     }
     let dir = common::scratch("live-shaders");
     let shaders = dir.join("shaders");
-    std::fs::create_dir_all(&shaders).unwrap();
-    for entry in std::fs::read_dir(common::manifest().join("shaders")).unwrap() {
-        let path = entry.unwrap().path();
-        std::fs::copy(&path, shaders.join(path.file_name().unwrap())).unwrap();
-    }
+    copy_shaders(&shaders);
     let fragment = shaders.join("NormalMapping.fragmentshader");
     let good = std::fs::read_to_string(&fragment).unwrap();
     let start_frame = headless_first_frame(&dir);
     let xvfb = Xvfb::start();
     let args = ["--shaders".as_ref(), shaders.as_os_str()];
     let (mut app, window) = xvfb.open_window(&dir, &args);
-    let mut shots = 0;
-    let mut shot = || {
-        shots += 1;
-        xvfb.screenshot(&dir, shots)
-    };
+    let mut shot = numbered_shots(&xvfb, &dir);
     assert!(
         shot() == start_frame,
         "the first frame is not the tutorial's"
@@ -187,6 +179,24 @@ fn saving_a_shader_reloads_it_in_the_window() {
     );
 }
 
+/// The crate's shader files, copied into `to` for a test to edit.
+fn copy_shaders(to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(common::manifest().join("shaders")).unwrap() {
+        let path = entry.unwrap().path();
+        std::fs::copy(&path, to.join(path.file_name().unwrap())).unwrap();
+    }
+}
+
+/// Takes the window's screenshots 1, 2, 3, … in turn (P), each as the frame it saved.
+fn numbered_shots<'a>(xvfb: &'a Xvfb, dir: &'a Path) -> impl FnMut() -> image::RgbImage + 'a {
+    let mut shots = 0;
+    move || {
+        shots += 1;
+        xvfb.screenshot(dir, shots)
+    }
+}
+
 // Fails if F5 does not reload the shaders: an edit the file watcher cannot see (the same length and
 // modification time as the file it replaces) must stay off the screen until F5, and F5 must then draw
 // bit for bit the headless frame of the edited shaders.
@@ -196,13 +206,6 @@ fn f5_reloads_an_edit_the_watcher_cannot_see() {
         return;
     }
     let dir = common::scratch("f5-reload");
-    let copy_shaders = |to: &Path| {
-        std::fs::create_dir_all(to).unwrap();
-        for entry in std::fs::read_dir(common::manifest().join("shaders")).unwrap() {
-            let path = entry.unwrap().path();
-            std::fs::copy(&path, to.join(path.file_name().unwrap())).unwrap();
-        }
-    };
     let (shaders, edited_shaders) = (dir.join("shaders"), dir.join("edited"));
     copy_shaders(&shaders);
     copy_shaders(&edited_shaders);
@@ -226,11 +229,7 @@ fn f5_reloads_an_edit_the_watcher_cannot_see() {
 
     let xvfb = Xvfb::start();
     let (mut app, _window) = xvfb.open_window(&dir, &["--shaders".as_ref(), shaders.as_os_str()]);
-    let mut shots = 0;
-    let mut shot = || {
-        shots += 1;
-        xvfb.screenshot(&dir, shots)
-    };
+    let mut shot = numbered_shots(&xvfb, &dir);
     assert!(
         shot() == start_frame,
         "the first frame is not the tutorial's"
