@@ -2,6 +2,8 @@
 //! MikkTSpace (`pipeline::mikktspace`) must equal to the bit. Included with `#[path]` by tests/all,
 //! examples/fuzz.rs and benches/pipeline.rs: the crate is a dev-dependency, never in the program.
 
+#![allow(dead_code)] // each including crate uses a different part
+
 use tutorial13::common::objloader::TriangleSoup;
 
 /// The soup as the crate reads it: faces of three corners, a tangent written back per corner.
