@@ -288,7 +288,7 @@ struct Numbering {
 
 /// A corner's number in the reference: `face << 2 | corner`.
 fn corner_number(c: u32) -> u32 {
-    (c / 3) << 2 | c % 3
+    ((c / 3) << 2) | (c % 3)
 }
 
 impl Numbering {
@@ -953,7 +953,7 @@ fn group_frame(
     }
     // Rare: sub-groups differ from corner to corner; equal ones share one sum.
     scratch.subgroups.clear();
-    for a in 0..corners.len() {
+    for (a, frame) in out.iter_mut().enumerate() {
         scratch.members.clear();
         scratch.members.extend(
             (0..corners.len())
@@ -973,7 +973,7 @@ fn group_frame(
                 t
             }
         };
-        out[a] = [t.x, t.y, t.z, w];
+        *frame = [t.x, t.y, t.z, w];
     }
 }
 
@@ -1007,13 +1007,8 @@ fn subgroup_tangent(
         let (p0, p1, p2) = (p((i + 2) % 3), p(i), p((i + 1) % 3));
         let (e1, e2) = (on_plane(p0 - p1, n), on_plane(p2 - p1, n));
         let cos = dot(e1, e2);
-        let cos = if cos > 1.0 {
-            1.0
-        } else if cos < -1.0 {
-            -1.0
-        } else {
-            cos
-        };
+        // (A NaN stays NaN, as through the reference's comparisons.)
+        let cos = cos.clamp(-1.0, 1.0);
         let angle = (cos as f64).acos() as f32;
         let d = du[k];
         sum = Vec3::new(

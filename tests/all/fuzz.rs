@@ -40,9 +40,10 @@ fn short_seeded_run_finds_nothing() {
     for target in TARGETS {
         let start = Instant::now();
         let stats = fuzz(target, 8, SLOW, None, |s| {
-            s.cases >= 1000 || start.elapsed() > Duration::from_millis(500)
+            // At least one case, however long replaying the seeds took on a loaded machine.
+            s.cases >= 1000 || s.cases > 0 && start.elapsed() > Duration::from_millis(500)
         });
-        assert!(stats.cases > 0);
+        assert!(stats.cases > 0, "{}: no case run", target.name());
         assert!(
             stats.failures.is_empty(),
             "{}: {:?}",

@@ -250,7 +250,7 @@ fn flat_grid(w: usize, h: usize) -> TriangleSoup {
 #[test]
 fn named_meshes_as_the_crate() {
     let mut meshes: Vec<(String, TriangleSoup)> = vec![
-        ("grid 8x8".into(), grid(8, 8, 1, |x, y| Vec2::new(x, y))),
+        ("grid 8x8".into(), grid(8, 8, 1, Vec2::new)),
         (
             "grid 40x30, rotated UVs".into(),
             grid(40, 30, 2, |x, y| {
@@ -282,7 +282,7 @@ fn named_meshes_as_the_crate() {
     for seed in 0..6 {
         meshes.push((
             format!("grid 9x7 with troubles {seed}"),
-            with_troubles(grid(9, 7, seed, |x, y| Vec2::new(x, y)), seed),
+            with_troubles(grid(9, 7, seed, Vec2::new), seed),
         ));
         meshes.push((
             format!("cylinder 16x4 with troubles {seed}"),
@@ -342,7 +342,7 @@ fn all_degenerate_empty_and_non_finite() {
     let t = mikktspace_tangents(&b.soup).unwrap();
     assert!(t.iter().all(|t| *t == [1.0, 0.0, 0.0, -1.0]), "{t:?}");
     assert!(mikktspace_tangents(&TriangleSoup::default()).is_err());
-    let mut soup = grid(2, 2, 0, |x, y| Vec2::new(x, y));
+    let mut soup = grid(2, 2, 0, Vec2::new);
     soup.normals[4].y = f32::NAN;
     assert!(mikktspace_tangents(&soup).is_err());
 }
