@@ -7,6 +7,8 @@
 use std::path::{Path, PathBuf};
 
 mod common;
+#[path = "../tests/support/mikktspace_reference.rs"]
+mod mikktspace_reference;
 
 use common::{cylinder, spread_soup, ten_samples};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
@@ -87,8 +89,9 @@ fn one_cell(c: &mut Criterion) {
 }
 
 /// The tangent sources of `--tangents` on the same soups: the tutorial's (computeTangentBasis, then
-/// indexVBO_TBN summing them) against MikkTSpace's (the `mikktspace` crate, then an exact weld), both
-/// from the soup in memory to an indexed mesh with tangents. The per-pixel frame has no CPU cost
+/// indexVBO_TBN summing them) against MikkTSpace's (the program's, then an exact weld), both
+/// from the soup in memory to an indexed mesh with tangents; and MikkTSpace's tangents alone, the
+/// program's against the `mikktspace` crate's (the same numbers to the bit). The per-pixel frame has no CPU cost
 /// beyond `index_vbo`; its GPU cost is measured with `--bench` (BENCHMARKS.md).
 fn tangent_sources(c: &mut Criterion) {
     let mut group = ten_samples(c, "tangent-sources", 1.0);
@@ -107,6 +110,12 @@ fn tangent_sources(c: &mut Criterion) {
                     .mesh(&soup, MeshOptions::default())
                     .unwrap()
             })
+        });
+        group.bench_function(format!("mikktspace-tangents/{label}"), |b| {
+            b.iter(|| tutorial13::pipeline::mikktspace::mikktspace_tangents(&soup).unwrap())
+        });
+        group.bench_function(format!("mikktspace-crate-tangents/{label}"), |b| {
+            b.iter(|| mikktspace_reference::reference_tangents(&soup).unwrap())
         });
     }
     group.finish();

@@ -3,7 +3,7 @@
 //!     cargo run -p tutorial13-fuzz --profile fuzz -- --seconds 1800
 //!
 //! Options: `--seconds N` (total, shared equally by the targets; default 60), `--target NAME`
-//! (obj, dds, bmp, pipeline, heightmap, model, photo, obj-tobj, lights or gltf; repeatable; default
+//! (obj, dds, bmp, pipeline, heightmap, model, photo, obj-tobj, lights, gltf or mikktspace; repeatable; default
 //! all), `--seed N` (default: from the clock,
 //! printed), `--slow-ms N` (a case slower than this fails; default 2000), `--replay FILE` (run one
 //! input on the target named before it, else the one its folder is named after, and print the
@@ -14,6 +14,8 @@
 #[path = "../tests/support/differential.rs"]
 mod differential;
 mod harness;
+#[path = "../tests/support/mikktspace_reference.rs"]
+mod mikktspace_reference;
 
 use std::time::{Duration, Instant};
 
@@ -121,7 +123,7 @@ fn parse(s: &str) -> u64 {
 
 fn usage(problem: &str) -> ! {
     eprintln!(
-        "fuzz: {problem}\nusage: fuzz [--seconds N] [--target obj|dds|bmp|pipeline|heightmap|model|photo|obj-tobj|lights|gltf]... [--seed N] [--slow-ms N] [--replay FILE] [--make-corpus]"
+        "fuzz: {problem}\nusage: fuzz [--seconds N] [--target obj|dds|bmp|pipeline|heightmap|model|photo|obj-tobj|lights|gltf|mikktspace]... [--seed N] [--slow-ms N] [--replay FILE] [--make-corpus]"
     );
     std::process::exit(2);
 }
@@ -179,6 +181,9 @@ fn make_corpus() {
 
     for (name, bytes) in gltf_seeds() {
         write(Target::Gltf, name, &bytes);
+    }
+    for (name, bytes) in mikktspace_seeds() {
+        write(Target::Mikktspace, &name, &bytes);
     }
 
     for (name, side) in [("4x4", 4u32), ("8x8", 8)] {
@@ -335,4 +340,44 @@ fn gltf_seeds() -> Vec<(&'static str, Vec<u8>)> {
         ("mirrored.gltf", without.into_bytes()),
         ("mirrored-tangents.glb", glb),
     ]
+}
+
+/// Seeds of the `mikktspace` target (see `harness::mikktspace_soup`): a grid of quads whose
+/// positions and UVs follow the grid (values 0, 1, 2, …; −0 among them), the same with UVs folded
+/// (mirrored), and pseudo-random bytes.
+fn mikktspace_seeds() -> Vec<(String, Vec<u8>)> {
+    let mut values: Vec<u8> = (0..16u8).map(|k| k * 16 / 2).collect();
+    values[1] = 0x80; // −0 beside +0
+    let grid = |fold: bool| {
+        let mut bytes = values.clone();
+        for j in 0..3u8 {
+            for i in 0..3u8 {
+                let corner = |x: u8, y: u8| {
+                    let u = if fold { x.min(4 - x) } else { x };
+                    [x | y << 4, 3 | 7 << 4, u | y << 4]
+                };
+                for (x, y) in [
+                    (i, j),
+                    (i + 1, j),
+                    (i + 1, j + 1),
+                    (i, j),
+                    (i + 1, j + 1),
+                    (i, j + 1),
+                ] {
+                    bytes.extend(corner(x, y));
+                }
+            }
+        }
+        bytes
+    };
+    let mut seeds = vec![
+        ("grid.bin".to_string(), grid(false)),
+        ("grid-mirrored.bin".to_string(), grid(true)),
+    ];
+    let mut rng = harness::Rng::new(13);
+    for size in [64usize, 400, 3000] {
+        let bytes = (0..size).map(|_| rng.next_u64() as u8).collect();
+        seeds.push((format!("random-{size}.bin"), bytes));
+    }
+    seeds
 }

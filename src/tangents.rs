@@ -3,8 +3,9 @@
 //!
 //! * `tutorial`: `computeTangentBasis` per triangle, Gram-Schmidt, the handedness fix, and
 //!   `indexVBO_TBN` summing the tangents of merged corners (the default, the tutorial's frames);
-//! * `mikktspace`: MikkTSpace (the convention of most tools and engines), from the `mikktspace`
-//!   crate: a unit tangent per corner with the bitangent's sign in w, corners welded only where
+//! * `mikktspace`: MikkTSpace (the convention of most tools and engines), computed by
+//!   [`crate::pipeline::mikktspace`] (the `mikktspace` crate's results to the bit, on every core): a
+//!   unit tangent per corner with the bitangent's sign in w, corners welded only where
 //!   everything matches exactly, so that each keeps its own frame; the bitangent is
 //!   `w × cross(N, T)`, as MikkTSpace's readers rebuild it;
 //! * `derivative`: no precomputed tangents at all; the fragment shader builds a cotangent frame per
@@ -25,7 +26,7 @@ use crate::common::objloader::TriangleSoup;
 use crate::common::vboindexer::{IndexedMesh, Indices};
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::pipeline::indexer::index_vbo;
-use crate::{Error, Result};
+use crate::Result;
 
 /// The three sources, in the order the key steps through them.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, clap::ValueEnum)]
@@ -74,45 +75,10 @@ impl std::fmt::Display for TangentSource {
     }
 }
 
-/// The soup as MikkTSpace reads it: faces of three corners, a tangent written back per corner.
-struct MikkSoup<'a> {
-    soup: &'a TriangleSoup,
-    tangents: Vec<[f32; 4]>,
-}
-
-impl mikktspace::Geometry for MikkSoup<'_> {
-    fn num_faces(&self) -> usize {
-        self.soup.triangle_count()
-    }
-    fn num_vertices_of_face(&self, _face: usize) -> usize {
-        3
-    }
-    fn position(&self, face: usize, vert: usize) -> [f32; 3] {
-        self.soup.vertices[3 * face + vert].to_array()
-    }
-    fn normal(&self, face: usize, vert: usize) -> [f32; 3] {
-        self.soup.normals[3 * face + vert].to_array()
-    }
-    fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
-        self.soup.uvs[3 * face + vert].to_array()
-    }
-    fn set_tangent_encoded(&mut self, tangent: [f32; 4], face: usize, vert: usize) {
-        self.tangents[3 * face + vert] = tangent;
-    }
-}
-
-/// MikkTSpace's tangent per corner (xyz unit, w = ±1, the bitangent's sign).
+/// MikkTSpace's tangent per corner (xyz unit, w = ±1, the bitangent's sign): the program's own
+/// implementation ([`crate::pipeline::mikktspace`]), the `mikktspace` crate's results to the bit.
 pub fn mikktspace_tangents(soup: &TriangleSoup) -> Result<Vec<[f32; 4]>> {
-    let mut geometry = MikkSoup {
-        soup,
-        tangents: vec![[0.0; 4]; soup.vertices.len()],
-    };
-    if !mikktspace::generate_tangents(&mut geometry) {
-        return Err(Error::Mesh(
-            "MikkTSpace could not compute tangents for this mesh".into(),
-        ));
-    }
-    Ok(geometry.tangents)
+    crate::pipeline::mikktspace::mikktspace_tangents(soup)
 }
 
 /// The soup indexed with MikkTSpace's frames: two corners become one vertex only when position,

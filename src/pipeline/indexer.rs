@@ -25,6 +25,9 @@ use crate::common::vboindexer::{
 use grid::{cell_side, Grid};
 use weld::weld;
 
+/// The exact numbering by bits, for MikkTSpace's weld ([`crate::pipeline::mikktspace`]).
+pub(crate) use weld::weld as weld_exact;
+
 /// Asks the CPU to start loading `x`'s cache line, so that a lookup a few corners later does not
 /// wait for memory. Changes no result.
 #[inline(always)]

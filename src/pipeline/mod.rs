@@ -6,6 +6,8 @@
 //! |-----------------|----------------------------------------|--------------------------------------|
 //! | [`indexer`]     | `indexVBO_TBN`, `indexVBO`             | exact numbering, then a hash grid    |
 //! | [`obj_parse`]   | `loadOBJ`                              | the file's lines split over the cores |
+//! | [`mikktspace`]  | the `mikktspace` crate (MikkTSpace)    | hashed weld, runs of groups per core  |
 
 pub mod indexer;
+pub mod mikktspace;
 pub mod obj_parse;

@@ -7,6 +7,8 @@ mod capture_rig;
 mod common;
 #[path = "../support/differential.rs"]
 mod differential;
+#[path = "../support/mikktspace_reference.rs"]
+mod mikktspace_reference;
 
 mod asset_fallback;
 mod assets;
@@ -20,6 +22,7 @@ mod fuzz;
 mod gl_helpers;
 mod gltf;
 mod live_shaders;
+mod mikktspace;
 mod model;
 mod normal_map_conventions;
 mod normalmap;

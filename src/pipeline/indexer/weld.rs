@@ -153,7 +153,7 @@ impl<'a> Weld<'a> {
 /// number of every corner, and for each number the corner where it first came. With
 /// `finite_only`, a corner with a non-finite component gets a number of its own, as
 /// [`index_vbo_tbn`](super::index_vbo_tbn) merges it with nothing.
-pub(super) fn weld(soup: &TriangleSoup, finite_only: bool) -> (Vec<u32>, Vec<u32>) {
+pub(crate) fn weld(soup: &TriangleSoup, finite_only: bool) -> (Vec<u32>, Vec<u32>) {
     let n = soup.vertices.len();
     // A closed mesh shares each vertex among about six corners.
     let mut weld = Weld::with_capacity(soup, n / 4);
