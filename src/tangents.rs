@@ -20,12 +20,11 @@
 //! does.
 
 use glam::Vec3;
-use rustc_hash::FxHashMap;
 
 use crate::common::objloader::TriangleSoup;
 use crate::common::vboindexer::{IndexedMesh, Indices};
 use crate::mesh::{build_mesh, MeshOptions};
-use crate::pipeline::indexer::index_vbo;
+use crate::pipeline::indexer::{index_vbo, weld_exact};
 use crate::Result;
 
 /// The three sources, in the order the key steps through them.
@@ -84,31 +83,65 @@ pub fn mikktspace_tangents(soup: &TriangleSoup) -> Result<Vec<[f32; 4]>> {
 /// The soup indexed with MikkTSpace's frames: two corners become one vertex only when position,
 /// UV, normal and tangent (with its sign) are bit for bit the same, so no frame is averaged.
 pub fn mikktspace_mesh(soup: &TriangleSoup) -> Result<IndexedMesh> {
-    Ok(welded_mesh(soup, &mikktspace_tangents(soup)?))
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let (tangents, numbers) = crate::pipeline::mikktspace::mikktspace_numbered(soup, threads)?;
+    let clock = crate::clock::Instant::now();
+    let mesh = weld_numbered(soup, &tangents, &numbers);
+    log::trace!(
+        "weld of MikkTSpace's output: {:.1} ms",
+        clock.elapsed().as_secs_f64() * 1e3
+    );
+    Ok(mesh)
 }
 
 /// The soup indexed with a tangent per corner (xyz, w the bitangent's sign), welded as
 /// [`mikktspace_mesh`] welds.
 pub fn welded_mesh(soup: &TriangleSoup, tangents: &[[f32; 4]]) -> IndexedMesh {
-    let (mut vertices, mut uvs, mut normals) = (Vec::new(), Vec::new(), Vec::new());
-    let (mut tangents_out, mut bitangents) = (Vec::new(), Vec::new());
+    weld_numbered(soup, tangents, &weld_exact(soup, false).0)
+}
+
+/// [`welded_mesh`], given each corner's number by the exact bits of its position, UV and normal
+/// (numbered in the order they first come): corners of one number are one vertex per distinct
+/// tangent, and vertices come in the order of their first corner, as a hash of all twelve floats
+/// would give them, for a fraction of its cost (a number has one tangent, or a few).
+fn weld_numbered(soup: &TriangleSoup, tangents: &[[f32; 4]], numbers: &[u32]) -> IndexedMesh {
+    const NONE: u32 = u32::MAX;
+    debug_assert_eq!(numbers.len(), tangents.len());
+    let expected = numbers.iter().max().map_or(0, |&n| n as usize + 1);
+    // Per number, its latest vertex; per vertex, the one before it of the same number.
+    let mut latest = vec![NONE; expected];
+    let mut before: Vec<u32> = Vec::with_capacity(expected);
+    let mut keys: Vec<[u32; 4]> = Vec::with_capacity(expected);
+    let (mut vertices, mut uvs, mut normals) = (
+        Vec::with_capacity(expected),
+        Vec::with_capacity(expected),
+        Vec::with_capacity(expected),
+    );
+    let (mut tangents_out, mut bitangents) =
+        (Vec::with_capacity(expected), Vec::with_capacity(expected));
     let mut indices = Vec::with_capacity(tangents.len());
-    let mut seen: FxHashMap<[u32; 12], u32> = FxHashMap::default();
-    for (i, &[tx, ty, tz, w]) in tangents.iter().enumerate() {
-        let (p, uv, n) = (soup.vertices[i], soup.uvs[i], soup.normals[i]);
-        let t = Vec3::new(tx, ty, tz);
-        let floats = [p.x, p.y, p.z, uv.x, uv.y, n.x, n.y, n.z, tx, ty, tz, w];
-        let key = floats.map(f32::to_bits);
-        let index = *seen.entry(key).or_insert_with(|| {
+    for (i, (&t, &number)) in tangents.iter().zip(numbers).enumerate() {
+        let key = t.map(f32::to_bits);
+        let mut v = latest[number as usize];
+        while v != NONE && keys[v as usize] != key {
+            v = before[v as usize];
+        }
+        if v == NONE {
+            v = vertices.len() as u32;
+            before.push(latest[number as usize]);
+            latest[number as usize] = v;
+            keys.push(key);
+            let (p, uv, n) = (soup.vertices[i], soup.uvs[i], soup.normals[i]);
+            let [tx, ty, tz, w] = t;
+            let t = Vec3::new(tx, ty, tz);
             vertices.push(p);
             uvs.push(uv);
             normals.push(n);
             tangents_out.push(t);
             // MikkTSpace's readers rebuild the bitangent from the normal, the tangent and the sign.
             bitangents.push(w * n.cross(t));
-            (vertices.len() - 1) as u32
-        });
-        indices.push(index);
+        }
+        indices.push(v);
     }
     IndexedMesh {
         indices: Indices::from_u32(indices, vertices.len()),

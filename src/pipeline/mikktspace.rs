@@ -49,6 +49,16 @@ pub fn mikktspace_tangents(soup: &TriangleSoup) -> Result<Vec<[f32; 4]>> {
 
 /// [`mikktspace_tangents`] on `threads` threads (the result is the same for any number).
 pub fn mikktspace_tangents_on(soup: &TriangleSoup, threads: usize) -> Result<Vec<[f32; 4]>> {
+    Ok(mikktspace_numbered(soup, threads)?.0)
+}
+
+/// [`mikktspace_tangents_on`], also giving each corner's number by the exact bits of its
+/// position, UV and normal (the indexers' weld, first come first numbered), which MikkTSpace's
+/// weld starts from: the mesh's final weld then needs only compare tangents.
+pub(crate) fn mikktspace_numbered(
+    soup: &TriangleSoup,
+    threads: usize,
+) -> Result<(Vec<[f32; 4]>, Vec<u32>)> {
     let corners = soup.triangle_count() * 3;
     if corners == 0 {
         return Err(Error::Mesh(
@@ -77,7 +87,7 @@ pub fn mikktspace_tangents_on(soup: &TriangleSoup, threads: usize) -> Result<Vec
             last = now;
         }
     };
-    let (vertices, numbering) = Vertices::weld(soup, corners, threads);
+    let (vertices, numbering, exact) = Vertices::weld(soup, corners, threads);
     lap("weld");
     let good = good_triangles(&vertices, corners / 3);
     let triangles = Triangles::new(&vertices, &good, threads);
@@ -124,7 +134,7 @@ pub fn mikktspace_tangents_on(soup: &TriangleSoup, threads: usize) -> Result<Vec
         corners / 3,
         clock.elapsed().as_secs_f64() * 1e3
     );
-    Ok(out)
+    Ok((out, exact.unwrap_or(vertices.of_corner)))
 }
 
 // -------------------------------------------------------------------------------------------------
@@ -189,18 +199,24 @@ impl Vertices {
     /// Corners equal under `==`. First by their bits (the indexers' fast table); then, only if
     /// some float is −0, the bit patterns that differ only in zeros' signs are merged. A vertex
     /// whose corners differ so reads the floats of the corner the reference's weld keeps; any
-    /// other, those of its first corner (the same bits).
-    fn weld(soup: &TriangleSoup, corners: usize, threads: usize) -> (Self, Numbering) {
+    /// other, those of its first corner (the same bits). Also gives the numbering by bits where
+    /// it differs from the vertices' (only if some zero is negative).
+    fn weld(
+        soup: &TriangleSoup,
+        corners: usize,
+        threads: usize,
+    ) -> (Self, Numbering, Option<Vec<u32>>) {
         let (numbers, first) = weld_exact(soup, false);
         let has_negative_zero = |c: u32| {
             floats(soup, c as usize)
                 .iter()
                 .any(|x| x.to_bits() == 0x8000_0000)
         };
-        let (of_corner, mut reps, mixed) = if first.iter().any(|&c| has_negative_zero(c)) {
-            merge_signed_zeros(soup, numbers, &first)
+        let (of_corner, mut reps, mixed, exact) = if first.iter().any(|&c| has_negative_zero(c)) {
+            let (of_corner, reps, mixed) = merge_signed_zeros(soup, &numbers, &first);
+            (of_corner, reps, mixed, Some(numbers))
         } else {
-            (numbers, first, Vec::new())
+            (numbers, first, Vec::new(), None)
         };
         debug_assert_eq!(of_corner.len(), corners);
         let mut numbering = Numbering::new(soup, &of_corner, &reps, threads);
@@ -214,7 +230,7 @@ impl Vertices {
             uvs: reps.iter().map(|c| soup.uvs[pick(c)]).collect(),
             of_corner,
         };
-        (vertices, numbering)
+        (vertices, numbering, exact)
     }
 }
 
@@ -222,7 +238,7 @@ impl Vertices {
 /// gives each corner's class, each class's first corner, and the classes merged from several.
 fn merge_signed_zeros(
     soup: &TriangleSoup,
-    numbers: Vec<u32>,
+    numbers: &[u32],
     first: &[u32],
 ) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
     // Only numbers with a zero somewhere can equal another number: key those by their floats

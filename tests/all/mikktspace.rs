@@ -6,9 +6,12 @@
 
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
+use rustc_hash::FxHashMap;
 use tutorial13::common::objloader::TriangleSoup;
+use tutorial13::common::vboindexer::{IndexedMesh, Indices};
 use tutorial13::pipeline::mikktspace::{mikktspace_tangents, mikktspace_tangents_on};
 use tutorial13::pipeline::obj_parse::load_obj;
+use tutorial13::tangents::{mikktspace_mesh, welded_mesh};
 
 use crate::common::own_assets;
 use crate::mikktspace_reference::{first_difference, reference_can_take, reference_tangents};
@@ -247,8 +250,7 @@ fn flat_grid(w: usize, h: usize) -> TriangleSoup {
 }
 
 // Fails if any named mesh's tangents differ from the crate's in one bit, on 1, 2 or 5 threads.
-#[test]
-fn named_meshes_as_the_crate() {
+fn named_meshes() -> Vec<(String, TriangleSoup)> {
     let mut meshes: Vec<(String, TriangleSoup)> = vec![
         ("grid 8x8".into(), grid(8, 8, 1, Vec2::new)),
         (
@@ -305,6 +307,12 @@ fn named_meshes_as_the_crate() {
     }
     let tutorial = load_obj(&own_assets().join("cylinder.obj")).unwrap();
     meshes.push(("the tutorial's cylinder".into(), tutorial));
+    meshes
+}
+
+#[test]
+fn named_meshes_as_the_crate() {
+    let meshes = named_meshes();
     for (name, soup) in &meshes {
         assert_as_the_crate(name, soup);
     }
@@ -398,5 +406,101 @@ proptest! {
         let reference = reference_tangents(&soup).unwrap();
         let ours = mikktspace_tangents_on(&soup, 2).unwrap();
         prop_assert!(first_difference(&ours, &reference).is_none(), "{:?}", first_difference(&ours, &reference));
+    }
+}
+
+/// The weld of a tangent per corner as it was first written (a hash map of all twelve floats'
+/// bits, vertices in the order of their first corner): what `tangents::welded_mesh` and
+/// `tangents::mikktspace_mesh` must still give.
+fn reference_weld(soup: &TriangleSoup, tangents: &[[f32; 4]]) -> IndexedMesh {
+    let mut mesh = IndexedMesh {
+        indices: Indices::U32(Vec::new()),
+        vertices: Vec::new(),
+        uvs: Vec::new(),
+        normals: Vec::new(),
+        tangents: Vec::new(),
+        bitangents: Vec::new(),
+    };
+    let mut indices = Vec::new();
+    let mut seen: FxHashMap<[u32; 12], u32> = FxHashMap::default();
+    for (i, &[tx, ty, tz, w]) in tangents.iter().enumerate() {
+        let (p, uv, n) = (soup.vertices[i], soup.uvs[i], soup.normals[i]);
+        let t = Vec3::new(tx, ty, tz);
+        let key = [p.x, p.y, p.z, uv.x, uv.y, n.x, n.y, n.z, tx, ty, tz, w].map(f32::to_bits);
+        let index = *seen.entry(key).or_insert_with(|| {
+            mesh.vertices.push(p);
+            mesh.uvs.push(uv);
+            mesh.normals.push(n);
+            mesh.tangents.push(t);
+            mesh.bitangents.push(w * n.cross(t));
+            (mesh.vertices.len() - 1) as u32
+        });
+        indices.push(index);
+    }
+    mesh.indices = Indices::from_u32(indices, mesh.vertices.len());
+    mesh
+}
+
+/// Where two meshes differ, to the bit (NaNs included), if they do.
+fn mesh_difference(a: &IndexedMesh, b: &IndexedMesh) -> Option<String> {
+    fn bits<T: Copy + Into<[f32; N]>, const N: usize>(v: &[T]) -> Vec<[u32; N]> {
+        v.iter().map(|&x| x.into().map(f32::to_bits)).collect()
+    }
+    if a.indices != b.indices {
+        return Some(format!(
+            "indices differ ({} and {})",
+            a.indices.len(),
+            b.indices.len()
+        ));
+    }
+    let arrays = [
+        ("vertices", bits(&a.vertices) != bits(&b.vertices)),
+        ("uvs", bits(&a.uvs) != bits(&b.uvs)),
+        ("normals", bits(&a.normals) != bits(&b.normals)),
+        ("tangents", bits(&a.tangents) != bits(&b.tangents)),
+        ("bitangents", bits(&a.bitangents) != bits(&b.bitangents)),
+    ];
+    arrays
+        .iter()
+        .find(|(_, differ)| *differ)
+        .map(|(name, _)| format!("{name} differ"))
+}
+
+// Fails if MikkTSpace's mesh (welded from MikkTSpace's own numbering of the corners) is not the
+// one the first weld, of all twelve floats, gives: same vertices in the same order, same indices.
+#[test]
+fn mikktspace_mesh_as_the_first_weld() {
+    let meshes = named_meshes();
+    for (name, soup) in &meshes {
+        let reference = reference_weld(soup, &mikktspace_tangents(soup).unwrap());
+        let ours = mikktspace_mesh(soup).unwrap();
+        if let Some(difference) = mesh_difference(&ours, &reference) {
+            panic!("{name}: {difference}");
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+    // Fails if a soup of few values with tangents of few values (several per vertex, zeros of both
+    // signs, NaNs) welds otherwise than the first weld did.
+    #[test]
+    fn welded_mesh_as_the_first_weld(
+        picks in proptest::collection::vec((0u8..12, 0u8..4, 0u8..8), 3..120),
+        values in proptest::collection::vec(prop_oneof![
+            Just(0.0f32), Just(-0.0f32), Just(1.0f32), Just(f32::NAN), -4.0f32..4.0,
+        ], 8..16),
+        tangent_picks in proptest::collection::vec(0usize..6, 120),
+    ) {
+        let soup = palette_soup(&picks, &values);
+        let tangents: Vec<[f32; 4]> = (0..soup.vertices.len())
+            .map(|c| {
+                let k = tangent_picks[c];
+                [values[k], values[k + 1], 0.0, if k % 2 == 0 { 1.0 } else { -1.0 }]
+            })
+            .collect();
+        let difference = mesh_difference(&welded_mesh(&soup, &tangents), &reference_weld(&soup, &tangents));
+        prop_assert!(difference.is_none(), "{:?}", difference);
     }
 }
