@@ -22,8 +22,10 @@ if ! wasm-bindgen --version 2>/dev/null | grep -qx "wasm-bindgen $version"; then
   fi
 fi
 
-say "building the page's module (web/: cargo build --release --target wasm32-unknown-unknown)"
-(cd web && cargo build --release --target wasm32-unknown-unknown)
+# --locked: web/Cargo.lock as committed, which tests/all/web.rs checks against the root Cargo.lock
+# (the versions the native tests ran); cargo says so and stops if the manifests need another.
+say "building the page's module (web/: cargo build --locked --release --target wasm32-unknown-unknown)"
+(cd web && cargo build --locked --release --target wasm32-unknown-unknown)
 
 out=target/web
 rm -rf "$out"

@@ -310,3 +310,54 @@ fn no_webgl2_is_said_on_the_page() {
         "the page says: {message}"
     );
 }
+
+/// The package versions a lock file pins: `name version` (with its checksum, where it has one) for
+/// each of its packages.
+fn locked_packages(path: &Path) -> Vec<(String, String)> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    text.split("[[package]]")
+        .skip(1)
+        .map(|block| {
+            let field = |key: &str| {
+                block
+                    .lines()
+                    .find_map(|l| l.strip_prefix(&format!("{key} = \"")))
+                    .and_then(|v| v.strip_suffix('"'))
+                    .unwrap_or("")
+                    .to_owned()
+            };
+            let name = format!("{} {}", field("name"), field("version"));
+            (name, field("checksum"))
+        })
+        .collect()
+}
+
+// Fails if web/Cargo.lock pins a package (a version, or a checksum) that the root Cargo.lock does
+// not: the page would be built with other versions than the native tests ran. web/ is its own
+// package (its release profile is the page's), so it has its own lock; web/build.sh builds with
+// --locked, so the lock cannot drift there either.
+#[test]
+fn the_pages_lock_pins_the_root_locks_versions() {
+    let root = locked_packages(&common::manifest().join("Cargo.lock"));
+    let web = locked_packages(&common::manifest().join("web/Cargo.lock"));
+    let not_in_root: Vec<String> = web
+        .iter()
+        .filter(|(name, _)| !name.starts_with("tutorial13-web "))
+        .filter(|package| !root.contains(package))
+        .map(|(name, checksum)| format!("{name} {checksum}"))
+        .collect();
+    assert!(
+        not_in_root.is_empty(),
+        "web/Cargo.lock pins packages the root Cargo.lock does not: {not_in_root:?}; make it the \
+         root's again: cp Cargo.lock web/ && (cd web && cargo metadata --offline \
+         --format-version 1 >/dev/null)"
+    );
+    // Every package the root resolves for the library and the page, the page's lock has too (the
+    // root also has the test-only ones).
+    for needed in ["tutorial13 ", "wasm-bindgen ", "glow ", "egui ", "gltf "] {
+        assert!(
+            web.iter().any(|(name, _)| name.starts_with(needed)),
+            "web/Cargo.lock has no {needed}"
+        );
+    }
+}
