@@ -10,8 +10,11 @@
 use std::path::Path;
 use std::process::Command;
 
+use glam::{Vec2, Vec3};
 use image::RgbImage;
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
+use tutorial13::frontends::host::Arrow;
+use tutorial13::frontends::page_contract::FROZEN_STEP_S;
 use tutorial13::frontends::panel::PanelWidget;
 use tutorial13::scenes::{self, SCENES};
 
@@ -54,6 +57,31 @@ impl Loaded {
         let open = rest.find('>')? + 1;
         let close = rest.find("</")?;
         Some(rest[open..close].trim().to_owned())
+    }
+
+    /// The attribute `name` of the element `id`, as the DOM was dumped.
+    fn attribute(&self, id: &str, name: &str) -> Option<String> {
+        let start = self.dom.find(&format!("id=\"{id}\""))?;
+        let tag = &self.dom[self.dom[..start].rfind('<')?..];
+        let tag = &tag[..tag.find('>')?];
+        let value = &tag[tag.find(&format!(" {name}=\""))? + name.len() + 3..];
+        Some(value[..value.find('"')?].to_owned())
+    }
+
+    /// The camera of the page's last frame (`data-camera`): position, horizontal and vertical
+    /// angle.
+    fn camera(&self) -> (Vec3, f32, f32) {
+        let text = self
+            .attribute("canvas", "data-camera")
+            .expect("data-camera");
+        let numbers: Vec<f32> = text
+            .split(' ')
+            .map(|n| n.parse().expect("a number"))
+            .collect();
+        let [x, y, z, h, v] = numbers[..] else {
+            panic!("data-camera={text}")
+        };
+        (Vec3::new(x, y, z), h, v)
     }
 
     /// The page's message and what reached the console as an error: nothing.
@@ -360,4 +388,207 @@ fn the_pages_lock_pins_the_root_locks_versions() {
             "web/Cargo.lock has no {needed}"
         );
     }
+}
+
+// Fails if the page without WEBGL_compressed_texture_s3tc (`s3tc=off`) does not say in its log
+// that it decoded both DXT maps on the CPU, if its cylinder is not the native frame within the
+// scenes' tolerance, or if it is more than 1 level off the page's frame with the driver's decoding
+// (the page with S3TC must not say it decoded on the CPU).
+#[test]
+fn without_s3tc_the_page_decodes_dxt_on_the_cpu() {
+    let Some(base) = page_url("web::without_s3tc_the_page_decodes_dxt_on_the_cpu") else {
+        return;
+    };
+    let cpu = load("s3tc", &base, "scene=cylinder&panel=off&frames=1&s3tc=off");
+    cpu.check_clean("s3tc=off");
+    let log = cpu.text("console-log").unwrap_or_default();
+    for map in ["diffuse.DDS", "specular.DDS"] {
+        assert!(
+            log.lines()
+                .any(|l| l.starts_with(&format!("assets/{map}: DXT3 decoded on the CPU"))),
+            "{map} is not said to be decoded on the CPU: {log}"
+        );
+    }
+    let native = frame(&mut native_renderer("cylinder"));
+    let share = share_within(&cpu.shot, &native);
+    let driver = load("s3tc", &base, "scene=cylinder&panel=off&frames=1");
+    let log = driver.text("console-log").unwrap_or_default();
+    assert!(!log.contains("decoded on the CPU"), "with S3TC: {log}");
+    let d = frame_diff(&cpu.shot, &driver.shot);
+    eprintln!(
+        "web: cylinder, DXT decoded on the CPU: {:.2} % of pixels within {TOLERANCE} levels of \
+         the native frame ({:.2} % with the driver's); against the driver's: {} pixels differ, by \
+         {} levels at most, {} by more than 1",
+        share * 100.0,
+        share_within(&driver.shot, &native) * 100.0,
+        d.differing(),
+        d.max(),
+        d.over(1),
+    );
+    assert!(share >= WITHIN, "s3tc=off: {share:.4} within {TOLERANCE}");
+    // The same blocks decoded by texpresso and by SwiftShader: 0 levels apart when measured; a
+    // decoder may round the 1/3 and 2/3 colours otherwise, by a level.
+    assert!(
+        d.max() <= 1,
+        "the CPU's decoding is {} levels off the driver's",
+        d.max()
+    );
+}
+
+/// The native cylinder after `input` went through the host as the page's `frames=N` takes it
+/// (one step of [`FROZEN_STEP_S`] a frame, for `steps` frames), then drawn as `frames=1` draws.
+fn native_after(
+    scene: &str,
+    steps: u32,
+    input: impl FnOnce(&mut HeadlessRenderer),
+) -> (RgbImage, HeadlessRenderer) {
+    let mut renderer = native_renderer(scene);
+    input(&mut renderer);
+    for _ in 0..steps {
+        renderer.host.frame_input(FROZEN_STEP_S, 0.0, false);
+    }
+    (frame(&mut renderer), renderer)
+}
+
+// Fails if a drag on the canvas does not turn the camera by the tutorial's mouse speed × the
+// pixels dragged (to 1e-5 rad), if the frame is not the native frame after the same look input
+// through the host (within the scenes' tolerance), or if it is not nearer that frame (pixels more
+// than 2 levels off) than the frame without the drag.
+#[test]
+fn a_drag_looks_as_the_host_predicts() {
+    let Some(base) = page_url("web::a_drag_looks_as_the_host_predicts") else {
+        return;
+    };
+    let (from, to) = (Vec2::new(500.0, 380.0), Vec2::new(560.0, 400.0));
+    let page = load(
+        "drag",
+        &base,
+        &format!(
+            "scene=cylinder&panel=off&frames=9&drag={},{},{},{}",
+            from.x, from.y, to.x, to.y
+        ),
+    );
+    page.check_clean("drag");
+    let moved = to - from;
+    let (native, renderer) = native_after("cylinder", 1, |r| {
+        r.host.look((f64::from(moved.x), f64::from(moved.y)))
+    });
+    let c = &renderer.host.controls;
+    let (position, h, v) = page.camera();
+    eprintln!(
+        "web: the drag by {moved}: the page's camera turned to {h}, {v} (the host's: {}, {})",
+        c.horizontal_angle, c.vertical_angle
+    );
+    assert!(
+        (h - c.horizontal_angle).abs() < 1e-5,
+        "horizontal angle {h}"
+    );
+    assert!((v - c.vertical_angle).abs() < 1e-5, "vertical angle {v}");
+    assert!(position.distance(c.position) < 1e-6, "moved to {position}");
+    let share = share_within(&page.shot, &native);
+    let still = frame(&mut native_renderer("cylinder"));
+    let (near, unmoved) = (
+        frame_diff(&page.shot, &native).over(2),
+        frame_diff(&page.shot, &still).over(2),
+    );
+    eprintln!(
+        "web: after the drag: {:.2} % of pixels within {TOLERANCE} levels of the native frame \
+         after the same look; {near} pixels differ from it by more than 2 levels, {unmoved} from \
+         the frame without the drag",
+        share * 100.0,
+    );
+    assert!(
+        share >= WITHIN,
+        "after the drag: {share:.4} within {TOLERANCE}"
+    );
+    assert!(
+        unmoved > near,
+        "the frame is as near the one without the drag"
+    );
+}
+
+// Fails if a held arrow key does not move the camera as the host moves it for as many frames
+// (`speed × FROZEN_STEP_S` a frame, to 1e-5), or moves it zero frames, or if the frame is not the
+// native frame after the same input (within the scenes' tolerance).
+#[test]
+fn an_arrow_key_moves_the_camera_as_the_host_predicts() {
+    let Some(base) = page_url("web::an_arrow_key_moves_the_camera_as_the_host_predicts") else {
+        return;
+    };
+    let start = native_renderer("cylinder").host.controls.clone();
+    for (key, arrow) in [("ArrowUp", Arrow::Up), ("ArrowLeft", Arrow::Left)] {
+        let page = load(
+            "arrow",
+            &base,
+            &format!("scene=cylinder&panel=off&frames=9&key={key}"),
+        );
+        page.check_clean(key);
+        let (position, h, v) = page.camera();
+        assert_eq!((h, v), (start.horizontal_angle, start.vertical_angle));
+        // The frames the key was held: keydown after frame 1, keyup after frame 3 (later if the
+        // page's script saw a frame late).
+        let step = start.speed * FROZEN_STEP_S;
+        let frames = (position.distance(start.position) / step).round() as u32;
+        let (native, renderer) = native_after("cylinder", frames, |r| r.host.arrow(arrow, true));
+        let predicted = renderer.host.controls.position;
+        eprintln!(
+            "web: {key} held {frames} frames: the page's camera at {position}, the host's at \
+             {predicted}"
+        );
+        assert!((1..=8).contains(&frames), "{key} held {frames} frames");
+        assert!(
+            position.distance(predicted) < 1e-5,
+            "{key}: at {position}, not {predicted}"
+        );
+        let share = share_within(&page.shot, &native);
+        eprintln!(
+            "web: after {key}: {:.2} % of pixels within {TOLERANCE} levels",
+            share * 100.0
+        );
+        assert!(share >= WITHIN, "{key}: {share:.4} within {TOLERANCE}");
+    }
+}
+
+// Fails if 5 notches of the wheel (a DOM deltaY of -500) over the sprite do not raise its light as
+// the host's scroll by 5 does: the page's frame must be the native frame with the cursor there and
+// the 5 notches, within the scenes' tolerance, and nearer it (pixels more than 2 levels off) than
+// the frame without them.
+#[test]
+fn the_wheel_raises_the_sprites_light_as_the_host_predicts() {
+    let Some(base) = page_url("web::the_wheel_raises_the_sprites_light_as_the_host_predicts")
+    else {
+        return;
+    };
+    let at = Vec2::new(300.0, 250.0);
+    let page = load(
+        "wheel",
+        &base,
+        &format!(
+            "scene=sprite&panel=off&frames=9&wheel={},{},-500",
+            at.x, at.y
+        ),
+    );
+    page.check_clean("wheel");
+    let cursor = |r: &mut HeadlessRenderer| r.host.cursor = Some(at);
+    let (native, _) = native_after("sprite", 0, |r| {
+        cursor(r);
+        r.host.scroll(5.0);
+    });
+    let (unscrolled, _) = native_after("sprite", 0, cursor);
+    let share = share_within(&page.shot, &native);
+    let (near, without) = (
+        frame_diff(&page.shot, &native).over(2),
+        frame_diff(&page.shot, &unscrolled).over(2),
+    );
+    eprintln!(
+        "web: sprite after 5 notches of the wheel at {at}: {:.2} % of pixels within {TOLERANCE} \
+         levels of the native frame; {near} pixels differ from it by more than 2 levels, \
+         {without} from the frame without the notches",
+        share * 100.0,
+    );
+    assert!(share >= WITHIN, "the wheel: {share:.4} within {TOLERANCE}");
+    assert!(
+        without > near,
+        "the frame is as near the one without the notches"
+    );
 }

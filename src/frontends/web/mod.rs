@@ -2,9 +2,8 @@
 //! [`SceneHost`] as the window and headless rendering, with the window's panel painted by egui on the
 //! same context. `web/build.sh` builds it into `target/web/`.
 //!
-//! The page contract (tests and links use it): `index.html?scene=NAME&panel=off&frames=N` draws
-//! scene NAME (the cylinder without it), without the panel when `panel=off`, and with `frames=N`
-//! draws N frames with time frozen at 0, as `--frames N` does, then stops.
+//! The page contract (tests and links use it) is [`PageContract`]: `index.html?scene=NAME&panel=off`
+//! `&frames=N&s3tc=off`.
 //!
 //! The keys are the window's (scene keys, arrows, R, Enter, F1); a drag on the frame looks around
 //! (a page cannot grab the cursor the way the window does without the user's leave). A dropped OBJ
@@ -24,9 +23,11 @@ use wasm_bindgen::JsCast;
 use web_sys::{HtmlCanvasElement, WebGl2RenderingContext};
 
 use super::host::SceneHost;
+use super::page_contract::{PageContract, FROZEN_STEP_S};
 use super::panel::{Panel, PanelInfo};
 use super::FrameTimer;
 use crate::clock::Instant;
+use crate::common::texture::WEBGL_S3TC_EXTENSION;
 use crate::gl::extensions::GlExtensions;
 use crate::gl::offscreen::OffscreenTarget;
 use crate::gl::{ContextInfo, Gl, Profile};
@@ -39,41 +40,6 @@ pub const HEIGHT: u32 = 768;
 /// Why the TBN lines have no immediate-mode variant here (the panel greys that choice with it).
 pub const NO_IMMEDIATE_MODE: &str =
     "WebGL2 has no immediate mode (glBegin/glEnd): the TBN lines are drawn by the line shader";
-
-/// What the page's URL asks for (see the module's documentation).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct PageContract {
-    pub scene: Option<String>,
-    pub panel: bool,
-    pub frames: Option<u32>,
-}
-
-impl PageContract {
-    /// Reads `?scene=NAME&panel=off&frames=N` (a query string without its `?` too).
-    pub fn parse(query: &str) -> Result<Self, String> {
-        let mut contract = PageContract {
-            scene: None,
-            panel: true,
-            frames: None,
-        };
-        for pair in query.trim_start_matches('?').split('&') {
-            let (key, value) = pair.split_once('=').unwrap_or((pair, ""));
-            match key {
-                "scene" => contract.scene = Some(value.to_owned()),
-                "panel" => contract.panel = value != "off",
-                "frames" => {
-                    let frames =
-                        value.parse().ok().filter(|&n| n > 0).ok_or_else(|| {
-                            format!("frames={value}: a number of frames, 1 or more")
-                        })?;
-                    contract.frames = Some(frames);
-                }
-                _ => {}
-            }
-        }
-        Ok(contract)
-    }
-}
 
 /// The page's state: what the window's front end holds, minus the window.
 struct Page {
@@ -117,7 +83,14 @@ impl Page {
         let frozen = self.frames_left.is_some();
         let time = (now - self.started).as_secs_f32();
         self.target.bind();
-        let input = self.host.draw(delta_time, time, frozen);
+        // `frames=N`: time stays at 0, but input still moves the camera (unlike `--frames N`, which
+        // has none), each frame a step of FROZEN_STEP_S, so that a test's drag or arrow key gives
+        // a frame the host predicts.
+        let input = if frozen {
+            self.host.draw(FROZEN_STEP_S, 0.0, false)
+        } else {
+            self.host.draw(delta_time, time, false)
+        };
         if let Some(panel) = self.panel.as_mut().filter(|_| self.panel_shown) {
             let mut panel_input = Panel::headless_input(input.size);
             panel_input.events = std::mem::take(&mut self.panel_events);
@@ -371,10 +344,7 @@ async fn run() -> Result<(), String> {
             "this browser gives no WebGL2 context (the scenes need it): \
              try another browser, or turn on hardware acceleration",
         )?;
-    let descriptor = match &contract.scene {
-        Some(name) => crate::scenes::find(name)?,
-        None => crate::scenes::default_scene(),
-    };
+    let descriptor = contract.scene;
     fetch_assets(&window).await?;
 
     // `Gl` is an `Arc` for the native threads' sake; the page has one thread.
@@ -383,6 +353,15 @@ async fn run() -> Result<(), String> {
     let gl = Gl::new(glow::Context::from_webgl2_context(webgl2));
     let info = webgl2_info(&gl);
     log::info!("WebGL2 on {} ({})", info.renderer, info.vendor);
+    let s3tc = info.extensions.iter().any(|e| e == WEBGL_S3TC_EXTENSION);
+    if s3tc && !contract.s3tc {
+        return Err(format!(
+            "s3tc=off: the page's script did not hide {WEBGL_S3TC_EXTENSION} (index.html)"
+        ));
+    }
+    if !s3tc {
+        log::info!("no {WEBGL_S3TC_EXTENSION}: the DXT textures are decoded on the CPU");
+    }
     let extensions = GlExtensions {
         renderer: info.renderer.clone(),
         flip_y: None,
@@ -520,7 +499,7 @@ thread_local! {
 
 /// `data-frames` on the canvas: how many frames are drawn (the tests wait for it); with the
 /// figures BENCHMARKS.md gives: `data-first-frame-ms`, when the first frame was drawn since the
-/// page's navigation began, and `data-frame-ms`, the median frame time so far.
+/// page's navigation began, and `data-frame-ms`, the median frame time so far; and `data-camera`.
 fn set_frames_drawn(page: &Page) {
     let Some(canvas) = element("canvas") else {
         return;
@@ -534,6 +513,14 @@ fn set_frames_drawn(page: &Page) {
     }
     let (_, median) = super::min_median(&page.frame_ms);
     let _ = canvas.set_attribute("data-frame-ms", &format!("{median:.2}"));
+    // The camera the frame was drawn with, for the input tests: position x y z, then the
+    // horizontal and vertical angles (radians), each as Rust writes an f32 (read back exactly).
+    let c = &page.host.controls;
+    let camera = format!(
+        "{} {} {} {} {}",
+        c.position.x, c.position.y, c.position.z, c.horizontal_angle, c.vertical_angle
+    );
+    let _ = canvas.set_attribute("data-camera", &camera);
 }
 
 /// The mouse mode of the scene on the page.
