@@ -592,3 +592,144 @@ fn the_wheel_raises_the_sprites_light_as_the_host_predicts() {
         "the frame is as near the one without the notches"
     );
 }
+
+/// A learner's textured cube as a modelling tool exports it (Blender 4's OBJ exporter: its header,
+/// `o`, normals to 4 places, `s 0`, quads, and an MTL with its usual statements and `map_Bump -bm`),
+/// turned so that three faces show, with a PNG diffuse and normal map and a JPEG specular map:
+/// written into `dir`, the names returned (the model first).
+fn modelling_tool_export(dir: &Path) -> Vec<&'static str> {
+    let turn = glam::Quat::from_rotation_y(0.6) * glam::Quat::from_rotation_x(0.45);
+    let mut obj =
+        String::from("# Blender 4.2.3 LTS\n# www.blender.org\nmtllib crate.mtl\no Crate\n");
+    // Each face: its normal and two edges along U and V (corners counter-clockwise from outside).
+    let faces = [
+        (Vec3::Z, Vec3::X, Vec3::Y),
+        (Vec3::NEG_Z, Vec3::NEG_X, Vec3::Y),
+        (Vec3::X, Vec3::NEG_Z, Vec3::Y),
+        (Vec3::NEG_X, Vec3::Z, Vec3::Y),
+        (Vec3::Y, Vec3::X, Vec3::NEG_Z),
+        (Vec3::NEG_Y, Vec3::X, Vec3::Z),
+    ];
+    let mut normals = String::new();
+    let mut quads = String::new();
+    for (f, (n, u, v)) in faces.iter().enumerate() {
+        for (du, dv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+            let p = turn * (*n + *u * du + *v * dv);
+            obj += &format!("v {:.6} {:.6} {:.6}\n", p.x, p.y, p.z);
+        }
+        let n = turn * *n;
+        normals += &format!("vn {:.4} {:.4} {:.4}\n", n.x, n.y, n.z);
+        let c = |i: usize| format!("{}/{}/{}", 4 * f + i + 1, i + 1, f + 1);
+        quads += &format!("f {} {} {} {}\n", c(0), c(1), c(2), c(3));
+    }
+    obj += &normals;
+    obj +=
+        "vt 0.000000 0.000000\nvt 1.000000 0.000000\nvt 1.000000 1.000000\nvt 0.000000 1.000000\n";
+    obj += "s 0\nusemtl Crate\n";
+    obj += &quads;
+    let mtl = "# Blender 4.2.3 LTS MTL File: 'crate.blend'\n# www.blender.org\n\nnewmtl Crate\n\
+               Ns 250.000000\nKa 1.000000 1.000000 1.000000\nKd 0.800000 0.800000 0.800000\n\
+               Ks 0.500000 0.500000 0.500000\nKe 0.000000 0.000000 0.000000\nNi 1.450000\n\
+               d 1.000000\nillum 2\nmap_Kd crate_diffuse.png\n\
+               map_Bump -bm 1.000000 crate_normal.png\nmap_Ks crate_specular.jpg\n";
+    std::fs::write(dir.join("crate.obj"), obj).expect("crate.obj");
+    std::fs::write(dir.join("crate.mtl"), mtl).expect("crate.mtl");
+    let size = 256;
+    // Planks: brown stripes with darker seams; the normal map raises a rivet in each corner and
+    // grooves the seams; the specular map is bright on the rivets.
+    let seam = |x: u32| x % 64 < 4;
+    let rivet = |x: u32, y: u32| {
+        let (dx, dy) = ((x % 128) as f32 - 24.0, (y % 128) as f32 - 24.0);
+        (dx * dx + dy * dy).sqrt() < 10.0
+    };
+    let diffuse = RgbImage::from_fn(size, size, |x, y| {
+        let wood = 120 + (y * 7 % 40) as u8;
+        if seam(x) {
+            image::Rgb([60, 40, 20])
+        } else if rivet(x, y) {
+            image::Rgb([150, 150, 160])
+        } else {
+            image::Rgb([wood, (u16::from(wood) * 2 / 3) as u8, 40])
+        }
+    });
+    let normal = RgbImage::from_fn(size, size, |x, y| {
+        let (dx, dy) = ((x % 128) as f32 - 24.0, (y % 128) as f32 - 24.0);
+        let n = if rivet(x, y) {
+            Vec3::new(dx / 12.0, -dy / 12.0, 1.0).normalize()
+        } else if seam(x) {
+            Vec3::new(if x % 64 < 2 { 0.7 } else { -0.7 }, 0.0, 0.7).normalize()
+        } else {
+            Vec3::Z
+        };
+        let byte = |c: f32| ((c * 0.5 + 0.5) * 255.0).round() as u8;
+        image::Rgb([byte(n.x), byte(n.y), byte(n.z)])
+    });
+    let specular = image::GrayImage::from_fn(size, size, |x, y| {
+        image::Luma([if rivet(x, y) { 230 } else { 40 }])
+    });
+    diffuse
+        .save(dir.join("crate_diffuse.png"))
+        .expect("the PNG");
+    normal.save(dir.join("crate_normal.png")).expect("the PNG");
+    specular
+        .save(dir.join("crate_specular.jpg"))
+        .expect("the JPEG");
+    vec![
+        "crate.obj",
+        "crate.mtl",
+        "crate_diffuse.png",
+        "crate_normal.png",
+        "crate_specular.jpg",
+    ]
+}
+
+// Fails if a learner's OBJ with its MTL and PNG/JPEG maps, dropped on the page together, does not
+// give the native `--model` frame within the scenes' tolerance, is still the cylinder, or puts a
+// line on the page or an error in its console.
+#[test]
+fn a_dropped_model_with_its_maps_is_the_native_model_frame() {
+    let Some(base) = page_url("web::a_dropped_model_with_its_maps_is_the_native_model_frame")
+    else {
+        return;
+    };
+    let served =
+        std::env::var("TUTORIAL13_WEB_DIR").expect("TUTORIAL13_WEB_DIR (web/test.sh sets it)");
+    let drops = Path::new(&served).join("drops");
+    std::fs::create_dir_all(&drops).expect("drops/ in the served folder");
+    let names = modelling_tool_export(&drops);
+    let native = common::run(
+        common::tutorial13()
+            .args(["--headless", "--model", "crate.obj", "--frames", "1"])
+            .args(["--screenshot", "crate.png"])
+            .current_dir(&drops),
+    );
+    assert!(native.status.success(), "{}", common::text(&native.stderr));
+    let native = image::open(drops.join("crate.png"))
+        .expect("the native frame")
+        .into_rgb8();
+    // The drop lands after frame 1; the files are fetched and read before it opens, so the frame
+    // taken is a late one.
+    let page = load(
+        "model",
+        &base,
+        &format!("panel=off&frames=40&drop={}", names.join(",")),
+    );
+    page.check_clean("the dropped model");
+    let share = share_within(&page.shot, &native);
+    let cylinder = frame(&mut native_renderer("cylinder"));
+    let (near, from_cylinder) = (
+        frame_diff(&page.shot, &native).over(2),
+        frame_diff(&page.shot, &cylinder).over(2),
+    );
+    eprintln!(
+        "web: the dropped crate (OBJ, MTL, PNG and JPEG maps): {:.2} % of pixels within \
+         {TOLERANCE} levels of the native --model frame; {near} pixels differ from it by more \
+         than 2 levels, {from_cylinder} from the cylinder's",
+        share * 100.0
+    );
+    assert!(
+        share >= WITHIN,
+        "the dropped model: {share:.4} within {TOLERANCE}"
+    );
+    assert!(from_cylinder > near, "the page still shows the cylinder");
+}
