@@ -507,9 +507,9 @@ fn a_drag_looks_as_the_host_predicts() {
     );
 }
 
-// Fails if a held arrow key does not move the camera as the host moves it for as many frames
-// (`speed × FROZEN_STEP_S` a frame, to 1e-5), or moves it zero frames, or if the frame is not the
-// native frame after the same input (within the scenes' tolerance).
+// Fails if an arrow key held for frames 2 and 3 does not move the camera as the host moves it for
+// two frames (`speed × FROZEN_STEP_S` a frame, to 1e-5), or if the frame is not the native frame
+// after the same input (within the scenes' tolerance).
 #[test]
 fn an_arrow_key_moves_the_camera_as_the_host_predicts() {
     let Some(base) = page_url("web::an_arrow_key_moves_the_camera_as_the_host_predicts") else {
@@ -525,8 +525,8 @@ fn an_arrow_key_moves_the_camera_as_the_host_predicts() {
         page.check_clean(key);
         let (position, h, v) = page.camera();
         assert_eq!((h, v), (start.horizontal_angle, start.vertical_angle));
-        // The frames the key was held: keydown after frame 1, keyup after frame 3 (later if the
-        // page's script saw a frame late).
+        // The frames the key was held: keydown after frame 1, keyup after frame 3, so frames 2
+        // and 3 (each frame is a timer task of its own, after which the page's script runs).
         let step = start.speed * FROZEN_STEP_S;
         let frames = (position.distance(start.position) / step).round() as u32;
         let (native, renderer) = native_after("cylinder", frames, |r| r.host.arrow(arrow, true));
@@ -535,7 +535,7 @@ fn an_arrow_key_moves_the_camera_as_the_host_predicts() {
             "web: {key} held {frames} frames: the page's camera at {position}, the host's at \
              {predicted}"
         );
-        assert!((1..=8).contains(&frames), "{key} held {frames} frames");
+        assert_eq!(frames, 2, "{key}: the camera moved {frames} frames' steps");
         assert!(
             position.distance(predicted) < 1e-5,
             "{key}: at {position}, not {predicted}"
@@ -552,7 +552,7 @@ fn an_arrow_key_moves_the_camera_as_the_host_predicts() {
 // Fails if 5 notches of the wheel (a DOM deltaY of -500) over the sprite do not raise its light as
 // the host's scroll by 5 does: the page's frame must be the native frame with the cursor there and
 // the 5 notches, within the scenes' tolerance, and nearer it (pixels more than 2 levels off) than
-// the frame without them.
+// the frames after 0, 4 or 6 notches.
 #[test]
 fn the_wheel_raises_the_sprites_light_as_the_host_predicts() {
     let Some(base) = page_url("web::the_wheel_raises_the_sprites_light_as_the_host_predicts")
@@ -569,27 +569,32 @@ fn the_wheel_raises_the_sprites_light_as_the_host_predicts() {
         ),
     );
     page.check_clean("wheel");
-    let cursor = |r: &mut HeadlessRenderer| r.host.cursor = Some(at);
-    let (native, _) = native_after("sprite", 0, |r| {
-        cursor(r);
-        r.host.scroll(5.0);
-    });
-    let (unscrolled, _) = native_after("sprite", 0, cursor);
-    let share = share_within(&page.shot, &native);
-    let (near, without) = (
-        frame_diff(&page.shot, &native).over(2),
-        frame_diff(&page.shot, &unscrolled).over(2),
-    );
+    // The native frame with the cursor there after `notches`.
+    let native = |notches: f32| {
+        native_after("sprite", 0, |r| {
+            r.host.cursor = Some(at);
+            r.host.scroll(notches);
+        })
+        .0
+    };
+    let share = share_within(&page.shot, &native(5.0));
+    // Pixels more than 2 levels off the native frame after 0, 4, 5 and 6 notches.
+    let counts: Vec<usize> = [0.0, 4.0, 5.0, 6.0]
+        .into_iter()
+        .map(|n| frame_diff(&page.shot, &native(n)).over(2))
+        .collect();
     eprintln!(
         "web: sprite after 5 notches of the wheel at {at}: {:.2} % of pixels within {TOLERANCE} \
-         levels of the native frame; {near} pixels differ from it by more than 2 levels, \
-         {without} from the frame without the notches",
+         levels of the native frame; pixels more than 2 levels off the native frame after 0, 4, \
+         5, 6 notches: {counts:?}",
         share * 100.0,
     );
     assert!(share >= WITHIN, "the wheel: {share:.4} within {TOLERANCE}");
-    assert!(
-        without > near,
-        "the frame is as near the one without the notches"
+    let nearest = (0..counts.len()).min_by_key(|&i| counts[i]);
+    assert_eq!(
+        nearest,
+        Some(2),
+        "nearest another number of notches: {counts:?}"
     );
 }
 
@@ -685,7 +690,9 @@ fn modelling_tool_export(dir: &Path) -> Vec<&'static str> {
 
 // Fails if a learner's OBJ with its MTL and PNG/JPEG maps, dropped on the page together, does not
 // give the native `--model` frame within the scenes' tolerance, is still the cylinder, or puts a
-// line on the page or an error in its console.
+// line on the page or an error in its console. A map the page did not get is caught by the line
+// (the notice a missing map gives), not by the frame: with the JPEG left out the frame was still
+// 99.78 % within 8 levels (4463 pixels more than 2 levels off, 2071 with it).
 #[test]
 fn a_dropped_model_with_its_maps_is_the_native_model_frame() {
     let Some(base) = page_url("web::a_dropped_model_with_its_maps_is_the_native_model_frame")
