@@ -1,6 +1,6 @@
 //! What the browser page's URL asks for: `index.html?scene=NAME&panel=off&frames=N&s3tc=off`. A pure
 //! function of the query string, compiled natively too, so that its tests run with the others (the
-//! page itself, [`crate::frontends::web`], is wasm32 only).
+//! page itself, `frontends::web`, is wasm32 only).
 //!
 //! - `scene=NAME`: the scene (the cylinder without it); an unknown name is `--scene`'s error.
 //! - `panel=off` (or `on`): without the panel.
