@@ -16,7 +16,7 @@ use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::frontends::host::Arrow;
 use tutorial13::frontends::page_contract::FROZEN_STEP_S;
 use tutorial13::frontends::panel::PanelWidget;
-use tutorial13::scenes::{self, SCENES};
+use tutorial13::scenes::{self, SceneDescriptor, SCENES};
 
 use crate::common::{self, frame, frame_diff};
 
@@ -82,6 +82,15 @@ impl Loaded {
             panic!("data-camera={text}")
         };
         (Vec3::new(x, y, z), h, v)
+    }
+
+    /// The page's log lines saying which files it fetched for a scene.
+    fn fetched(&self) -> Vec<String> {
+        let log = self.text("console-log").unwrap_or_default();
+        log.lines()
+            .filter(|l| l.contains(": fetched "))
+            .map(|l| l.split(" (").next().unwrap_or(l).to_owned())
+            .collect()
     }
 
     /// The page's message and what reached the console as an error: nothing.
@@ -151,6 +160,15 @@ fn share_within(page: &RgbImage, native: &RgbImage) -> f64 {
     1.0 - d.over(TOLERANCE) as f64 / d.pixels() as f64
 }
 
+/// The page's log line for the files it fetched for `scene`, without the byte count.
+fn fetched_line(scene: &SceneDescriptor) -> String {
+    format!(
+        "scene {}: fetched {}",
+        scene.name,
+        scene.asset_files.join(", ")
+    )
+}
+
 fn native_renderer(name: &str) -> HeadlessRenderer {
     common::renderer(&HeadlessOptions {
         descriptor: scenes::find(name).expect("a scene"),
@@ -172,6 +190,12 @@ fn each_scene_in_the_page_is_the_native_frame() {
             &format!("scene={}&panel=off&frames=1", scene.name),
         );
         page.check_clean(scene.name);
+        assert_eq!(
+            page.fetched(),
+            [fetched_line(scene)],
+            "{}: the files fetched",
+            scene.name
+        );
         let native = frame(&mut native_renderer(scene.name));
         let share = share_within(&page.shot, &native);
         eprintln!(
@@ -688,9 +712,10 @@ fn modelling_tool_export(dir: &Path) -> Vec<&'static str> {
     ]
 }
 
-// Fails if a learner's OBJ with its MTL and PNG/JPEG maps, dropped on the page together, does not
-// give the native `--model` frame within the scenes' tolerance, is still the cylinder, or puts a
-// line on the page or an error in its console. A map the page did not get is caught by the line
+// Fails if a learner's OBJ with its MTL and PNG/JPEG maps, dropped on the page (showing the wall)
+// together, does not give the native `--model` frame within the scenes' tolerance, is still the
+// cylinder, puts a line on the page or an error in its console, or if the page did not fetch the
+// cylinder's files for it (and the wall's only before). A map the page did not get is caught by the line
 // (the notice a missing map gives), not by the frame: with the JPEG left out the frame was still
 // 99.78 % within 8 levels (4463 pixels more than 2 levels off, 2071 with it).
 #[test]
@@ -714,14 +739,21 @@ fn a_dropped_model_with_its_maps_is_the_native_model_frame() {
     let native = image::open(drops.join("crate.png"))
         .expect("the native frame")
         .into_rgb8();
-    // The drop lands after frame 1; the files are fetched and read before it opens, so the frame
-    // taken is a late one.
+    // The page starts on the wall, so that the cylinder's files (which a model opens with) are
+    // fetched at the drop. The drop lands after frame 1; the files are fetched and read before it
+    // opens, so the frame taken is a late one.
     let page = load(
         "model",
         &base,
-        &format!("panel=off&frames=40&drop={}", names.join(",")),
+        &format!("scene=wall&panel=off&frames=60&drop={}", names.join(",")),
     );
     page.check_clean("the dropped model");
+    let [wall, cylinder] = ["wall", "cylinder"].map(|name| scenes::find(name).unwrap());
+    assert_eq!(
+        page.fetched(),
+        [fetched_line(wall), fetched_line(cylinder)],
+        "the files fetched"
+    );
     let share = share_within(&page.shot, &native);
     let cylinder = frame(&mut native_renderer("cylinder"));
     let (near, from_cylinder) = (
@@ -739,4 +771,40 @@ fn a_dropped_model_with_its_maps_is_the_native_model_frame() {
         "the dropped model: {share:.4} within {TOLERANCE}"
     );
     assert!(from_cylinder > near, "the page still shows the cylinder");
+}
+
+// Fails if the page fetches another scene's files at start (it must fetch only the cylinder's), if
+// Enter does not fetch the next scene's files and then show it (the native sprite frame within the
+// scenes' tolerance), or if anything goes to the page's message or the console's errors.
+#[test]
+fn enter_fetches_the_next_scenes_files_and_shows_it() {
+    let Some(base) = page_url("web::enter_fetches_the_next_scenes_files_and_shows_it") else {
+        return;
+    };
+    let page = load(
+        "enter",
+        &base,
+        "scene=cylinder&panel=off&frames=40&key=Enter",
+    );
+    page.check_clean("Enter");
+    let (cylinder, sprite) = (
+        scenes::find("cylinder").unwrap(),
+        scenes::find("sprite").unwrap(),
+    );
+    assert_eq!(
+        page.fetched(),
+        [fetched_line(cylinder), fetched_line(sprite)],
+        "the files fetched"
+    );
+    let native = frame(&mut native_renderer("sprite"));
+    let share = share_within(&page.shot, &native);
+    eprintln!(
+        "web: Enter from the cylinder: {:.2} % of pixels within {TOLERANCE} levels of the native \
+         sprite frame",
+        share * 100.0
+    );
+    assert!(
+        share >= WITHIN,
+        "after Enter: {share:.4} within {TOLERANCE}"
+    );
 }

@@ -31,7 +31,7 @@ use crate::common::texture::WEBGL_S3TC_EXTENSION;
 use crate::gl::extensions::GlExtensions;
 use crate::gl::offscreen::OffscreenTarget;
 use crate::gl::{ContextInfo, Gl, Profile};
-use crate::scenes::{MouseMode, SceneContext, SceneOptions};
+use crate::scenes::{MouseMode, SceneContext, SceneDescriptor, SceneOptions};
 
 /// The canvas's size: the tutorial's window.
 pub const WIDTH: u32 = 1024;
@@ -148,10 +148,6 @@ impl Page {
         // The last message goes; what this key brings (an error, a notice) replaces it.
         clear_error();
         let done = match key {
-            "Enter" => {
-                let (context, host) = (self.scene_context_parts(), &mut self.host);
-                with_context(context, |c| host.next_scene(c))
-            }
             "F1" => {
                 self.panel_shown = !self.panel_shown;
                 Ok(())
@@ -170,14 +166,26 @@ impl Page {
         }
     }
 
+    /// Enter, once `next`'s files are fetched: the next scene, if the page still shows `from` (a
+    /// second Enter while the files came in switched already).
+    fn switch_scene(&mut self, from: &'static SceneDescriptor, next: &'static SceneDescriptor) {
+        if self.host.descriptor() != from {
+            return;
+        }
+        clear_error();
+        let (context, host) = (self.scene_context_parts(), &mut self.host);
+        if let Err(e) = with_context(context, |c| host.switch_scene(c, next)) {
+            show_error(&e.to_string());
+        }
+    }
+
     fn scene_context_parts(&self) -> (Gl, ContextInfo, GlExtensions) {
         (self.gl.clone(), self.info.clone(), self.extensions.clone())
     }
 
-    /// Files dropped on the page: kept where the scenes' loaders read them, then the model among
-    /// them (an `.obj`, `.gltf` or `.glb`, else the first file) opened as the window opens a
-    /// dropped file.
-    fn open_files(&mut self, files: Vec<(String, Vec<u8>)>) {
+    /// Files dropped on the page: kept where the scenes' loaders read them; the model among them
+    /// (an `.obj`, `.gltf` or `.glb`, else the first file) returned, for [`Page::open_file`].
+    fn keep_dropped(files: Vec<(String, Vec<u8>)>) -> Option<PathBuf> {
         let folder = Path::new("dropped");
         let mut model: Option<PathBuf> = None;
         for (name, bytes) in files {
@@ -192,12 +200,14 @@ impl Page {
             }
             crate::files::provide(&path, bytes);
         }
-        let Some(model) = model else {
-            return;
-        };
+        model
+    }
+
+    /// A dropped file opened as the window opens one (its scene's assets fetched already).
+    fn open_file(&mut self, model: &Path) {
         clear_error();
         let (context, host) = (self.scene_context_parts(), &mut self.host);
-        if let Err(e) = with_context(context, |c| host.open_file(c, &model)) {
+        if let Err(e) = with_context(context, |c| host.open_file(c, model)) {
             show_error(&e.to_string());
         }
     }
@@ -345,7 +355,7 @@ async fn run() -> Result<(), String> {
              try another browser, or turn on hardware acceleration",
         )?;
     let descriptor = contract.scene;
-    fetch_assets(&window).await?;
+    fetch_assets(descriptor).await?;
 
     // `Gl` is an `Arc` for the native threads' sake; the page has one thread.
     crate::gl::set_webgl2_context(&webgl2);
@@ -409,26 +419,35 @@ async fn run() -> Result<(), String> {
     Ok(())
 }
 
-/// Fetches `assets/list.txt` (written by web/build.sh) and every file it names, for the scenes'
-/// loaders ([`crate::files::read`]).
-async fn fetch_assets(window: &web_sys::Window) -> Result<(), String> {
-    let list = fetch(window, "assets/list.txt").await?;
-    let list = String::from_utf8(list).map_err(|_| "assets/list.txt: not text")?;
-    let names: Vec<&str> = list.lines().filter(|l| !l.trim().is_empty()).collect();
+/// Fetches the files of `scene` (its [`SceneDescriptor::asset_files`]) the page does not hold yet,
+/// for the scenes' loaders ([`crate::files::read`]): at start the first scene's only, the others'
+/// when Enter or a drop opens them. Logs what it fetched.
+pub(super) async fn fetch_assets(scene: &'static SceneDescriptor) -> Result<(), String> {
+    let window = web_sys::window().ok_or("no window")?;
+    let path = |name: &str| Path::new("assets").join(name);
+    let names: Vec<&str> = (scene.asset_files.iter().copied())
+        .filter(|name| !crate::files::is_file(&path(name)))
+        .collect();
+    if names.is_empty() {
+        return Ok(());
+    }
     // Every request is sent before the first is awaited: the files come in side by side.
     let requests: Vec<_> = names
         .iter()
         .map(|name| window.fetch_with_str(&format!("assets/{name}")))
         .collect();
-    for (name, request) in names.into_iter().zip(requests) {
-        let bytes = body(&format!("assets/{name}"), request).await?;
-        crate::files::provide(&Path::new("assets").join(name), bytes);
+    let mut bytes = 0;
+    for (name, request) in names.iter().zip(requests) {
+        let body = body(&format!("assets/{name}"), request).await?;
+        bytes += body.len();
+        crate::files::provide(&path(name), body);
     }
+    log::info!(
+        "scene {}: fetched {} ({bytes} bytes)",
+        scene.name,
+        names.join(", ")
+    );
     Ok(())
-}
-
-async fn fetch(window: &web_sys::Window, url: &str) -> Result<Vec<u8>, String> {
-    body(url, window.fetch_with_str(url)).await
 }
 
 /// The bytes `request` (a `fetch` of `url`) answers with.
