@@ -22,17 +22,31 @@ if ! wasm-bindgen --version 2>/dev/null | grep -qx "wasm-bindgen $version"; then
   fi
 fi
 
-say "building the page's module (web/: cargo build --release --target wasm32-unknown-unknown)"
-(cd web && cargo build --release --target wasm32-unknown-unknown)
+# --locked: web/Cargo.lock as committed, which tests/all/web.rs checks against the root Cargo.lock
+# (the versions the native tests ran); cargo says so and stops if the manifests need another.
+say "building the page's module (web/: cargo build --locked --release --target wasm32-unknown-unknown)"
+(cd web && cargo build --locked --release --target wasm32-unknown-unknown)
 
 out=target/web
 rm -rf "$out"
 mkdir -p "$out/assets"
+module=target/wasm32-unknown-unknown/release/tutorial13_web.wasm
+# Optional: binaryen's wasm-opt shrinks the module (gzipped -7 %, BENCHMARKS.md), before
+# wasm-bindgen: Debian 12's binaryen 108 run on wasm-bindgen's output breaks its externref table
+# (the page fails to load), which the browser tests caught. The features are those Rust's wasm32
+# target emits.
+if command -v wasm-opt >/dev/null; then
+  say "shrinking the module with wasm-opt -Os (about a minute)"
+  wasm-opt -Os --enable-bulk-memory --enable-sign-ext --enable-nontrapping-float-to-int \
+    --enable-mutable-globals --enable-reference-types --enable-multivalue \
+    "$module" -o target/wasm32-unknown-unknown/release/tutorial13_web.opt.wasm
+  module=target/wasm32-unknown-unknown/release/tutorial13_web.opt.wasm
+else
+  say "no wasm-opt (Debian: apt-get install binaryen): the module is not shrunk further"
+fi
 say "writing the JS glue (wasm-bindgen --target web) into $out"
-wasm-bindgen --target web --no-typescript --out-dir "$out" --out-name tutorial13 \
-  target/wasm32-unknown-unknown/release/tutorial13_web.wasm
+wasm-bindgen --target web --no-typescript --out-dir "$out" --out-name tutorial13 "$module"
 cp web/index.html "$out/"
-say "copying the crate's assets (the page fetches them at start)"
+say "copying the crate's assets (the page fetches a scene's files when it first opens it)"
 cp -r assets/. "$out/assets/"
-(cd assets && find . -type f | sed 's|^\./||' | LC_ALL=C sort) > "$out/assets/list.txt"
 say "done: $out ($(du -sh "$out" | cut -f1)); serve it with: python3 -m http.server -d $out"

@@ -504,7 +504,7 @@ pub fn upload_dds(gl: &Gl, dds: &DdsImage, path: &Path) -> Result<Texture> {
     let s3tc = extensions.contains(S3TC_EXTENSION) || extensions.contains(WEBGL_S3TC_EXTENSION);
     #[cfg(target_arch = "wasm32")]
     if !s3tc {
-        return upload_dds_decompressed(gl, dds);
+        return upload_dds_decompressed(gl, dds, path);
     }
     if !s3tc {
         return Err(Error::Dds {
@@ -539,9 +539,16 @@ pub fn upload_dds(gl: &Gl, dds: &DdsImage, path: &Path) -> Result<Texture> {
 }
 
 /// [`upload_dds`] where the browser cannot take DXT: every level decompressed on the CPU and uploaded
-/// as RGBA8, sampled as the compressed texture would be (GL's defaults, the same levels).
+/// as RGBA8, sampled as the compressed texture would be (GL's defaults, the same levels). Says so in
+/// the log (the page's console), a line per file.
 #[cfg(target_arch = "wasm32")]
-fn upload_dds_decompressed(gl: &Gl, dds: &DdsImage) -> Result<Texture> {
+fn upload_dds_decompressed(gl: &Gl, dds: &DdsImage, path: &Path) -> Result<Texture> {
+    log::info!(
+        "{}: {} decoded on the CPU ({} levels; the browser lacks {WEBGL_S3TC_EXTENSION})",
+        path.display(),
+        String::from_utf8_lossy(&dds.format.fourcc()),
+        dds.levels.len()
+    );
     let texture = Texture::create_bound(gl)?;
     // SAFETY: each level's RGBA8 texels, tightly packed, match its dimensions.
     unsafe {

@@ -7,6 +7,7 @@
 #[cfg(not(target_arch = "wasm32"))]
 pub mod headless;
 pub mod host;
+pub mod page_contract;
 pub mod panel;
 #[cfg(target_arch = "wasm32")]
 pub mod web;

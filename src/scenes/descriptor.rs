@@ -35,6 +35,8 @@ pub struct SceneDescriptor {
     pub build: fn(&SceneContext, &SceneOptions) -> Result<Box<dyn Scene>>,
     /// The files `make-assets` generates for the scene: paths under the assets folder, and bytes.
     pub generate_assets: fn() -> Result<crate::assets::GeneratedFiles>,
+    /// Their paths alone, without generating them: what the browser page fetches for the scene.
+    pub asset_files: &'static [&'static str],
     /// A file dropped on the window: puts it into the scene's options and returns `true` if the
     /// scene opens files of its kind (the cylinder opens an `.obj` as `--model`).
     pub open_file: fn(&Path, &mut SceneOptions) -> bool,
@@ -42,7 +44,7 @@ pub struct SceneDescriptor {
 
 impl SceneDescriptor {
     /// The descriptor of scene type `S`: mouse look, no mouse help, no shared flags, no generated
-    /// files (a scene that differs sets those fields over this one).
+    /// or asset files (a scene that differs sets those fields over this one).
     pub const fn of<S: SceneType>(
         name: &'static str,
         description: &'static str,
@@ -59,6 +61,7 @@ impl SceneDescriptor {
             read_args: read_args::<S::Args>,
             build: build::<S>,
             generate_assets: || Ok(Vec::new()),
+            asset_files: &[],
             open_file: |_, _| false,
         }
     }

@@ -212,3 +212,12 @@ fn a_file_missing_from_the_crate_too_names_the_one_asked_for() {
     assert_eq!(found.paths, [no_crate.join(names[0]), dir.join(names[1])]);
     assert_eq!(found.missing, [dir.join(names[0])]);
 }
+
+// Fails if a scene's `asset_files` (what the browser page fetches for it) are not the files
+// `make-assets` writes for it, in that order.
+#[test]
+fn each_scenes_asset_files_are_those_it_generates() {
+    for scene in tutorial13::scenes::SCENES {
+        assert_eq!(scene.asset_files, files_of(scene), "{}", scene.name);
+    }
+}

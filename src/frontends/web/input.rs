@@ -11,7 +11,7 @@ use web_sys::{DragEvent, HtmlCanvasElement, KeyboardEvent, MouseEvent, WheelEven
 
 use super::{mouse_mode, show_error, Page};
 use crate::frontends::host::Arrow;
-use crate::scenes::MouseMode;
+use crate::scenes::{MouseMode, SceneOptions};
 
 /// An arrow key by its DOM `key`.
 pub fn arrow(key: &str) -> Option<Arrow> {
@@ -73,16 +73,33 @@ pub fn listen(
         pressed,
         modifiers: egui::Modifiers::default(),
     };
-    on(window, "keydown", page, |page, event: KeyboardEvent| {
-        let key = event.key();
-        // The page must not scroll or reload on the keys the scenes use.
-        if arrow(&key).is_some() || key == "F1" || key == "Enter" {
-            event.prevent_default();
-        }
-        if !event.repeat() || arrow(&key).is_some() {
-            page.key(&key, true);
-        }
-    })?;
+    let switching = page.clone();
+    on(
+        window,
+        "keydown",
+        page,
+        move |page, event: KeyboardEvent| {
+            let key = event.key();
+            // The page must not scroll or reload on the keys the scenes use.
+            if arrow(&key).is_some() || key == "F1" || key == "Enter" {
+                event.prevent_default();
+            }
+            if key == "Enter" && !event.repeat() {
+                // The next scene once its files are in (fetched the first time it opens).
+                let from = page.host.descriptor();
+                let next = crate::scenes::next(from);
+                let page = switching.clone();
+                wasm_bindgen_futures::spawn_local(async move {
+                    match super::fetch_assets(next).await {
+                        Ok(()) => page.borrow_mut().switch_scene(from, next),
+                        Err(e) => show_error(&e),
+                    }
+                });
+            } else if !event.repeat() || arrow(&key).is_some() {
+                page.key(&key, true);
+            }
+        },
+    )?;
     on(window, "keyup", page, |page, event: KeyboardEvent| {
         page.key(&event.key(), false);
     })?;
@@ -153,7 +170,20 @@ pub fn listen(
                     Err(_) => return show_error(&format!("{name}: cannot be read")),
                 }
             }
-            page.borrow_mut().open_files(read);
+            let Some(model) = Page::keep_dropped(read) else {
+                return;
+            };
+            // The scene that opens it needs its own files too (the cylinder's maps under a model
+            // without its own), which a page started on another scene has not fetched yet.
+            let opens = crate::scenes::SCENES
+                .iter()
+                .find(|s| (s.open_file)(&model, &mut SceneOptions::default()));
+            if let Some(scene) = opens {
+                if let Err(e) = super::fetch_assets(scene).await {
+                    return show_error(&e);
+                }
+            }
+            page.borrow_mut().open_file(&model);
         });
     })?;
     Ok(())

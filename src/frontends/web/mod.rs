@@ -2,9 +2,8 @@
 //! [`SceneHost`] as the window and headless rendering, with the window's panel painted by egui on the
 //! same context. `web/build.sh` builds it into `target/web/`.
 //!
-//! The page contract (tests and links use it): `index.html?scene=NAME&panel=off&frames=N` draws
-//! scene NAME (the cylinder without it), without the panel when `panel=off`, and with `frames=N`
-//! draws N frames with time frozen at 0, as `--frames N` does, then stops.
+//! The page contract (tests and links use it) is [`PageContract`]: `index.html?scene=NAME&panel=off`
+//! `&frames=N&s3tc=off`.
 //!
 //! The keys are the window's (scene keys, arrows, R, Enter, F1); a drag on the frame looks around
 //! (a page cannot grab the cursor the way the window does without the user's leave). A dropped OBJ
@@ -24,13 +23,15 @@ use wasm_bindgen::JsCast;
 use web_sys::{HtmlCanvasElement, WebGl2RenderingContext};
 
 use super::host::SceneHost;
+use super::page_contract::{PageContract, FROZEN_STEP_S};
 use super::panel::{Panel, PanelInfo};
 use super::FrameTimer;
 use crate::clock::Instant;
+use crate::common::texture::WEBGL_S3TC_EXTENSION;
 use crate::gl::extensions::GlExtensions;
 use crate::gl::offscreen::OffscreenTarget;
 use crate::gl::{ContextInfo, Gl, Profile};
-use crate::scenes::{MouseMode, SceneContext, SceneOptions};
+use crate::scenes::{MouseMode, SceneContext, SceneDescriptor, SceneOptions};
 
 /// The canvas's size: the tutorial's window.
 pub const WIDTH: u32 = 1024;
@@ -39,41 +40,6 @@ pub const HEIGHT: u32 = 768;
 /// Why the TBN lines have no immediate-mode variant here (the panel greys that choice with it).
 pub const NO_IMMEDIATE_MODE: &str =
     "WebGL2 has no immediate mode (glBegin/glEnd): the TBN lines are drawn by the line shader";
-
-/// What the page's URL asks for (see the module's documentation).
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct PageContract {
-    pub scene: Option<String>,
-    pub panel: bool,
-    pub frames: Option<u32>,
-}
-
-impl PageContract {
-    /// Reads `?scene=NAME&panel=off&frames=N` (a query string without its `?` too).
-    pub fn parse(query: &str) -> Result<Self, String> {
-        let mut contract = PageContract {
-            scene: None,
-            panel: true,
-            frames: None,
-        };
-        for pair in query.trim_start_matches('?').split('&') {
-            let (key, value) = pair.split_once('=').unwrap_or((pair, ""));
-            match key {
-                "scene" => contract.scene = Some(value.to_owned()),
-                "panel" => contract.panel = value != "off",
-                "frames" => {
-                    let frames =
-                        value.parse().ok().filter(|&n| n > 0).ok_or_else(|| {
-                            format!("frames={value}: a number of frames, 1 or more")
-                        })?;
-                    contract.frames = Some(frames);
-                }
-                _ => {}
-            }
-        }
-        Ok(contract)
-    }
-}
 
 /// The page's state: what the window's front end holds, minus the window.
 struct Page {
@@ -117,7 +83,14 @@ impl Page {
         let frozen = self.frames_left.is_some();
         let time = (now - self.started).as_secs_f32();
         self.target.bind();
-        let input = self.host.draw(delta_time, time, frozen);
+        // `frames=N`: time stays at 0, but input still moves the camera (unlike `--frames N`, which
+        // has none), each frame a step of FROZEN_STEP_S, so that a test's drag or arrow key gives
+        // a frame the host predicts.
+        let input = if frozen {
+            self.host.draw(FROZEN_STEP_S, 0.0, false)
+        } else {
+            self.host.draw(delta_time, time, false)
+        };
         if let Some(panel) = self.panel.as_mut().filter(|_| self.panel_shown) {
             let mut panel_input = Panel::headless_input(input.size);
             panel_input.events = std::mem::take(&mut self.panel_events);
@@ -175,10 +148,6 @@ impl Page {
         // The last message goes; what this key brings (an error, a notice) replaces it.
         clear_error();
         let done = match key {
-            "Enter" => {
-                let (context, host) = (self.scene_context_parts(), &mut self.host);
-                with_context(context, |c| host.next_scene(c))
-            }
             "F1" => {
                 self.panel_shown = !self.panel_shown;
                 Ok(())
@@ -197,14 +166,26 @@ impl Page {
         }
     }
 
+    /// Enter, once `next`'s files are fetched: the next scene, if the page still shows `from` (a
+    /// second Enter while the files came in switched already).
+    fn switch_scene(&mut self, from: &'static SceneDescriptor, next: &'static SceneDescriptor) {
+        if self.host.descriptor() != from {
+            return;
+        }
+        clear_error();
+        let (context, host) = (self.scene_context_parts(), &mut self.host);
+        if let Err(e) = with_context(context, |c| host.switch_scene(c, next)) {
+            show_error(&e.to_string());
+        }
+    }
+
     fn scene_context_parts(&self) -> (Gl, ContextInfo, GlExtensions) {
         (self.gl.clone(), self.info.clone(), self.extensions.clone())
     }
 
-    /// Files dropped on the page: kept where the scenes' loaders read them, then the model among
-    /// them (an `.obj`, `.gltf` or `.glb`, else the first file) opened as the window opens a
-    /// dropped file.
-    fn open_files(&mut self, files: Vec<(String, Vec<u8>)>) {
+    /// Files dropped on the page: kept where the scenes' loaders read them; the model among them
+    /// (an `.obj`, `.gltf` or `.glb`, else the first file) returned, for [`Page::open_file`].
+    fn keep_dropped(files: Vec<(String, Vec<u8>)>) -> Option<PathBuf> {
         let folder = Path::new("dropped");
         let mut model: Option<PathBuf> = None;
         for (name, bytes) in files {
@@ -219,12 +200,14 @@ impl Page {
             }
             crate::files::provide(&path, bytes);
         }
-        let Some(model) = model else {
-            return;
-        };
+        model
+    }
+
+    /// A dropped file opened as the window opens one (its scene's assets fetched already).
+    fn open_file(&mut self, model: &Path) {
         clear_error();
         let (context, host) = (self.scene_context_parts(), &mut self.host);
-        if let Err(e) = with_context(context, |c| host.open_file(c, &model)) {
+        if let Err(e) = with_context(context, |c| host.open_file(c, model)) {
             show_error(&e.to_string());
         }
     }
@@ -371,11 +354,8 @@ async fn run() -> Result<(), String> {
             "this browser gives no WebGL2 context (the scenes need it): \
              try another browser, or turn on hardware acceleration",
         )?;
-    let descriptor = match &contract.scene {
-        Some(name) => crate::scenes::find(name)?,
-        None => crate::scenes::default_scene(),
-    };
-    fetch_assets(&window).await?;
+    let descriptor = contract.scene;
+    fetch_assets(descriptor).await?;
 
     // `Gl` is an `Arc` for the native threads' sake; the page has one thread.
     crate::gl::set_webgl2_context(&webgl2);
@@ -383,6 +363,15 @@ async fn run() -> Result<(), String> {
     let gl = Gl::new(glow::Context::from_webgl2_context(webgl2));
     let info = webgl2_info(&gl);
     log::info!("WebGL2 on {} ({})", info.renderer, info.vendor);
+    let s3tc = info.extensions.iter().any(|e| e == WEBGL_S3TC_EXTENSION);
+    if s3tc && !contract.s3tc {
+        return Err(format!(
+            "s3tc=off: the page's script did not hide {WEBGL_S3TC_EXTENSION} (index.html)"
+        ));
+    }
+    if !s3tc {
+        log::info!("no {WEBGL_S3TC_EXTENSION}: the DXT textures are decoded on the CPU");
+    }
     let extensions = GlExtensions {
         renderer: info.renderer.clone(),
         flip_y: None,
@@ -430,26 +419,35 @@ async fn run() -> Result<(), String> {
     Ok(())
 }
 
-/// Fetches `assets/list.txt` (written by web/build.sh) and every file it names, for the scenes'
-/// loaders ([`crate::files::read`]).
-async fn fetch_assets(window: &web_sys::Window) -> Result<(), String> {
-    let list = fetch(window, "assets/list.txt").await?;
-    let list = String::from_utf8(list).map_err(|_| "assets/list.txt: not text")?;
-    let names: Vec<&str> = list.lines().filter(|l| !l.trim().is_empty()).collect();
+/// Fetches the files of `scene` (its [`SceneDescriptor::asset_files`]) the page does not hold yet,
+/// for the scenes' loaders ([`crate::files::read`]): at start the first scene's only, the others'
+/// when Enter or a drop opens them. Logs what it fetched.
+pub(super) async fn fetch_assets(scene: &'static SceneDescriptor) -> Result<(), String> {
+    let window = web_sys::window().ok_or("no window")?;
+    let path = |name: &str| Path::new("assets").join(name);
+    let names: Vec<&str> = (scene.asset_files.iter().copied())
+        .filter(|name| !crate::files::is_file(&path(name)))
+        .collect();
+    if names.is_empty() {
+        return Ok(());
+    }
     // Every request is sent before the first is awaited: the files come in side by side.
     let requests: Vec<_> = names
         .iter()
         .map(|name| window.fetch_with_str(&format!("assets/{name}")))
         .collect();
-    for (name, request) in names.into_iter().zip(requests) {
-        let bytes = body(&format!("assets/{name}"), request).await?;
-        crate::files::provide(&Path::new("assets").join(name), bytes);
+    let mut bytes = 0;
+    for (name, request) in names.iter().zip(requests) {
+        let body = body(&format!("assets/{name}"), request).await?;
+        bytes += body.len();
+        crate::files::provide(&path(name), body);
     }
+    log::info!(
+        "scene {}: fetched {} ({bytes} bytes)",
+        scene.name,
+        names.join(", ")
+    );
     Ok(())
-}
-
-async fn fetch(window: &web_sys::Window, url: &str) -> Result<Vec<u8>, String> {
-    body(url, window.fetch_with_str(url)).await
 }
 
 /// The bytes `request` (a `fetch` of `url`) answers with.
@@ -520,7 +518,7 @@ thread_local! {
 
 /// `data-frames` on the canvas: how many frames are drawn (the tests wait for it); with the
 /// figures BENCHMARKS.md gives: `data-first-frame-ms`, when the first frame was drawn since the
-/// page's navigation began, and `data-frame-ms`, the median frame time so far.
+/// page's navigation began, and `data-frame-ms`, the median frame time so far; and `data-camera`.
 fn set_frames_drawn(page: &Page) {
     let Some(canvas) = element("canvas") else {
         return;
@@ -534,6 +532,14 @@ fn set_frames_drawn(page: &Page) {
     }
     let (_, median) = super::min_median(&page.frame_ms);
     let _ = canvas.set_attribute("data-frame-ms", &format!("{median:.2}"));
+    // The camera the frame was drawn with, for the input tests: position x y z, then the
+    // horizontal and vertical angles (radians), each as Rust writes an f32 (read back exactly).
+    let c = &page.host.controls;
+    let camera = format!(
+        "{} {} {} {} {}",
+        c.position.x, c.position.y, c.position.z, c.horizontal_angle, c.vertical_angle
+    );
+    let _ = canvas.set_attribute("data-camera", &camera);
 }
 
 /// The mouse mode of the scene on the page.

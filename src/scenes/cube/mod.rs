@@ -38,6 +38,7 @@ pub use args::CubeOptions;
 pub static SCENE: SceneDescriptor = SceneDescriptor {
     shared_args: &["light", "light_power"],
     generate_assets: assets::generate,
+    asset_files: &assets::FILES.names(),
     ..SceneDescriptor::of::<Cube>(
         "cube",
         "Article 003: a stone cube lit Blinn-Phong in tangent space",

@@ -52,6 +52,7 @@ use tutorial13::{NormalMappingProgram, Tutorial13, CLEAR_COLOR, SHADERS};
 pub static SCENE: SceneDescriptor = SceneDescriptor {
     shared_args: &["green", "light", "light_power"],
     generate_assets: crate::assets::generate_cylinder_assets,
+    asset_files: &crate::assets::ASSET_FILES,
     open_file: open_model,
     ..SceneDescriptor::of::<Cylinder>(
         "cylinder",

@@ -49,6 +49,7 @@ pub static SCENE: SceneDescriptor = SceneDescriptor {
     mouse_mode: MouseMode::Cursor,
     mouse_help: MOUSE_HELP,
     generate_assets: assets::generate,
+    asset_files: &assets::FILES.names(),
     shared_args: &["green", "light"],
     ..SceneDescriptor::of::<Sprite>(
         "sprite",

@@ -37,6 +37,7 @@ pub use args::WallOptions;
 pub static SCENE: SceneDescriptor = SceneDescriptor {
     shared_args: &["light", "light_power"],
     generate_assets: assets::generate,
+    asset_files: &assets::FILES.names(),
     ..SceneDescriptor::of::<Wall>(
         "wall",
         "Article 004: a stone wall lit in view space or in tangent space",
