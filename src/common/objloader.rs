@@ -422,4 +422,118 @@ mod tests {
         let e = load_obj(Path::new("/nonexistent/cylinder.obj")).unwrap_err();
         assert!(e.to_string().contains("/nonexistent/cylinder.obj"), "{e}");
     }
+
+    const TRIANGLE: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0.25\nvt 1 0\nvt 0 1\nvn 0 0 1\n";
+
+    // Fails if a model whose faces are all `v/vt` is not read with its normals left to compute:
+    // `normals_missing`, no normals, each corner's position index kept, V as written (not
+    // negated), one material slot per triangle.
+    #[test]
+    fn model_faces_without_normals_leave_them_to_compute() {
+        let text = format!("{TRIANGLE}f 1/1 2/2 3/3\n");
+        let read = read_obj(
+            text.as_bytes(),
+            Path::new("m.obj"),
+            ObjMode::Model,
+            no_materials,
+        )
+        .unwrap();
+        assert!(read.normals_missing);
+        assert!(read.soup.normals.is_empty());
+        assert_eq!(read.position_indices, [0, 1, 2]);
+        assert_eq!(read.soup.uvs, [Vec2::new(0.0, 0.25), Vec2::X, Vec2::Y]);
+        assert_eq!(read.triangle_materials, [None]);
+    }
+
+    // Fails if a model whose faces all have normals is read as one without (or a tutorial file as
+    // a model): its normals are the file's and no position indices are kept.
+    #[test]
+    fn model_faces_with_normals_keep_them() {
+        let text = format!("{TRIANGLE}f 1/1/1 2/2/1 3/3/1\n");
+        for mode in [ObjMode::Model, ObjMode::Tutorial] {
+            let read = read_obj(text.as_bytes(), Path::new("m.obj"), mode, no_materials).unwrap();
+            assert!(!read.normals_missing, "{mode:?}");
+            assert_eq!(read.soup.normals, [Vec3::Z; 3], "{mode:?}");
+            assert!(read.position_indices.is_empty(), "{mode:?}");
+        }
+    }
+
+    // Fails if the materials the `.mtl` loader returns are dropped, or a triangle does not name
+    // its `usemtl` material by index.
+    #[test]
+    fn model_keeps_its_materials() {
+        let text = format!("mtllib m.mtl\n{TRIANGLE}usemtl Brick\nf 1/1/1 2/2/1 3/3/1\n");
+        let brick = |_: &Path| -> tobj::MTLLoadResult {
+            let material = tobj::Material {
+                name: "Brick".into(),
+                ..Default::default()
+            };
+            Ok((
+                vec![material],
+                [("Brick".to_string(), 0)].into_iter().collect(),
+            ))
+        };
+        let read = read_obj(text.as_bytes(), Path::new("m.obj"), ObjMode::Model, brick).unwrap();
+        assert_eq!(read.materials.len(), 1);
+        assert_eq!(read.materials[0].name, "Brick");
+        assert_eq!(read.triangle_materials, [Some(0)]);
+    }
+
+    // Fails if an error's line number is not the face's line in the file, counted from 1: the
+    // face after QUAD's nine lines is line 10.
+    #[test]
+    fn errors_give_the_faces_line_counted_from_one() {
+        let e = load(&format!("{QUAD}f 1/1/1 2/2/1\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("line 10: a face needs at least 3 corners, found 2"),
+            "{e}"
+        );
+        let e = load(&format!("{QUAD}f 1/1/1 2/2/1 9/3/1\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(
+                "line 10: corner '9/3/1': position index 9 out of range (4 declared so far)"
+            ),
+            "{e}"
+        );
+    }
+
+    // Fails if a model whose corners mix `v/vt/vn` and `v/vt` is read (tobj would fill the missing
+    // normals with other corners'), or the error miscounts them: one corner with, two without.
+    #[test]
+    fn model_faces_mixing_normals_are_refused_with_counts() {
+        let text = format!("{TRIANGLE}f 1/1/1 2/2 3/3\n");
+        let e = read_obj(
+            text.as_bytes(),
+            Path::new("m.obj"),
+            ObjMode::Model,
+            no_materials,
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains(
+                "1 face corners have a normal index and 2 have none: give every corner one \
+                 (v/vt/vn) or none (v/vt, and normals are computed)"
+            ),
+            "{e}"
+        );
+    }
+
+    // Fails if an `l` line is missed (indented or not) or a line that only starts with the letter
+    // l is taken for one, or if dropping them loses anything else: each `l` line is emptied, its
+    // line break kept (a `\r` before it goes with the line), and the other lines are unchanged.
+    #[test]
+    fn polylines_are_found_and_emptied_exactly() {
+        assert!(has_polylines("v 0 0 0\n  l 1 2 3\n"));
+        assert!(!has_polylines("v 0 0 0\nlod 1\n"));
+        assert!(!has_polylines("v 0 0 0\nvt 0 0\n"));
+        assert_eq!(
+            drop_polylines("v 0 0 0\nl 1 2 3\r\nlod 1\nvt 0 0\n l 1 2"),
+            "v 0 0 0\n\nlod 1\nvt 0 0\n"
+        );
+    }
 }

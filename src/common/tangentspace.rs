@@ -300,4 +300,88 @@ mod tests {
             assert!(t.dot(b).abs() < 1e-6);
         }
     }
+
+    // Fails if the solve reads an edge as a sum, not a difference, of two corners (positions or
+    // UVs), or if either product of the UV determinant, the edge weights or `r = 1 / det` is
+    // changed: a triangle away from the origin, UVs away from (0, 0), no UV component 0 or ±1, and
+    // det = 4, with both per-corner steps off, gives exactly the solved T = (0.75, -0.5, 0) and
+    // B = (1, 2, 0).
+    #[test]
+    fn offset_triangle_solves_to_the_exact_frame() {
+        let p0 = Vec3::new(1.0, 2.0, 3.0);
+        let uv0 = Vec2::new(0.5, 0.25);
+        let tri = TriangleSoup {
+            vertices: vec![
+                p0,
+                p0 + Vec3::new(2.0, 0.0, 0.0),
+                p0 + Vec3::new(0.0, 4.0, 0.0),
+            ],
+            uvs: vec![uv0, uv0 + Vec2::new(2.0, 0.5), uv0 + Vec2::new(-2.0, 1.5)],
+            normals: vec![Vec3::Z; 3],
+        };
+        let raw = TangentOptions {
+            gram_schmidt: false,
+            handedness: false,
+        };
+        let basis = compute_tangent_basis(&tri, raw);
+        assert_eq!(basis.tangents, vec![Vec3::new(0.75, -0.5, 0.0); 3]);
+        assert_eq!(basis.bitangents, vec![Vec3::new(1.0, 2.0, 0.0); 3]);
+    }
+
+    // Fails if the handedness step flips T when `dot(cross(n, t), b)` is exactly 0 (the tutorial
+    // tests `< 0`): on a triangle with no area whose UVs still solve (T = +x, B = 2x, so the test
+    // gives 0), T stays +x.
+    #[test]
+    fn handedness_leaves_a_zero_side_unflipped() {
+        let flat = soup([Vec3::ZERO, Vec3::X, Vec3::X * 2.0], AXIS_UVS, Vec3::Z);
+        let basis = compute_tangent_basis(&flat, TangentOptions::default());
+        assert_eq!(basis.tangents, vec![Vec3::X; 3]);
+        assert_eq!(basis.bitangents, vec![Vec3::X * 2.0; 3]);
+    }
+
+    // Fails if the fallback does not take the first edge minus its component along the normal: a
+    // normal +z and a first edge (2, 0, 1) give t = +x exactly, and b = z × x = +y.
+    #[test]
+    fn fallback_takes_the_first_edge_off_the_normal() {
+        let (t, b) = fallback_frame(Vec3::Z, Vec3::new(2.0, 0.0, 1.0), Vec3::new(0.0, 3.0, 0.0));
+        assert_eq!((t, b), (Vec3::X, Vec3::Y));
+    }
+
+    // Fails if an ordinary vector is normalized from its copy scaled towards 1 rather than
+    // directly: (2, 3, 6) normalizes directly to (2, 3, 6) / 7 as glam rounds it, which differs in
+    // the last bit from normalizing (1/3, 1/2, 1).
+    #[test]
+    fn ordinary_directions_are_normalized_directly() {
+        let v = Vec3::new(2.0, 3.0, 6.0);
+        assert_ne!(v.normalize(), (v / 6.0).normalize());
+        assert_eq!(direction(v), Some(v.normalize()));
+    }
+
+    // Fails if Gram-Schmidt keeps glam's normalize of a tangent whose squared length is subnormal
+    // (edges 1e-22 long: 1e-44 is rounded to 7 × 2^-149, which leaves the "unit" vector 1 % long):
+    // that tangent is normalized from a copy scaled towards 1 and is exactly +x.
+    #[test]
+    fn tiny_tangents_normalize_exactly() {
+        let tiny = soup(
+            [Vec3::ZERO, Vec3::X * 1e-22, Vec3::Y * 1e-22],
+            AXIS_UVS,
+            Vec3::Z,
+        );
+        assert!(!(Vec3::X * 1e-22).normalize().is_normalized());
+        let basis = compute_tangent_basis(&tiny, TangentOptions::default());
+        assert_eq!(basis.tangents, vec![Vec3::X; 3]);
+    }
+
+    // Fails if Gram-Schmidt of a tangent so large that `t - n * dot(n, t)` overflows is not taken
+    // from the tangent scaled towards 1, in the same arithmetic: t = (3e38, 3e38, 0) against
+    // n = (0.6, 0.8, 0) (dot 4.2e38, past f32::MAX) gives exactly the result for t = (1, 1, 0).
+    #[test]
+    fn overflowing_gram_schmidt_is_that_of_the_scaled_tangent() {
+        let n = Vec3::new(0.6, 0.8, 0.0);
+        let huge = Vec3::new(3e38, 3e38, 0.0);
+        assert!(!(huge - n * n.dot(huge)).is_finite());
+        let unit = gram_schmidt(n, Vec3::new(1.0, 1.0, 0.0));
+        assert!(unit.is_normalized() && unit.dot(n).abs() < 1e-6, "{unit}");
+        assert_eq!(gram_schmidt(n, huge), unit);
+    }
 }

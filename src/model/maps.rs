@@ -290,4 +290,137 @@ mod tests {
         let e = decode(&file(true), Slot::Diffuse, &mut notices).unwrap_err();
         assert!(e.to_string().contains("/nonexistent/brick.png"), "{e}");
     }
+
+    // Fails if a material's unreadable map does not end its notice with the slot's neutral map,
+    // by name: white, the flat normal, or the tutorial's specular 0.3.
+    #[test]
+    fn fallback_notices_name_the_neutral_map() {
+        let source = MapSource::File {
+            path: "/nonexistent/brick.png".into(),
+            named_by: "map_Kd of material 'Brick' in a.mtl".into(),
+            from_command_line: false,
+            bump_multiplier: None,
+        };
+        for (slot, neutral) in [
+            (Slot::Diffuse, "; using white"),
+            (Slot::Normal, "; using the flat normal (0, 0, 1)"),
+            (
+                Slot::Specular,
+                "; using specular 0.3 (the tutorial's constant)",
+            ),
+        ] {
+            let mut notices = Vec::new();
+            decode(&source, slot, &mut notices).unwrap();
+            assert_eq!(notices.len(), 1);
+            assert!(notices[0].starts_with("map_Kd of material 'Brick' in a.mtl: "));
+            assert!(notices[0].ends_with(neutral), "{slot:?}: {}", notices[0]);
+        }
+    }
+
+    /// A 3×3 grey ramp, brighter to the right and down (levels 0, 60, 120 plus 30 per row).
+    fn grey_ramp() -> MapImage {
+        let texels: Vec<[u8; 4]> = (0..9)
+            .map(|i| {
+                let v = (i % 3) as u8 * 60 + (i / 3) as u8 * 30;
+                [v, v, v, 255]
+            })
+            .collect();
+        image(&texels, 3)
+    }
+
+    // Fails if a diffuse or specular picture is changed at all (grey or not, `-bm` or not): only
+    // a normal map is read as heights or scaled.
+    #[test]
+    fn only_the_normal_slot_is_reinterpreted() {
+        for slot in [Slot::Diffuse, Slot::Specular] {
+            let mut notices = Vec::new();
+            let pixels = decoded(
+                grey_ramp(),
+                slot,
+                Path::new("ramp.png"),
+                "map_Kd of material 'Ramp' in a.mtl",
+                (Some(2.0), "-bm"),
+                &mut notices,
+            );
+            assert_eq!(pixels, MapPixels::Image(grey_ramp()));
+            assert!(notices.is_empty(), "{notices:?}");
+        }
+    }
+
+    // Fails if a grey normal map is not read as `normalmap` reads a height map: each level over
+    // 255 as the height, at the tool's strength (8) times `-bm` (2), so exactly the tool's
+    // output at `--strength 16`, which the notice gives.
+    #[test]
+    fn grey_normal_map_is_the_height_maps_normal_map() {
+        let mut notices = Vec::new();
+        let pixels = decoded(
+            grey_ramp(),
+            Slot::Normal,
+            Path::new("ramp.png"),
+            "bump of material 'Ramp' in a.mtl",
+            (Some(2.0), "-bm"),
+            &mut notices,
+        );
+        let heights = HeightMap {
+            width: 3,
+            height: 3,
+            values: grey_ramp()
+                .rgba
+                .chunks_exact(4)
+                .map(|p| p[0] as f32 / 255.0)
+                .collect(),
+        };
+        let options = NormalMapOptions {
+            strength: 16.0,
+            ..Default::default()
+        };
+        let expected = MapImage::from_normals(3, 3, &normal_map(&heights, options));
+        assert_ne!(expected, grey_ramp());
+        assert_eq!(pixels, MapPixels::Image(expected));
+        assert_eq!(
+            notices,
+            ["bump of material 'Ramp' in a.mtl: ramp.png is grey, so it is read as a height map \
+              (normalmap --strength 16)"]
+        );
+    }
+
+    // Fails if `-bm` is not applied to a coloured normal map's x and y with its notice, or is
+    // applied (or noticed) at 1. Texel (191, 64, 238) at -bm 2: x and y decode to ±0.498, doubled
+    // to ±0.996, with z 0.867 normalized to (0.602, -0.602, 0.524), which encodes to
+    // (204, 51, 194); alpha is kept.
+    #[test]
+    fn bump_multiplier_tilts_a_coloured_normal_map_exactly() {
+        let tilted = image(&[[191, 64, 238, 255]], 1);
+        let mut notices = Vec::new();
+        let pixels = decoded(
+            tilted.clone(),
+            Slot::Normal,
+            Path::new("n.png"),
+            "norm of material 'N' in a.mtl",
+            (Some(2.0), "-bm"),
+            &mut notices,
+        );
+        assert_eq!(pixels, MapPixels::Image(image(&[[204, 51, 194, 255]], 1)));
+        assert_eq!(notices, ["norm of material 'N' in a.mtl: -bm 2 applied"]);
+        notices.clear();
+        let pixels = decoded(
+            tilted.clone(),
+            Slot::Normal,
+            Path::new("n.png"),
+            "norm of material 'N' in a.mtl",
+            (Some(1.0), "-bm"),
+            &mut notices,
+        );
+        assert_eq!(pixels, MapPixels::Image(tilted));
+        assert!(notices.is_empty(), "{notices:?}");
+    }
+
+    // Fails if a row past the first pair is swapped with the wrong one: five rows of one texel,
+    // 1 to 5, come back 5 to 1 (the middle row stays).
+    #[test]
+    fn flipped_reverses_every_row_pair() {
+        let rows: Vec<[u8; 4]> = (1..=5).map(|v| [v; 4]).collect();
+        let reversed: Vec<[u8; 4]> = (1..=5).rev().map(|v| [v; 4]).collect();
+        assert_eq!(image(&rows, 1).flipped(), image(&reversed, 1));
+    }
 }
