@@ -89,6 +89,21 @@ pub struct IndexedMesh {
     pub bitangents: Vec<Vec3>,
 }
 
+impl IndexedMesh {
+    /// No vertices and no indices, to be filled (its indices are 32-bit until [`Indices::from_u32`]
+    /// narrows a finished list).
+    pub fn empty() -> Self {
+        IndexedMesh {
+            indices: Indices::U32(Vec::new()),
+            vertices: Vec::new(),
+            uvs: Vec::new(),
+            normals: Vec::new(),
+            tangents: Vec::new(),
+            bitangents: Vec::new(),
+        }
+    }
+}
+
 /// The tutorial's exercise as a switch.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct IndexOptions {
@@ -328,14 +343,7 @@ pub fn index_vbo_tbn(
 /// The tutorial's `indexVBO`, as written: a map from each corner's bytes (`memcmp` order, the
 /// `PackedVertex` of `getSimilarVertexIndex_fast`) to the first vertex made from it. No tangents.
 pub fn index_vbo(soup: &TriangleSoup) -> IndexedMesh {
-    let mut mesh = IndexedMesh {
-        indices: Indices::U32(Vec::new()),
-        vertices: Vec::new(),
-        uvs: Vec::new(),
-        normals: Vec::new(),
-        tangents: Vec::new(),
-        bitangents: Vec::new(),
-    };
+    let mut mesh = IndexedMesh::empty();
     let mut map = BTreeMap::new();
     let mut indices = Vec::new();
     for i in 0..soup.vertices.len() {

@@ -310,17 +310,7 @@ fn corner_number(c: u32) -> u32 {
 impl Numbering {
     fn new(soup: &TriangleSoup, of_corner: &[u32], some_corner: &[u32], threads: usize) -> Self {
         let p = &soup.vertices[..of_corner.len()];
-        // The reference's box (its min and max, as it computes them for finite numbers).
-        let (mut lo, mut hi) = (p[0].to_array(), p[0].to_array());
-        for v in &p[1..] {
-            for k in 0..3 {
-                if lo[k] > v[k] {
-                    lo[k] = v[k];
-                } else if hi[k] < v[k] {
-                    hi[k] = v[k];
-                }
-            }
-        }
+        let (lo, hi) = reference_box(p[0], p[1..].iter().copied());
         let axis = longest_axis(lo, hi);
         let (min, max) = (lo[axis], hi[axis]);
         let mut cell = vec![0u16; p.len()];
@@ -398,22 +388,30 @@ fn longest_axis(lo: [f32; 3], hi: [f32; 3]) -> usize {
     }
 }
 
+/// The reference's box around `first` and `rest`: its min and max as it computes them (a value is
+/// compared with the max only when it is not below the min, which matters to no finite number but
+/// is kept so that the box is the reference's to the bit).
+fn reference_box(first: Vec3, rest: impl Iterator<Item = Vec3>) -> ([f32; 3], [f32; 3]) {
+    let (mut lo, mut hi) = (first.to_array(), first.to_array());
+    for v in rest {
+        for k in 0..3 {
+            if lo[k] > v[k] {
+                lo[k] = v[k];
+            } else if hi[k] < v[k] {
+                hi[k] = v[k];
+            }
+        }
+    }
+    (lo, hi)
+}
+
 /// Reorders a cell's corners as the reference's recursive split does (the parts are disjoint,
 /// so the order they are worked in does not matter: a stack instead of recursion).
 fn split_like_the_reference(list: &mut [(Vec3, u32)]) {
     let mut parts = vec![(0isize, list.len() as isize - 1)];
     while let Some((left, right)) = parts.pop() {
         let (l, r) = (left as usize, right as usize);
-        let (mut lo, mut hi) = (list[l].0.to_array(), list[l].0.to_array());
-        for (v, _) in &list[l + 1..=r] {
-            for k in 0..3 {
-                if lo[k] > v[k] {
-                    lo[k] = v[k];
-                } else if hi[k] < v[k] {
-                    hi[k] = v[k];
-                }
-            }
-        }
+        let (lo, hi) = reference_box(list[l].0, list[l + 1..=r].iter().map(|(v, _)| *v));
         let axis = longest_axis(lo, hi);
         let sep = 0.5 * (hi[axis] + lo[axis]);
         if sep >= hi[axis] || sep <= lo[axis] {

@@ -413,14 +413,7 @@ proptest! {
 /// bits, vertices in the order of their first corner): what `tangents::welded_mesh` and
 /// `tangents::mikktspace_mesh` must still give.
 fn reference_weld(soup: &TriangleSoup, tangents: &[[f32; 4]]) -> IndexedMesh {
-    let mut mesh = IndexedMesh {
-        indices: Indices::U32(Vec::new()),
-        vertices: Vec::new(),
-        uvs: Vec::new(),
-        normals: Vec::new(),
-        tangents: Vec::new(),
-        bitangents: Vec::new(),
-    };
+    let mut mesh = IndexedMesh::empty();
     let mut indices = Vec::new();
     let mut seen: FxHashMap<[u32; 12], u32> = FxHashMap::default();
     for (i, &[tx, ty, tz, w]) in tangents.iter().enumerate() {
