@@ -479,18 +479,20 @@ fn read_primitive(
         ),
         None => None,
     };
+    // Directions go across by the transform, normals by its inverse transpose: both once a primitive.
+    let m = Mat3::from_mat4(world);
+    let normal_matrix = m.inverse().transpose();
     let tangents: Option<Vec<Vec4>> = match (&tangents, &file_normals) {
         (Some(_), Some(normals)) => Some(
             reader
                 .read_tangents()
                 .ok_or_else(out_of_range)?
                 .zip(normals)
-                .map(|(t, &n)| file_tangent(world, Vec4::from(t), n))
+                .map(|(t, &n)| file_tangent(m, normal_matrix, Vec4::from(t), n))
                 .collect(),
         ),
         _ => None,
     };
-    let normal_matrix = Mat3::from_mat4(world).inverse().transpose();
     let normals: Option<Vec<Vec3>> = file_normals.map(|n| {
         n.into_iter()
             .map(|n| (normal_matrix * n).normalize_or(Vec3::Z))
@@ -574,15 +576,14 @@ fn append<T>(to: &mut Vec<T>, mut more: Vec<T>) {
 
 /// A file's tangent taken to the scene's space: xyz by the transform, w chosen again so that
 /// `w × cross(N, T)` is still the transformed bitangent (a mirroring transform flips it).
-/// `normal` is the corner's normal in the file's space.
-fn file_tangent(world: Mat4, tangent: Vec4, normal: Vec3) -> Vec4 {
-    let m = Mat3::from_mat4(world);
+/// `normal` is the corner's normal in the file's space; `m` the transform's 3×3 part and
+/// `normal_matrix` its inverse transpose.
+fn file_tangent(m: Mat3, normal_matrix: Mat3, tangent: Vec4, normal: Vec3) -> Vec4 {
     let w = if tangent.w < 0.0 { -1.0 } else { 1.0 };
     let t = tangent.truncate();
-    // Tangent directions go across by the transform; the normal by its inverse transpose.
     let t_world = (m * t).normalize_or(Vec3::X);
     let b_world = m * (w * normal.cross(t));
-    let n_world = m.inverse().transpose() * normal;
+    let n_world = normal_matrix * normal;
     let sign = match n_world.cross(t_world).dot(b_world) < 0.0 {
         true => -1.0,
         false => 1.0,
@@ -777,12 +778,18 @@ mod tests {
     // Fails if a mirroring transform keeps w: the bitangent would point the wrong way.
     #[test]
     fn a_mirror_flips_the_tangents_sign() {
-        let mirror = Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0));
+        let mirror = Mat3::from_diagonal(Vec3::new(-1.0, 1.0, 1.0));
         let n = Vec3::Z;
-        let t = file_tangent(mirror, Vec4::new(1.0, 0.0, 0.0, 1.0), n);
+        let t = file_tangent(
+            mirror,
+            mirror.inverse().transpose(),
+            Vec4::new(1.0, 0.0, 0.0, 1.0),
+            n,
+        );
         // T = -x, B must stay +y: cross(z, -x) = -y, so w = -1.
         assert_eq!(t, Vec4::new(-1.0, 0.0, 0.0, -1.0));
-        let t = file_tangent(Mat4::IDENTITY, Vec4::new(1.0, 0.0, 0.0, -1.0), n);
+        let (one, w_minus) = (Mat3::IDENTITY, Vec4::new(1.0, 0.0, 0.0, -1.0));
+        let t = file_tangent(one, one, w_minus, n);
         assert_eq!(t, Vec4::new(1.0, 0.0, 0.0, -1.0));
     }
 }

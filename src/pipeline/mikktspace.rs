@@ -31,6 +31,7 @@ use rustc_hash::FxHashMap;
 
 use crate::common::objloader::TriangleSoup;
 use crate::pipeline::indexer::weld_exact;
+use crate::pipeline::on_threads;
 use crate::{Error, Result};
 
 /// No neighbour, no group.
@@ -104,22 +105,23 @@ pub(crate) fn mikktspace_numbered(
     let frames = group_frames(&vertices, &triangles, &groups, threads);
     lap("frames");
     // Good corners in the soup's order, then degenerate triangles' corners copied from the first
-    // good corner of their vertex (the reference searches its good triangles in order).
-    let mut out = vec![FALLBACK; corners];
-    let mut first_good = vec![NONE; vertices.positions.len()];
-    for (t, &f) in good.iter().enumerate() {
-        for i in 0..3 {
-            out[3 * f as usize + i] = frames[3 * t + i];
-            let v = triangles.corners[t][i] as usize;
-            if first_good[v] == NONE {
-                first_good[v] = 3 * f + i as u32;
-            }
-        }
-    }
-    if good.len() < corners / 3 {
+    // good corner of their vertex (the reference searches its good triangles in order). With no
+    // degenerate triangle the frames are already in the soup's order.
+    let out = if good.len() == corners / 3 {
+        frames
+    } else {
+        let mut out = vec![FALLBACK; corners];
+        let mut first_good = vec![NONE; vertices.positions.len()];
         let mut is_good = vec![false; corners / 3];
-        for &f in &good {
+        for (t, &f) in good.iter().enumerate() {
             is_good[f as usize] = true;
+            for i in 0..3 {
+                out[3 * f as usize + i] = frames[3 * t + i];
+                let v = triangles.corners[t][i] as usize;
+                if first_good[v] == NONE {
+                    first_good[v] = 3 * f + i as u32;
+                }
+            }
         }
         for c in (0..corners).filter(|c| !is_good[c / 3]) {
             let source = first_good[vertices.of_corner[c] as usize];
@@ -127,7 +129,8 @@ pub(crate) fn mikktspace_numbered(
                 out[c] = out[source as usize];
             }
         }
-    }
+        out
+    };
     lap("output");
     log::debug!(
         "MikkTSpace: {} triangles on {threads} threads in {:.1} ms",
@@ -682,7 +685,7 @@ fn last_run(corners: &[[u32; 3]], numbers: &mut Numbers) -> Vec<u32> {
         let (a, b) = ends(edge);
         numbers.number(a).min(numbers.number(b))
     };
-    let bounds = numbers.numbering.bounds.clone();
+    let bounds = std::mem::take(&mut numbers.numbering.bounds);
     let bound = |edge: u32| {
         let (a, b) = ends(edge);
         let ((la, ha), (lb, hb)) = (bounds[a as usize], bounds[b as usize]);
@@ -1047,22 +1050,4 @@ fn on_runs<T: Send>(items: &mut [T], threads: usize, f: impl Fn(usize, &mut [T])
         .map(|(k, run)| (k * size, run))
         .collect();
     on_threads(runs, |(start, run)| f(start, run));
-}
-
-/// `f` on every item, the first on this thread and each other on its own.
-fn on_threads<T: Send>(items: Vec<T>, f: impl Fn(T) + Sync) {
-    let f = &f;
-    let mut items = items.into_iter();
-    let Some(first) = items.next() else {
-        return;
-    };
-    std::thread::scope(|scope| {
-        let others: Vec<_> = items.map(|item| scope.spawn(move || f(item))).collect();
-        f(first);
-        for other in others {
-            other
-                .join()
-                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-        }
-    });
 }

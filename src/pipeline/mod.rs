@@ -11,3 +11,23 @@
 pub mod indexer;
 pub mod mikktspace;
 pub mod obj_parse;
+
+/// `f` on every item, the first on this thread and each other on a thread of its own (with one
+/// item no thread is started: the browser has none); a panic on any of them is raised here.
+pub(crate) fn on_threads<T: Send, R: Send>(items: Vec<T>, f: impl Fn(T) -> R + Sync) -> Vec<R> {
+    let f = &f;
+    std::thread::scope(|scope| {
+        let mut items = items.into_iter();
+        let first = items.next();
+        let others: Vec<_> = items.map(|item| scope.spawn(move || f(item))).collect();
+        let mut results: Vec<R> = first.into_iter().map(f).collect();
+        for other in others {
+            results.push(
+                other
+                    .join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic)),
+            );
+        }
+        results
+    })
+}

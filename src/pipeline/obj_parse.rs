@@ -23,6 +23,7 @@ use glam::{Vec2, Vec3};
 use crate::common::objloader::{
     no_materials, obj_error, read_obj as read_obj_with_tobj, utf8, ObjMode, ObjRead, TriangleSoup,
 };
+use crate::pipeline::on_threads;
 use crate::{Error, Result};
 
 /// Reads `path` as the tutorial's `loadOBJ` does ([`crate::common::objloader::load_obj`]), on
@@ -218,25 +219,6 @@ fn cut(text: &str, count: usize) -> Vec<&str> {
     }
     pieces.push(rest);
     pieces
-}
-
-/// `f` on every item, the first on this thread and each other on its own.
-fn on_threads<T: Send, R: Send>(items: Vec<T>, f: impl Fn(T) -> R + Sync) -> Vec<R> {
-    let f = &f;
-    std::thread::scope(|scope| {
-        let mut items = items.into_iter();
-        let first = items.next();
-        let others: Vec<_> = items.map(|item| scope.spawn(move || f(item))).collect();
-        let mut results: Vec<R> = first.into_iter().map(f).collect();
-        for other in others {
-            results.push(
-                other
-                    .join()
-                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic)),
-            );
-        }
-        results
-    })
 }
 
 /// Reads one piece. `before` is the count of each kind of element before it, if known.
