@@ -636,9 +636,11 @@ fn files_line(files: &[std::path::PathBuf]) -> String {
         .collect();
     match first.parent() {
         Some(dir) if files.iter().all(|f| f.parent() == Some(dir)) => {
-            // Where the learner edits them: from the current folder when they are below it.
-            let cwd = std::env::current_dir().unwrap_or_default();
-            let shown = match dir.strip_prefix(&cwd) {
+            // Where the learner edits them: from the current folder when they are below it (asked
+            // once: the panel draws this every frame, and the program never changes folder).
+            static CWD: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
+            let cwd = CWD.get_or_init(|| std::env::current_dir().unwrap_or_default());
+            let shown = match dir.strip_prefix(cwd) {
                 Ok(relative) if relative.as_os_str().is_empty() => std::path::Path::new("."),
                 Ok(relative) => relative,
                 Err(_) => dir,

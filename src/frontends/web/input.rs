@@ -175,10 +175,8 @@ pub fn listen(
             };
             // The scene that opens it needs its own files too (the cylinder's maps under a model
             // without its own), which a page started on another scene has not fetched yet.
-            let opens = crate::scenes::SCENES
-                .iter()
-                .find(|s| (s.open_file)(&model, &mut SceneOptions::default()));
-            if let Some(scene) = opens {
+            let opens = crate::scenes::open_file(&model, &mut SceneOptions::default());
+            if let Ok(scene) = opens {
                 if let Err(e) = super::fetch_assets(scene).await {
                     return show_error(&e);
                 }

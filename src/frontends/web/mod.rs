@@ -288,7 +288,8 @@ pub fn start() {
         // The first is the one that says what went wrong (a second may follow from the state the
         // first left).
         let shown = element("message").and_then(|e| e.text_content());
-        if !shown.is_some_and(|text| text.starts_with("internal error")) {
+        // Lines accumulate (notices, then errors): look at each, not only the first.
+        if !shown.is_some_and(|text| text.lines().any(|l| l.starts_with("internal error"))) {
             show_error(&line);
         }
     }));
@@ -505,7 +506,9 @@ fn request_animation_frame(callback: &Closure<dyn FnMut()>) {
     // `frames=N` (time frozen) draws on a timer: a headless browser may hold animation frames
     // back, and a test must get its N frames.
     if FROZEN.with(std::cell::Cell::get) {
-        let _ = window.set_timeout_with_callback_and_timeout_and_arguments_0(callback, 16);
+        // The timer's period is the frozen step each frame draws (the input tests predict by it).
+        let period_ms = (FROZEN_STEP_S * 1000.0).round() as i32;
+        let _ = window.set_timeout_with_callback_and_timeout_and_arguments_0(callback, period_ms);
     } else {
         let _ = window.request_animation_frame(callback);
     }
@@ -532,8 +535,12 @@ fn set_frames_drawn(page: &Page) {
     }
     let (_, median) = super::min_median(&page.frame_ms);
     let _ = canvas.set_attribute("data-frame-ms", &format!("{median:.2}"));
-    // The camera the frame was drawn with, for the input tests: position x y z, then the
-    // horizontal and vertical angles (radians), each as Rust writes an f32 (read back exactly).
+    // The camera the frame was drawn with, for the input tests (`frames=N` only): position x y z,
+    // then the horizontal and vertical angles (radians), each as Rust writes an f32 (read back
+    // exactly).
+    if page.frames_left.is_none() {
+        return;
+    }
     let c = &page.host.controls;
     let camera = format!(
         "{} {} {} {} {}",
