@@ -145,11 +145,7 @@ fn capture(c: &mut Criterion) {
     }
     let lights: Vec<Vec3> = rig.iter().map(|(l, _)| *l).collect();
     let calibration = Calibration {
-        intensities: Some(
-            rig.iter()
-                .map(|(_, e)| [e[0].min(e[1]).min(e[2]); 3])
-                .collect(),
-        ),
+        intensities: Some(rig.iter().map(|(_, e)| *e).collect()),
         mask: None,
     };
     let mut group = c.benchmark_group("photometric 612×512 × 96");

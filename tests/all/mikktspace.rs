@@ -13,7 +13,7 @@ use tutorial13::pipeline::mikktspace::{mikktspace_tangents, mikktspace_tangents_
 use tutorial13::pipeline::obj_parse::load_obj;
 use tutorial13::tangents::{mikktspace_mesh, welded_mesh};
 
-use crate::common::own_assets;
+use crate::common::{mesh_bit_difference, own_assets};
 use crate::mikktspace_reference::{first_difference, reference_can_take, reference_tangents};
 
 /// Panics naming `what` and the first differing corner unless every thread count gives the crate's
@@ -434,31 +434,6 @@ fn reference_weld(soup: &TriangleSoup, tangents: &[[f32; 4]]) -> IndexedMesh {
     mesh
 }
 
-/// Where two meshes differ, to the bit (NaNs included), if they do.
-fn mesh_difference(a: &IndexedMesh, b: &IndexedMesh) -> Option<String> {
-    fn bits<T: Copy + Into<[f32; N]>, const N: usize>(v: &[T]) -> Vec<[u32; N]> {
-        v.iter().map(|&x| x.into().map(f32::to_bits)).collect()
-    }
-    if a.indices != b.indices {
-        return Some(format!(
-            "indices differ ({} and {})",
-            a.indices.len(),
-            b.indices.len()
-        ));
-    }
-    let arrays = [
-        ("vertices", bits(&a.vertices) != bits(&b.vertices)),
-        ("uvs", bits(&a.uvs) != bits(&b.uvs)),
-        ("normals", bits(&a.normals) != bits(&b.normals)),
-        ("tangents", bits(&a.tangents) != bits(&b.tangents)),
-        ("bitangents", bits(&a.bitangents) != bits(&b.bitangents)),
-    ];
-    arrays
-        .iter()
-        .find(|(_, differ)| *differ)
-        .map(|(name, _)| format!("{name} differ"))
-}
-
 // Fails if MikkTSpace's mesh (welded from MikkTSpace's own numbering of the corners) is not the
 // one the first weld, of all twelve floats, gives: same vertices in the same order, same indices.
 #[test]
@@ -467,7 +442,7 @@ fn mikktspace_mesh_as_the_first_weld() {
     for (name, soup) in &meshes {
         let reference = reference_weld(soup, &mikktspace_tangents(soup).unwrap());
         let ours = mikktspace_mesh(soup).unwrap();
-        if let Some(difference) = mesh_difference(&ours, &reference) {
+        if let Some(difference) = mesh_bit_difference(&ours, &reference) {
             panic!("{name}: {difference}");
         }
     }
@@ -493,7 +468,8 @@ proptest! {
                 [values[k], values[k + 1], 0.0, if k % 2 == 0 { 1.0 } else { -1.0 }]
             })
             .collect();
-        let difference = mesh_difference(&welded_mesh(&soup, &tangents), &reference_weld(&soup, &tangents));
+        let (ours, first) = (welded_mesh(&soup, &tangents), reference_weld(&soup, &tangents));
+        let difference = mesh_bit_difference(&ours, &first);
         prop_assert!(difference.is_none(), "{:?}", difference);
     }
 }
