@@ -343,8 +343,9 @@ fn gltf_seeds() -> Vec<(&'static str, Vec<u8>)> {
 }
 
 /// Seeds of the `mikktspace` target (see `harness::mikktspace_soup`): a grid of quads whose
-/// positions and UVs follow the grid (values 0, 1, 2, …; −0 among them), the same with UVs folded
-/// (mirrored), and pseudo-random bytes.
+/// positions and UVs take the palette's values in the grid's order (the second is −0, beside +0,
+/// so the first row and column of quads are degenerate: seeds of that path too), the same with UVs
+/// folded (mirrored), and pseudo-random bytes.
 fn mikktspace_seeds() -> Vec<(String, Vec<u8>)> {
     let mut values: Vec<u8> = (0..16u8).map(|k| k * 16 / 2).collect();
     values[1] = 0x80; // −0 beside +0

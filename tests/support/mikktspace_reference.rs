@@ -1,6 +1,7 @@
 //! The `mikktspace` crate (the port of Mikkelsen's reference code), which the program's own
 //! MikkTSpace (`pipeline::mikktspace`) must equal to the bit. Included with `#[path]` by tests/all,
-//! examples/fuzz.rs and benches/pipeline.rs: the crate is a dev-dependency, never in the program.
+//! fuzz/main.rs and benches/pipeline.rs: a dev-dependency of tutorial13 and a dependency of the
+//! fuzz and bench packages, never in the program.
 
 #![allow(dead_code)] // each including crate uses a different part
 
