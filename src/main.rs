@@ -36,6 +36,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    keep_freed_memory();
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("info"))
         .format_timestamp(None)
         .format_target(false)
@@ -54,6 +55,19 @@ fn main() -> ExitCode {
             eprintln!("tutorial13: {}", format!("{e:#}").replace('\n', " | "));
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Asks glibc's malloc to keep what is freed for the next allocation instead of handing it back to
+/// the kernel: a 1M-triangle model's first frame builds and drops arrays of tens of megabytes stage
+/// after stage, and each fresh mapping costs page faults and zeroing again (BENCHMARKS.md, "A
+/// 1M-triangle glTF to its first frame"). Arrays above 32 MiB, glibc's most, are still mapped.
+fn keep_freed_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    // SAFETY: mallopt only sets two of malloc's thresholds; it is called before any thread starts.
+    unsafe {
+        libc::mallopt(libc::M_MMAP_THRESHOLD, 32 << 20);
+        libc::mallopt(libc::M_TRIM_THRESHOLD, i32::MAX);
     }
 }
 

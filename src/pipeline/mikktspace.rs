@@ -290,7 +290,9 @@ fn grid_cell(min: f32, max: f32, x: f32) -> usize {
 /// along the longest axis, then each cell split at midpoints until the corners of a part are one
 /// point or cannot be split. Redoing that for every cell costs more than all the rest, so it is
 /// done only for the cells of the vertices whose number is asked; the others are known only
-/// between their lowest and highest corner, which most comparisons need no more than.
+/// between their lowest and highest corner, which most comparisons need no more than. A mesh
+/// whose rows cross the whole axis (a cylinder's rings) asks for nearly every cell: after
+/// [`CELLS_ONE_BY_ONE`] the rest are redone at once, on every core.
 struct Numbering {
     axis: usize,
     min: f32,
@@ -303,7 +305,15 @@ struct Numbering {
     kept: Vec<u32>,
     /// A corner of each vertex, to find its cell.
     some_corner: Vec<u32>,
+    /// Cells redone so far (all of them once the rest were redone at once), how many are redone
+    /// one by one ([`CELLS_ONE_BY_ONE`]), and the threads.
+    cells_redone: usize,
+    one_by_one: usize,
+    threads: usize,
 }
+
+/// Cells redone one at a time, when asked, before all the others are redone together.
+const CELLS_ONE_BY_ONE: usize = 64;
 
 /// A corner's number in the reference: `face << 2 | corner`.
 fn corner_number(c: u32) -> u32 {
@@ -348,29 +358,79 @@ impl Numbering {
             bounds,
             kept: vec![NONE; some_corner.len()],
             some_corner: some_corner.to_vec(),
+            cells_redone: 0,
+            one_by_one: CELLS_ONE_BY_ONE,
+            threads,
         }
     }
 
     /// The corner the reference keeps for vertex `class`: its cell redone if not yet.
     fn representative(&mut self, soup: &TriangleSoup, of_corner: &[u32], class: u32) -> u32 {
         if self.kept[class as usize] == NONE {
-            let p = &soup.vertices;
-            let corner = self.some_corner[class as usize] as usize;
-            let k = grid_cell(self.min, self.max, p[corner][self.axis]);
-            let range = self.cell_start[k] as usize..self.cell_start[k + 1] as usize;
-            let mut list: Vec<(Vec3, u32)> = self.cell_corners[range]
-                .iter()
-                .map(|&c| (p[c as usize], c))
-                .collect();
-            split_like_the_reference(&mut list);
-            for &(_, c) in &list {
-                let kept = &mut self.kept[of_corner[c as usize] as usize];
-                if *kept == NONE {
-                    *kept = c;
-                }
+            if self.cells_redone < self.one_by_one {
+                let corner = self.some_corner[class as usize] as usize;
+                let k = grid_cell(self.min, self.max, soup.vertices[corner][self.axis]);
+                let order = self.redo_cell(soup, k);
+                self.keep_first(of_corner, order);
+                self.cells_redone += 1;
+            } else {
+                self.redo_all_cells(soup, of_corner);
             }
         }
         self.kept[class as usize]
+    }
+
+    /// Cell `k`'s corners in the order the reference's split leaves them.
+    fn redo_cell(&self, soup: &TriangleSoup, k: usize) -> Vec<u32> {
+        let range = self.cell_start[k] as usize..self.cell_start[k + 1] as usize;
+        let mut list: Vec<(Vec3, u32)> = self.cell_corners[range]
+            .iter()
+            .map(|&c| (soup.vertices[c as usize], c))
+            .collect();
+        split_like_the_reference(&mut list);
+        list.into_iter().map(|(_, c)| c).collect()
+    }
+
+    /// Keeps each vertex's first corner in `order`.
+    fn keep_first(&mut self, of_corner: &[u32], order: impl IntoIterator<Item = u32>) {
+        for c in order {
+            let kept = &mut self.kept[of_corner[c as usize] as usize];
+            if *kept == NONE {
+                *kept = c;
+            }
+        }
+    }
+
+    /// Every cell not yet redone, redone in runs of about equal corners, one run per core. A
+    /// cell's vertices are its own (equal positions share a cell), so the runs never meet.
+    fn redo_all_cells(&mut self, soup: &TriangleSoup, of_corner: &[u32]) {
+        let todo: Vec<usize> = (0..CELLS)
+            .filter(|&k| self.cell_start[k] < self.cell_start[k + 1])
+            .filter(|&k| {
+                let first = self.cell_corners[self.cell_start[k] as usize];
+                self.kept[of_corner[first as usize] as usize] == NONE
+            })
+            .collect();
+        let share = (self.cell_start[CELLS] as usize).div_ceil(self.threads.max(1));
+        let mut runs: Vec<Vec<usize>> = vec![Vec::new()];
+        let mut filled = 0;
+        for k in todo {
+            if filled >= share {
+                runs.push(Vec::new());
+                filled = 0;
+            }
+            filled += (self.cell_start[k + 1] - self.cell_start[k]) as usize;
+            runs.last_mut().expect("a run").push(k);
+        }
+        let this = &*self;
+        let orders = on_threads(runs, |cells| {
+            cells
+                .into_iter()
+                .flat_map(|k| this.redo_cell(soup, k))
+                .collect::<Vec<_>>()
+        });
+        self.keep_first(of_corner, orders.into_iter().flatten());
+        self.cells_redone = CELLS;
     }
 
     /// Vertex `class`'s number.
@@ -671,7 +731,7 @@ impl Numbers<'_> {
 }
 
 /// The edges whose lower vertex number is the highest of all, in the order the reference's
-/// quicksort on that number leaves them.
+/// quicksort on that number leaves them (in edge order where no order could pair them otherwise).
 ///
 /// The quicksort is the reference's (its pivot from a seeded rotation), run only on the parts
 /// that hold those edges: a part whose pivot is below the highest number leaves them all to its
@@ -701,6 +761,26 @@ fn last_run(corners: &[[u32; 3]], numbers: &mut Numbers) -> Vec<u32> {
         .collect();
     let top = candidates.iter().map(|&(_, n)| n).max().unwrap_or(0);
     let count = candidates.iter().filter(|&&(_, n)| n == top).count();
+    // Their order only decides which of them are paired when some two join the same two vertices
+    // (a stretch) beside a third: with at most two, or no two alike, every order pairs them the
+    // same, and the quicksort (most of a first frame's neighbour step) need not be run.
+    let last: Vec<u32> = candidates
+        .iter()
+        .filter(|&&(_, n)| n == top)
+        .map(|&(e, _)| e)
+        .collect();
+    let mut uppers: Vec<u32> = last
+        .iter()
+        .map(|&e| {
+            let (a, b) = ends(e);
+            numbers.number(a).max(numbers.number(b))
+        })
+        .collect();
+    uppers.sort_unstable();
+    uppers.dedup();
+    if count <= 2 || uppers.len() == count {
+        return last;
+    }
     let mut keys: Vec<(u32, u32, u32)> = (0..edge_count)
         .map(|e| {
             let (lo, hi) = bound(e);
@@ -1050,4 +1130,73 @@ fn on_runs<T: Send>(items: &mut [T], threads: usize, f: impl Fn(usize, &mut [T])
         .map(|(k, run)| (k * size, run))
         .collect();
     on_threads(runs, |(start, run)| f(start, run));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A cylinder's rings of `segments` quads, `rings` high, with seams of duplicated corners: its
+    /// rows cross the weld grid's whole axis, as a 1M-triangle model's do.
+    fn rings(segments: usize, rings: usize) -> TriangleSoup {
+        let mut soup = TriangleSoup::default();
+        let point = |i: usize, j: usize| {
+            let a = std::f32::consts::TAU * i as f32 / segments as f32;
+            let p = Vec3::new(a.cos(), j as f32 / rings as f32, a.sin());
+            (
+                p,
+                Vec2::new(i as f32 / segments as f32, j as f32),
+                Vec3::new(p.x, 0.0, p.z),
+            )
+        };
+        for j in 0..rings {
+            for i in 0..segments {
+                for (di, dj) in [(0, 0), (0, 1), (1, 0), (1, 0), (0, 1), (1, 1)] {
+                    let (p, uv, n) = point(i + di, j + dj);
+                    soup.vertices.push(p);
+                    soup.uvs.push(uv);
+                    soup.normals.push(n);
+                }
+            }
+        }
+        soup
+    }
+
+    /// The kept corners of every vertex: one cell at a time as asked, or the cells left after
+    /// `one_by_one` of them redone together. Fails if the batch reorders a cell differently or
+    /// misses one (a cell's first vertex already kept is taken as the cell done).
+    fn kept(soup: &TriangleSoup, one_by_one: usize, threads: usize) -> Vec<u32> {
+        let (vertices, mut numbering, _) = Vertices::weld(soup, soup.vertices.len(), threads);
+        let classes = numbering.kept.len() as u32;
+        // Asked in an order that visits the cells out of turn.
+        let order = (0..classes).map(|k| (k * 7919) % classes);
+        let mut out = vec![NONE; classes as usize];
+        numbering.one_by_one = one_by_one;
+        for class in order {
+            out[class as usize] = numbering.representative(soup, &vertices.of_corner, class);
+        }
+        out
+    }
+
+    fn numbering_of(soup: &TriangleSoup) -> Numbering {
+        Vertices::weld(soup, soup.vertices.len(), 1).1
+    }
+
+    #[test]
+    fn cells_redone_together_keep_the_corners_redone_one_by_one() {
+        let soup = rings(300, 20);
+        assert_eq!(300 * 20 * 6, soup.vertices.len());
+        let lazy = kept(&soup, usize::MAX, 1);
+        assert!(lazy.iter().all(|&c| c != NONE));
+        let start = numbering_of(&soup).cell_start;
+        let cells = (0..CELLS).filter(|&k| start[k] < start[k + 1]).count();
+        assert!(cells > CELLS_ONE_BY_ONE, "{cells} cells");
+        for (one_by_one, threads) in [(0, 1), (0, 3), (5, 2), (CELLS_ONE_BY_ONE, 2)] {
+            assert_eq!(
+                lazy,
+                kept(&soup, one_by_one, threads),
+                "{one_by_one} cells one by one, then the rest on {threads} threads"
+            );
+        }
+    }
 }
