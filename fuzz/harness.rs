@@ -427,24 +427,40 @@ fn check_model(model: &Model) -> Result<(), String> {
     Ok(())
 }
 
-/// A glTF model's own tangents: one per corner, xyz of unit length, w = ±1.
+/// A glTF model's own tangents: one per corner, xyz of unit length and w = ±1 where the file
+/// supplies them, zeros (MikkTSpace's to be) in runs of whole triangles where it does not.
 fn check_file_tangents(model: &Model) -> Result<(), String> {
-    let Some(tangents) = &model.file_tangents else {
+    let Some(file) = &model.file_tangents else {
         return Ok(());
     };
-    if tangents.len() != model.soup.vertices.len() {
+    let corners = model.soup.vertices.len();
+    if file.per_corner.len() != corners {
         return Err(format!(
-            "{} file tangents for {} corners",
-            tangents.len(),
-            model.soup.vertices.len()
+            "{} file tangents for {corners} corners",
+            file.per_corner.len()
         ));
     }
-    let bad = |t: &&[f32; 4]| {
-        let length = glam::Vec3::new(t[0], t[1], t[2]).length();
-        (length - 1.0).abs() > 1e-3 || t[3].abs() != 1.0
+    let mut computed = vec![false; corners];
+    let mut end = 0;
+    for r in &file.missing {
+        if r.start < end || r.start >= r.end || 3 * r.end > corners {
+            return Err(format!(
+                "missing runs {:?} for {corners} corners",
+                file.missing
+            ));
+        }
+        computed[3 * r.start..3 * r.end].fill(true);
+        end = r.end;
+    }
+    let bad = |(t, computed): &(&[f32; 4], &bool)| match computed {
+        true => **t != [0.0; 4],
+        false => {
+            let length = glam::Vec3::new(t[0], t[1], t[2]).length();
+            (length - 1.0).abs() > 1e-3 || t[3].abs() != 1.0
+        }
     };
-    match tangents.iter().find(bad) {
-        Some(t) => Err(format!("a file tangent {t:?}")),
+    match file.per_corner.iter().zip(&computed).find(bad) {
+        Some((t, _)) => Err(format!("a file tangent {t:?}")),
         None => Ok(()),
     }
 }

@@ -11,13 +11,17 @@
 //! * `derivative`: no precomputed tangents at all; the fragment shader builds a cotangent frame per
 //!   pixel from screen-space derivatives (article 002), so the mesh goes up without tangent arrays;
 //! * `file`: a glTF model's own `TANGENT`s (the specification's default), indexed as MikkTSpace's
-//!   are; where the file supplies none, MikkTSpace, as the specification says a viewer computes.
+//!   are; for the primitives that supply none, MikkTSpace over their triangles, as the
+//!   specification says a viewer computes.
 //!
 //! Where the UVs are mirrored (the tutorial's cylinder, seen through the loader's negated V, is
 //! mirrored everywhere), the tutorial's handedness fix flips the tangent, while MikkTSpace keeps
 //! T = dP/du and flips the bitangent instead (w = −1): the two frames agree on B and are opposite on
 //! T, so a map's red channel lights the other way. The per-pixel frame follows the UVs as MikkTSpace
 //! does.
+
+use std::borrow::Cow;
+use std::ops::Range;
 
 use glam::Vec3;
 
@@ -52,19 +56,56 @@ impl TangentSource {
         self.mesh_with(soup, None, options)
     }
 
-    /// [`TangentSource::mesh`], with the file's tangents (one per corner) for `file`.
+    /// [`TangentSource::mesh`], with the file's tangents for `file`.
     pub fn mesh_with(
         self,
         soup: &TriangleSoup,
-        file_tangents: Option<&[[f32; 4]]>,
+        file_tangents: Option<&FileTangents>,
         options: MeshOptions,
     ) -> Result<IndexedMesh> {
         match (self, file_tangents) {
             (Self::Tutorial, _) => Ok(build_mesh(soup, options)),
-            (Self::File, Some(tangents)) => Ok(welded_mesh(soup, tangents)),
+            (Self::File, Some(file)) => Ok(welded_mesh(soup, &file.complete(soup)?)),
             (Self::MikkTSpace | Self::File, _) => mikktspace_mesh(soup),
             (Self::Derivative, _) => Ok(index_vbo(soup)),
         }
+    }
+}
+
+/// A model file's own tangents (glTF's `TANGENT`), where some of its primitives supply them.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FileTangents {
+    /// One per corner (xyz unit, w = ±1: the bitangent is `w × cross(N, T)`); the corners of
+    /// `missing` hold zeros until [`FileTangents::complete`] computes theirs.
+    pub per_corner: Vec<[f32; 4]>,
+    /// Runs of triangles, in the soup's order, whose primitive supplies none.
+    pub missing: Vec<Range<usize>>,
+}
+
+impl FileTangents {
+    /// Every corner's tangent: the file's, and for the triangles of `missing`, MikkTSpace's over
+    /// those triangles alone (the specification asks a viewer to compute them for each primitive
+    /// that has none; the file's own take no part).
+    pub fn complete(&self, soup: &TriangleSoup) -> Result<Cow<'_, [[f32; 4]]>> {
+        if self.missing.is_empty() {
+            return Ok(Cow::Borrowed(&self.per_corner));
+        }
+        let corners = |r: &Range<usize>| 3 * r.start..3 * r.end;
+        let mut lacking = TriangleSoup::default();
+        for r in &self.missing {
+            lacking.vertices.extend(&soup.vertices[corners(r)]);
+            lacking.uvs.extend(&soup.uvs[corners(r)]);
+            lacking.normals.extend(&soup.normals[corners(r)]);
+        }
+        let computed = mikktspace_tangents(&lacking)?;
+        let mut all = self.per_corner.clone();
+        let mut from = 0;
+        for r in &self.missing {
+            let to = from + 3 * r.len();
+            all[corners(r)].copy_from_slice(&computed[from..to]);
+            from = to;
+        }
+        Ok(Cow::Owned(all))
     }
 }
 

@@ -8,7 +8,8 @@
 //!   negated the tutorial's way (that is for its DDS files, stored upside down).
 //! * **Tangents.** A `TANGENT` (xyz, and w: the bitangent is `w × cross(N, T)`) is kept per corner
 //!   for the `file` tangent source, the specification's default. Where a primitive has none, the
-//!   specification asks for MikkTSpace, which the `file` source then computes.
+//!   specification asks for MikkTSpace, which the `file` source then computes over the triangles
+//!   of the primitives without (all of them, if none has any).
 //! * **Materials.** `baseColorTexture` is the diffuse map, `normalTexture` with its `scale` the
 //!   normal map (x and y scaled, as an MTL's `-bm`); specular is the tutorial's constant. The other
 //!   metallic-roughness maps have no place in the tutorial's lighting and are left out.
@@ -27,6 +28,7 @@ use super::{
     apply_overrides, group_by_material, placement, MapOverrides, MapSource, Material, Model,
 };
 use crate::common::objloader::TriangleSoup;
+use crate::tangents::FileTangents;
 use crate::{Error, Result};
 
 /// The extension that moves and turns UVs per texture; this reader does not apply it.
@@ -75,7 +77,10 @@ struct Corners {
     vertices: Vec<Vec3>,
     uvs: Vec<Vec2>,
     normals: Vec<Vec3>,
+    /// The file's tangents, up to the last primitive that has them (zeros for those without).
     tangents: Vec<[f32; 4]>,
+    /// Runs of triangles whose primitive has no tangents.
+    missing: Vec<std::ops::Range<usize>>,
 }
 
 impl Reader<'_> {
@@ -102,7 +107,7 @@ impl Reader<'_> {
         // Materials in the order primitives first use them; `None` is glTF's default material.
         let mut material_order: Vec<Option<usize>> = Vec::new();
         let mut corners: Vec<Corners> = Vec::new();
-        let mut tangents_missing = false;
+        let (mut tangents_missing, mut tangents_supplied) = (false, false);
         let mut normals_missing = false;
         for (mesh, world) in self.mesh_instances(&document)? {
             for primitive in mesh.primitives() {
@@ -117,13 +122,23 @@ impl Reader<'_> {
                     }
                 };
                 let read = read_primitive(&primitive, &buffers, world, &at)?;
-                tangents_missing |= read.tangents.is_none();
                 normals_missing |= read.normals_computed;
                 let out = &mut corners[m];
+                let (first, count) = (out.vertices.len(), read.vertices.len());
+                match read.tangents {
+                    Some(t) => {
+                        tangents_supplied = true;
+                        out.tangents.resize(first, [0.0; 4]);
+                        append(&mut out.tangents, t);
+                    }
+                    None => {
+                        tangents_missing = true;
+                        out.missing.push(first / 3..(first + count) / 3);
+                    }
+                }
                 append(&mut out.vertices, read.vertices);
                 append(&mut out.uvs, read.uvs);
                 append(&mut out.normals, read.normals);
-                append(&mut out.tangents, read.tangents.unwrap_or_default());
             }
         }
         if corners.iter().all(|c| c.vertices.is_empty()) {
@@ -135,10 +150,10 @@ impl Reader<'_> {
                 self.path.display()
             ));
         }
-        if tangents_missing && corners.iter().any(|c| !c.tangents.is_empty()) {
+        if tangents_missing && tangents_supplied {
             notices.push(format!(
-                "{}: some primitives have no TANGENT: the file's tangents are not used, MikkTSpace \
-                 is computed for every primitive",
+                "{}: some primitives have no TANGENT: MikkTSpace is computed for those, the others \
+                 keep the file's",
                 self.path.display()
             ));
         }
@@ -157,13 +172,25 @@ impl Reader<'_> {
 
         let mut soup = TriangleSoup::default();
         let mut tangents = Vec::new();
+        let mut missing: Vec<std::ops::Range<usize>> = Vec::new();
         let mut triangle_materials = Vec::new();
-        for (m, c) in corners.into_iter().enumerate() {
+        for (m, mut c) in corners.into_iter().enumerate() {
+            let first = soup.vertices.len() / 3;
             triangle_materials.extend(std::iter::repeat_n(m, c.vertices.len() / 3));
+            for r in c.missing {
+                let r = first + r.start..first + r.end;
+                match missing.last_mut() {
+                    Some(last) if last.end == r.start => last.end = r.end,
+                    _ => missing.push(r),
+                }
+            }
+            if tangents_supplied {
+                c.tangents.resize(c.vertices.len(), [0.0; 4]);
+                append(&mut tangents, c.tangents);
+            }
             append(&mut soup.vertices, c.vertices);
             append(&mut soup.uvs, c.uvs);
             append(&mut soup.normals, c.normals);
-            append(&mut tangents, c.tangents);
         }
         let finite = |v: &[f32]| v.iter().all(|x| x.is_finite());
         let all_finite = soup.vertices.iter().all(|p| finite(&p.to_array()))
@@ -186,7 +213,10 @@ impl Reader<'_> {
         for p in &mut soup.vertices {
             *p = placement.to_world(*p);
         }
-        let file_tangents = (!tangents_missing).then_some(tangents);
+        let file_tangents = tangents_supplied.then_some(FileTangents {
+            per_corner: tangents,
+            missing,
+        });
         Ok(Model {
             path: self.path.to_path_buf(),
             soup,
@@ -769,8 +799,12 @@ mod tests {
         }
         assert!(model.soup.normals.iter().all(|&n| n == Vec3::Z));
         let tangents = model.file_tangents.unwrap();
+        assert!(tangents.missing.is_empty());
         assert!(
-            tangents.iter().all(|&t| t == [-1.0, 0.0, 0.0, 1.0]),
+            tangents
+                .per_corner
+                .iter()
+                .all(|&t| t == [-1.0, 0.0, 0.0, 1.0]),
             "{tangents:?}"
         );
     }

@@ -28,6 +28,7 @@ use glam::{DVec3, Vec3};
 
 use crate::common::objloader::{ObjMode, TriangleSoup};
 use crate::pipeline::obj_parse::read_obj;
+use crate::tangents::FileTangents;
 use crate::{Error, Result};
 
 /// The centre of the tutorial's cylinder's bounding box: it spans x and z from -1 to 1, y from 0 to 2.
@@ -175,9 +176,9 @@ pub struct Model {
     /// The file has no normals: they were computed (unit length). A file's own are kept as written,
     /// as the tutorial's `loadOBJ` keeps them.
     pub normals_computed: bool,
-    /// The file's own tangents, one per corner (xyz unit, w = ±1: the bitangent is
-    /// `w × cross(N, T)`), when every primitive of a glTF supplies them.
-    pub file_tangents: Option<Vec<[f32; 4]>>,
+    /// A glTF's own tangents, when some of its primitives supply them (MikkTSpace's for the
+    /// others are computed when the mesh is built).
+    pub file_tangents: Option<FileTangents>,
     /// What was filled in or left out (maps not named, normals computed, options ignored): one line
     /// each, for the log.
     pub notices: Vec<String>,

@@ -216,9 +216,18 @@ enum Storage {
     File,
 }
 
+/// Which halves' primitives carry a `TANGENT`.
+#[derive(Clone, Copy, PartialEq)]
+enum Supplied {
+    All,
+    None,
+    /// The bumps' primitives only: the flat quads' tangents are the viewer's to compute.
+    Bumps,
+}
+
 /// Writes `name`.gltf in `dir`: the 2 × 2 grid of cells, bumps left (or right, `swapped`), with
-/// tangents or without, the baked maps as PNG files beside it.
-fn write_cells(dir: &Path, name: &str, swapped: bool, tangents: bool, storage: Storage) {
+/// tangents where `tangents` says, the baked maps as PNG files beside it.
+fn write_cells(dir: &Path, name: &str, swapped: bool, tangents: Supplied, storage: Storage) {
     for (k, o) in ORIENTATIONS.iter().enumerate() {
         baked_map(*o, 256)
             .save(dir.join(format!("baked{k}.png")))
@@ -231,18 +240,18 @@ fn write_cells(dir: &Path, name: &str, swapped: bool, tangents: bool, storage: S
             false => (x0, x0 + 1.1),
             true => (x0 + 1.1, x0),
         };
-        parts.push(half(o, bump_x, y0, true, 0));
-        parts.push(half(o, quad_x, y0, false, k + 1));
+        parts.push((half(o, bump_x, y0, true, 0), tangents != Supplied::None));
+        parts.push((half(o, quad_x, y0, false, k + 1), tangents == Supplied::All));
     }
     let mut buffers = Buffers::default();
     let mut primitives = Vec::new();
-    for p in &parts {
+    for (p, with_tangents) in &parts {
         let position = buffers.floats(&p.positions, 3, "VEC3", true);
         let normal = buffers.floats(&p.normals, 3, "VEC3", false);
         let uv = buffers.floats(&p.uvs, 2, "VEC2", false);
         let mut attributes =
             format!(r#""POSITION":{position},"NORMAL":{normal},"TEXCOORD_0":{uv}"#);
-        if tangents {
+        if *with_tangents {
             let tangent = buffers.floats(&p.tangents, 4, "VEC4", false);
             attributes += &format!(r#","TANGENT":{tangent}"#);
         }
@@ -380,22 +389,31 @@ fn show(label: &str, d: &[(f64, u8)]) -> String {
 // Fails if a glTF's supplied tangents (w = +1 and −1) are not used as the bitangent's sign (the
 // mirrored cells' relief comes out inverted), if MikkTSpace is not computed on the UVs as glTF
 // stores them turned up the picture (every cell inverted in green), if V is negated the tutorial's
-// way, or if the normal texture, the node or the data-URI and side-by-side buffers are misread: each
-// cell's bump and its baked quad, drawn in the same place, must shade alike within the stated
-// tolerance. Also measures, for docs/model.md, what the tutorial's frame does there with and without
+// way, or if the normal texture, the node or the data-URI and side-by-side buffers are misread, or
+// if a file whose bumps alone carry tangents is drawn wrong: each cell's bump and its baked quad,
+// drawn in the same place, must shade alike within the stated tolerance. Also measures, for docs/model.md, what the tutorial's frame does there with and without
 // its handedness fix, and holds those findings (they change only if the tutorial's frame does).
 #[test]
 fn normal_tangent_cells_shade_like_their_bumps() {
     let dir = common::scratch("gltf_cells");
-    write_cells(&dir, "with", false, true, Storage::File);
-    write_cells(&dir, "with-swapped", true, true, Storage::DataUri);
-    write_cells(&dir, "without", false, false, Storage::DataUri);
-    write_cells(&dir, "without-swapped", true, false, Storage::File);
+    write_cells(&dir, "with", false, Supplied::All, Storage::File);
+    write_cells(&dir, "with-swapped", true, Supplied::All, Storage::DataUri);
+    write_cells(&dir, "without", false, Supplied::None, Storage::DataUri);
+    write_cells(&dir, "without-swapped", true, Supplied::None, Storage::File);
+    write_cells(&dir, "bumps", false, Supplied::Bumps, Storage::File);
+    write_cells(
+        &dir,
+        "bumps-swapped",
+        true,
+        Supplied::Bumps,
+        Storage::DataUri,
+    );
     let supplied = ["with", "with-swapped"];
     let generated = ["without", "without-swapped"];
 
     let file = cell_differences(&dir, supplied, &[]);
     let mikk_generated = cell_differences(&dir, generated, &[]);
+    let mixed = cell_differences(&dir, ["bumps", "bumps-swapped"], &[]);
     let mikk_supplied = cell_differences(&dir, supplied, &["--tangents", "mikktspace"]);
     let tutorial = |extra: &[&'static str]| {
         let mut args = vec!["--tangents", "tutorial"];
@@ -409,6 +427,7 @@ fn normal_tangent_cells_shade_like_their_bumps() {
     let report = [
         show("file tangents", &file),
         show("no tangents (MikkTSpace)", &mikk_generated),
+        show("bumps' tangents, quads' MikkTSpace", &mixed),
         show("MikkTSpace over supplied", &mikk_supplied),
         show("tutorial, TBN as summed, handedness fix", &summed),
         show("tutorial, TBN as summed, no handedness fix", &summed_no_fix),
@@ -423,6 +442,7 @@ fn normal_tangent_cells_shade_like_their_bumps() {
     for (label, d) in [
         ("file", &file),
         ("mikktspace (none supplied)", &mikk_generated),
+        ("file tangents on the bumps only", &mixed),
         ("mikktspace (over supplied)", &mikk_supplied),
     ] {
         assert!(within(d), "{label} out of tolerance:\n{report}");
@@ -435,6 +455,76 @@ fn normal_tangent_cells_shade_like_their_bumps() {
     let [upright, mirrored_u, mirrored_v, turned] =
         [0, 1, 2, 3].map(|k| within(&normalized[k..=k]));
     assert!(upright && turned && !mirrored_u && !mirrored_v, "{report}");
+}
+
+// Fails if a primitive's own tangents are dropped because another primitive has none (they were:
+// all or nothing), if the primitives without get anything but MikkTSpace's, or if the runs of
+// triangles without are misplaced: drawn from the file's tangents, the bumps (which carry them) must
+// keep them to the bit and the quads (which do not) must have MikkTSpace's of the quads alone.
+#[test]
+fn primitives_without_tangents_get_mikktspace_the_others_keep_the_files() {
+    use tutorial13::mesh::MeshOptions;
+    use tutorial13::tangents::{mikktspace_tangents, welded_mesh, TangentSource};
+
+    let dir = common::scratch("gltf_mixed_tangents");
+    write_cells(&dir, "bumps", false, Supplied::Bumps, Storage::File);
+    write_cells(&dir, "with", false, Supplied::All, Storage::File);
+    let load = |name: &str| {
+        let path = dir.join(format!("{name}.gltf"));
+        tutorial13::model::load_model(&path, &Default::default()).unwrap()
+    };
+    let (mixed, with) = (load("bumps"), load("with"));
+    assert_eq!(mixed.soup, with.soup);
+    // The quads are the four baked materials' triangles (the bumps are material 0).
+    let quads: Vec<std::ops::Range<usize>> = mixed
+        .ranges
+        .iter()
+        .filter(|r| r.material != 0)
+        .map(|r| r.triangles.clone())
+        .collect();
+    assert_eq!(quads.len(), 4);
+    let file = mixed
+        .file_tangents
+        .as_ref()
+        .expect("the bumps' tangents kept");
+    let quads_in_one_run = quads[0].start..quads[3].end;
+    assert_eq!(file.missing, [quads_in_one_run]);
+    assert!(
+        mixed.notices.iter().any(|n| n.contains(
+            "some primitives have no TANGENT: MikkTSpace is computed for those, the others keep the file's"
+        )),
+        "{:?}",
+        mixed.notices
+    );
+
+    let mut quad_soup = tutorial13::common::objloader::TriangleSoup::default();
+    for r in &quads {
+        let corners = 3 * r.start..3 * r.end;
+        quad_soup
+            .vertices
+            .extend(&mixed.soup.vertices[corners.clone()]);
+        quad_soup.uvs.extend(&mixed.soup.uvs[corners.clone()]);
+        quad_soup.normals.extend(&mixed.soup.normals[corners]);
+    }
+    let quad_tangents = mikktspace_tangents(&quad_soup).unwrap();
+    let mut expected = with.file_tangents.clone().unwrap().per_corner;
+    let mut from = 0;
+    for r in &quads {
+        let to = from + 3 * r.len();
+        expected[3 * r.start..3 * r.end].copy_from_slice(&quad_tangents[from..to]);
+        from = to;
+    }
+    let options = MeshOptions::default();
+    let drawn = TangentSource::File
+        .mesh_with(&mixed.soup, Some(file), options)
+        .unwrap();
+    let predicted = welded_mesh(&mixed.soup, &expected);
+    assert_eq!(common::mesh_bit_difference(&drawn, &predicted), None);
+    // MikkTSpace over every primitive (what the file got before) differs on the bumps.
+    let everywhere = TangentSource::MikkTSpace
+        .mesh(&mixed.soup, options)
+        .unwrap();
+    assert!(common::mesh_bit_difference(&drawn, &everywhere).is_some());
 }
 
 /// A 2 × 2 quad facing +z with UVs upright (the picture's top row at the quad's top), a diffuse

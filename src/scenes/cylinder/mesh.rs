@@ -10,7 +10,7 @@ use crate::common::objloader::TriangleSoup;
 use crate::mesh::MeshOptions;
 use crate::model::Model;
 use crate::pipeline::obj_parse::load_obj;
-use crate::tangents::TangentSource;
+use crate::tangents::{FileTangents, TangentSource};
 use crate::Result;
 
 use super::Cylinder;
@@ -50,10 +50,10 @@ impl SoupSource {
         }
     }
 
-    /// A glTF model's own tangents, one per corner, if it supplies them.
-    pub(super) fn file_tangents(&self) -> Option<&[[f32; 4]]> {
+    /// A glTF model's own tangents, if some of its primitives supply them.
+    pub(super) fn file_tangents(&self) -> Option<&FileTangents> {
         match self {
-            SoupSource::Model(model) => model.file_tangents.as_deref(),
+            SoupSource::Model(model) => model.file_tangents.as_ref(),
             SoupSource::Tutorial(_) => None,
         }
     }
