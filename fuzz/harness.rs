@@ -143,9 +143,15 @@ impl Target {
     }
 }
 
-/// The fuzz folder of this crate.
+/// The repository's `fuzz/` folder: the manifest's own folder when this file is built into the
+/// fuzz runner (package `tutorial13-fuzz`, whose manifest is there), its `fuzz/` when it is built
+/// into the tests (the root package). Found by the corpus, so that neither build misses the seeds.
 pub fn fuzz_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz")
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
+    match manifest.join("corpus").is_dir() {
+        true => manifest.to_path_buf(),
+        false => manifest.join("fuzz"),
+    }
 }
 
 pub fn corpus_dir(target: Target) -> PathBuf {

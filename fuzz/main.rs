@@ -77,6 +77,19 @@ fn main() {
             .map(|d| d.as_nanos() as u64)
             .unwrap_or(1)
     });
+    // Without its seeds a target mutates only empty input, finds nothing and says so quietly (as
+    // it did once, reading a folder that was not there): refuse to start instead.
+    for &target in &targets {
+        for dir in harness::seed_dirs(target) {
+            if !dir.is_dir() {
+                usage(&format!(
+                    "no seeds for {}: {} is not a folder",
+                    target.name(),
+                    dir.display()
+                ));
+            }
+        }
+    }
     // Panics are expected and reported by the harness: keep stderr for the summary.
     std::panic::set_hook(Box::new(|_| {}));
     let share = Duration::from_secs(seconds) / targets.len() as u32;

@@ -89,6 +89,16 @@ impl Reader<'_> {
             true => format!("not a binary glTF this program reads: {e}"),
             false => format!("not glTF JSON this program reads: {e}"),
         };
+        // The crate subtracts the header's size from the length the header states unchecked.
+        if bytes.starts_with(b"glTF") && bytes.len() >= 12 {
+            let length = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]);
+            if length < 12 {
+                return Err(format!(
+                    "not a binary glTF this program reads: its header gives a length of \
+                     {length} bytes, less than the header's own 12"
+                ));
+            }
+        }
         let gltf::Gltf { document, blob } =
             gltf::Gltf::from_slice_without_validation(bytes).map_err(not_read)?;
         // The crate's validation and accessors assume these (they panic where they do not hold).
@@ -121,7 +131,8 @@ impl Reader<'_> {
                         material_order.len() - 1
                     }
                 };
-                let read = read_primitive(&primitive, &buffers, world, &at)?;
+                let set = uv_set(&primitive.material());
+                let read = read_primitive(&primitive, &buffers, world, &at, set)?;
                 normals_missing |= read.normals_computed;
                 let out = &mut corners[m];
                 let (first, count) = (out.vertices.len(), read.vertices.len());
@@ -267,9 +278,11 @@ impl Reader<'_> {
             }
             return decode_base64(payload).ok_or_else(|| format!("{what}: malformed base64"));
         }
-        let name = percent_decode(uri).ok_or_else(|| format!("{what}: malformed URI '{uri}'"))?;
+        let name = percent_decode(uri)
+            .ok_or_else(|| format!("{what}: malformed URI '{}'", one_line(uri)))?;
         let file = self.folder.join(&name);
-        (self.read_file)(&file).map_err(|e| format!("{what}: {}: {e}", file.display()))
+        (self.read_file)(&file)
+            .map_err(|e| format!("{what}: {}: {e}", one_line(&file.display().to_string())))
     }
 
     /// The meshes the scene draws, each with its node's world transform: the default scene (or
@@ -332,11 +345,11 @@ impl Reader<'_> {
             || format!("material {}", material.index().unwrap_or(0)),
             str::to_string,
         );
+        self.check_tex_coord(&material, &name, notices);
         let pbr = material.pbr_metallic_roughness();
         let diffuse = match pbr.base_color_texture() {
             Some(info) => {
                 let named_by = format!("baseColorTexture of '{name}'");
-                self.check_tex_coord(info.tex_coord(), &named_by, notices);
                 self.image(info.texture(), buffers, named_by, None)?
             }
             None => {
@@ -347,7 +360,6 @@ impl Reader<'_> {
         let normal = match material.normal_texture() {
             Some(info) => {
                 let named_by = format!("normalTexture of '{name}'");
-                self.check_tex_coord(info.tex_coord(), &named_by, notices);
                 let scale = Some(info.scale()).filter(|&s| s != 1.0);
                 self.image(info.texture(), buffers, named_by, scale)?
             }
@@ -361,12 +373,20 @@ impl Reader<'_> {
         })
     }
 
-    fn check_tex_coord(&self, set: u32, named_by: &str, notices: &mut Vec<String>) {
-        if set != 0 {
-            notices.push(format!(
-                "{}: {named_by} uses TEXCOORD_{set}: read with TEXCOORD_0, the only set read",
-                self.path.display()
-            ));
+    /// Says when a material's two maps name different UV sets: the tutorial's shaders have one.
+    fn check_tex_coord(&self, material: &gltf::Material, name: &str, notices: &mut Vec<String>) {
+        let pbr = material.pbr_metallic_roughness();
+        let diffuse = pbr.base_color_texture().map(|info| info.tex_coord());
+        let normal = material.normal_texture().map(|info| info.tex_coord());
+        if let (Some(d), Some(n)) = (diffuse, normal) {
+            if d != n {
+                notices.push(format!(
+                    "{}: '{name}': baseColorTexture uses TEXCOORD_{d}, normalTexture \
+                     TEXCOORD_{n}: both are read with TEXCOORD_{n}, the normal map's (the \
+                     tutorial's shaders have one UV set)",
+                    self.path.display()
+                ));
+            }
         }
     }
 
@@ -441,11 +461,22 @@ struct Primitive {
     normals_computed: bool,
 }
 
+/// The UV set a material's maps are laid with: its normal map's (the tangent frame follows it),
+/// else its diffuse map's, else TEXCOORD_0 (glTF's default material has no map).
+fn uv_set(material: &gltf::Material) -> u32 {
+    let normal = material.normal_texture().map(|info| info.tex_coord());
+    let pbr = material.pbr_metallic_roughness();
+    let diffuse = pbr.base_color_texture().map(|info| info.tex_coord());
+    normal.or(diffuse).unwrap_or(0)
+}
+
+/// A primitive's corners, in `world`, with UV set `set` (`TEXCOORD_set`).
 fn read_primitive(
     primitive: &gltf::Primitive,
     buffers: &[Vec<u8>],
     world: Mat4,
     at: &str,
+    set: u32,
 ) -> Result<Primitive, String> {
     if primitive.mode() != Mode::Triangles {
         return Err(format!(
@@ -461,11 +492,13 @@ fn read_primitive(
         .ok_or_else(|| format!("{at}: no POSITION"))?;
     let count = check_accessor(&positions, "POSITION", Dimensions::Vec3, float, buffers, at)?;
     let uvs = primitive
-        .get(&gltf::Semantic::TexCoords(0))
-        .ok_or_else(|| {
-            format!("{at}: no TEXCOORD_0: a normal map needs UVs to be laid on the surface")
+        .get(&gltf::Semantic::TexCoords(set))
+        .ok_or_else(|| match set {
+            0 => format!("{at}: no TEXCOORD_0: a normal map needs UVs to be laid on the surface"),
+            _ => format!("{at}: no TEXCOORD_{set}, the UV set its material's maps name"),
         })?;
-    let mut checked = vec![(uvs, "TEXCOORD_0", Dimensions::Vec2, unorm)];
+    let uv_name = format!("TEXCOORD_{set}");
+    let mut checked = vec![(uvs, uv_name.as_str(), Dimensions::Vec2, unorm)];
     let normals = primitive.get(&gltf::Semantic::Normals);
     if let Some(n) = &normals {
         checked.push((n.clone(), "NORMAL", Dimensions::Vec3, float));
@@ -494,7 +527,7 @@ fn read_primitive(
         .map(|p| world.transform_point3(Vec3::from(p)))
         .collect();
     let uvs: Vec<Vec2> = reader
-        .read_tex_coords(0)
+        .read_tex_coords(set)
         .ok_or_else(out_of_range)?
         .into_f32()
         .map(|[u, v]| Vec2::new(u, 1.0 - v))
@@ -592,6 +625,17 @@ fn read_primitive(
         clock.elapsed().as_secs_f64() * 1e3
     );
     Ok(primitive)
+}
+
+/// `text` with its control characters (a line break in a file's URI) escaped, so that an error
+/// naming it stays one line.
+fn one_line(text: &str) -> String {
+    text.chars()
+        .map(|c| match c.is_control() {
+            true => c.escape_default().to_string(),
+            false => c.to_string(),
+        })
+        .collect()
 }
 
 /// `more` at the end of `to`; taken whole when `to` is empty (a file of one primitive and one

@@ -531,6 +531,16 @@ fn primitives_without_tangents_get_mikktspace_the_others_keep_the_files() {
 /// map (image 0, `image`: `"uri":"…"` or `"bufferView":N,"mimeType":"image/png"`) and no normal
 /// map: the JSON (buffer 0 at `buffer_uri`, or the GLB's BIN chunk when `None`) and the binary.
 fn quad_document(buffer_uri: Option<&str>, png: Option<&[u8]>) -> (String, Vec<u8>) {
+    quad_document_with_uvs(buffer_uri, png, 0)
+}
+
+/// [`quad_document`] with its picture laid by `TEXCOORD_set`: for set 1, TEXCOORD_0 is there too,
+/// turned upside down, and `baseColorTexture` names set 1.
+fn quad_document_with_uvs(
+    buffer_uri: Option<&str>,
+    png: Option<&[u8]>,
+    set: u32,
+) -> (String, Vec<u8>) {
     let mut buffers = Buffers::default();
     let position = buffers.floats(
         &[
@@ -541,7 +551,16 @@ fn quad_document(buffer_uri: Option<&str>, png: Option<&[u8]>) -> (String, Vec<u
         true,
     );
     let normal = buffers.floats(&[0.0, 0.0, 1.0].repeat(4), 3, "VEC3", false);
-    let uv = buffers.floats(&[0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0], 2, "VEC2", false);
+    let upright = [0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0];
+    let mut uvs = format!(
+        r#""TEXCOORD_{set}":{}"#,
+        buffers.floats(&upright, 2, "VEC2", false)
+    );
+    if set != 0 {
+        let upside_down = [0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0];
+        let uv0 = buffers.floats(&upside_down, 2, "VEC2", false);
+        uvs += &format!(r#","TEXCOORD_0":{uv0}"#);
+    }
     let indices = buffers.indices(&[0, 1, 2, 0, 2, 3]);
     let image = match png {
         Some(png) => {
@@ -556,8 +575,8 @@ fn quad_document(buffer_uri: Option<&str>, png: Option<&[u8]>) -> (String, Vec<u
     let uri = buffer_uri.map_or(String::new(), |u| format!(r#""uri":"{u}","#));
     let json = format!(
         r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
-"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{position},"NORMAL":{normal},"TEXCOORD_0":{uv}}},"indices":{indices},"material":0}}]}}],
-"materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0}}}}}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":{position},"NORMAL":{normal},{uvs}}},"indices":{indices},"material":0}}]}}],
+"materials":[{{"pbrMetallicRoughness":{{"baseColorTexture":{{"index":0,"texCoord":{set}}}}}}}],
 "textures":[{{"source":0}}],"images":[{{{image}}}],
 "buffers":[{{{uri}"byteLength":{}}}],"bufferViews":[{}],"accessors":[{}]}}"#,
         buffers.bin.len(),
@@ -605,8 +624,9 @@ fn top_red_png() -> Vec<u8> {
 }
 
 // Fails if a glTF's picture is drawn upside down (V read as an OBJ's, or negated the tutorial's
-// way), or if a .glb's BIN chunk, an image in a buffer view, a .gltf's buffer file or its image
-// file beside it is not read.
+// way), if a .glb's BIN chunk, an image in a buffer view, a .gltf's buffer file or its image file
+// beside it is not read, or if a material naming TEXCOORD_1 is laid with TEXCOORD_0 (there upside
+// down): that frame must be the TEXCOORD_0 file's, bit for bit.
 #[test]
 fn a_gltf_picture_is_upright() {
     let dir = common::scratch("gltf_upright");
@@ -617,7 +637,10 @@ fn a_gltf_picture_is_upright() {
     std::fs::write(dir.join("quad.gltf"), json).unwrap();
     std::fs::write(dir.join("quad.bin"), bin).unwrap();
     std::fs::write(dir.join("picture.png"), &png).unwrap();
-    for model in ["quad.glb", "quad.gltf"] {
+    let (json, bin) = quad_document_with_uvs(None, Some(&png), 1);
+    std::fs::write(dir.join("quad-set1.glb"), glb(&json, &bin)).unwrap();
+    let mut frames = Vec::new();
+    for model in ["quad.glb", "quad.gltf", "quad-set1.glb"] {
         let (frame, stderr) = shot(&dir, model, &format!("{model}.png"), &[]);
         assert!(stderr.contains("metallic-roughness"), "{stderr}");
         let x = frame.width() / 2;
@@ -638,13 +661,29 @@ fn a_gltf_picture_is_upright() {
             lower[2] > 2 * lower[0].max(1),
             "{model}: lower half {lower:?}"
         );
+        frames.push(frame);
     }
+    // Laid by TEXCOORD_1, the picture is exactly where TEXCOORD_0 lays it in the others.
+    assert!(frames[2] == frames[0], "TEXCOORD_1's frame differs");
+    // Two maps on two sets: the program says which one it reads both with.
+    let (json, bin) = quad_document_with_uvs(None, Some(&png), 1);
+    let material = r#"{"pbrMetallicRoughness":{"baseColorTexture":{"index":0,"texCoord":1}}}"#;
+    assert!(json.contains(material));
+    let json = json.replace(
+        material,
+        r#"{"normalTexture":{"index":0,"texCoord":1},"pbrMetallicRoughness":{"baseColorTexture":{"index":0}}}"#,
+    );
+    std::fs::write(dir.join("two-sets.glb"), glb(&json, &bin)).unwrap();
+    let (_, stderr) = shot(&dir, "two-sets.glb", "two-sets.png", &[]);
+    let said = "baseColorTexture uses TEXCOORD_0, normalTexture TEXCOORD_1: both are read with \
+                TEXCOORD_1, the normal map's";
+    assert!(stderr.contains(said), "{stderr}");
 }
 
 // Fails if a bad glTF draws, panics, or fails with anything but one line naming the file and the
 // reason and exit status 1, or if a screenshot is written: a .glb cut short, broken JSON, an
 // accessor past its buffer, a missing buffer or image, a PNG cut short, lines instead of
-// triangles, no UVs, KHR_texture_transform.
+// triangles, no UVs, no TEXCOORD_1 where the material names it, KHR_texture_transform.
 #[test]
 fn bad_gltf_files_are_one_line_errors() {
     let dir = common::scratch("gltf_bad");
@@ -688,6 +727,11 @@ fn bad_gltf_files_are_one_line_errors() {
             "Lines",
         ),
         ("no-uvs.gltf", edit(r#","TEXCOORD_0":2"#, ""), "TEXCOORD_0"),
+        (
+            "no-set-1.gltf",
+            edit(r#""index":0,"texCoord":0"#, r#""index":0,"texCoord":1"#),
+            "no TEXCOORD_1, the UV set its material's maps name",
+        ),
         (
             "transform.gltf",
             edit(
