@@ -350,6 +350,7 @@ impl Reader<'_> {
         let diffuse = match pbr.base_color_texture() {
             Some(info) => {
                 let named_by = format!("baseColorTexture of '{name}'");
+                self.check_sampler(&info.texture(), &named_by, notices);
                 self.image(info.texture(), buffers, named_by, None)?
             }
             None => {
@@ -361,6 +362,7 @@ impl Reader<'_> {
             Some(info) => {
                 let named_by = format!("normalTexture of '{name}'");
                 let scale = Some(info.scale()).filter(|&s| s != 1.0);
+                self.check_sampler(&info.texture(), &named_by, notices);
                 self.image(info.texture(), buffers, named_by, scale)?
             }
             None => MapSource::Neutral,
@@ -387,6 +389,27 @@ impl Reader<'_> {
                     self.path.display()
                 ));
             }
+        }
+    }
+
+    /// Says when a texture's sampler asks for wrapping other than glTF's default, REPEAT: every
+    /// map is sampled the tutorial's way (REPEAT, trilinear), which differs only where UVs leave
+    /// 0..1. Filters are not said: they change no texel's place.
+    fn check_sampler(&self, texture: &gltf::Texture, named_by: &str, notices: &mut Vec<String>) {
+        use gltf::texture::WrappingMode;
+        let sampler = texture.sampler();
+        let asked: Vec<String> = [("S", sampler.wrap_s()), ("T", sampler.wrap_t())]
+            .into_iter()
+            .filter(|(_, mode)| *mode != WrappingMode::Repeat)
+            .map(|(axis, mode)| format!("{mode:?} on {axis}"))
+            .collect();
+        if !asked.is_empty() {
+            notices.push(format!(
+                "{}: {named_by}'s sampler asks for {}: sampled with Repeat, the tutorial's \
+                 wrapping, which differs only where its UVs leave 0..1",
+                self.path.display(),
+                asked.join(" and ")
+            ));
         }
     }
 

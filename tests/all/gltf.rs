@@ -626,7 +626,8 @@ fn top_red_png() -> Vec<u8> {
 // Fails if a glTF's picture is drawn upside down (V read as an OBJ's, or negated the tutorial's
 // way), if a .glb's BIN chunk, an image in a buffer view, a .gltf's buffer file or its image file
 // beside it is not read, or if a material naming TEXCOORD_1 is laid with TEXCOORD_0 (there upside
-// down): that frame must be the TEXCOORD_0 file's, bit for bit.
+// down): that frame must be the TEXCOORD_0 file's, bit for bit. Also fails if two UV sets or a
+// clamping sampler go unsaid.
 #[test]
 fn a_gltf_picture_is_upright() {
     let dir = common::scratch("gltf_upright");
@@ -678,6 +679,20 @@ fn a_gltf_picture_is_upright() {
     let said = "baseColorTexture uses TEXCOORD_0, normalTexture TEXCOORD_1: both are read with \
                 TEXCOORD_1, the normal map's";
     assert!(stderr.contains(said), "{stderr}");
+    // A sampler that clamps: said, and (UVs within 0..1) the same frame.
+    let (json, bin) = quad_document(None, Some(&png));
+    let texture = r#""textures":[{"source":0}]"#;
+    assert!(json.contains(texture));
+    let json = json.replace(
+        texture,
+        r#""samplers":[{"wrapS":33071}],"textures":[{"source":0,"sampler":0}]"#,
+    );
+    std::fs::write(dir.join("clamped.glb"), glb(&json, &bin)).unwrap();
+    let (frame, stderr) = shot(&dir, "clamped.glb", "clamped.png", &[]);
+    let said = "baseColorTexture of 'material 0''s sampler asks for ClampToEdge on S: sampled \
+                with Repeat";
+    assert!(stderr.contains(said), "{stderr}");
+    assert!(frame == frames[0], "the clamped quad's frame differs");
 }
 
 // Fails if a bad glTF draws, panics, or fails with anything but one line naming the file and the
