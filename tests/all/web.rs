@@ -386,8 +386,8 @@ fn locked_packages(path: &Path) -> Vec<(String, String)> {
 
 // Fails if web/Cargo.lock pins a package (a version, or a checksum) that the root Cargo.lock does
 // not: the page would be built with other versions than the native tests ran. web/ is its own
-// package (its release profile is the page's), so it has its own lock; web/build.sh builds with
-// --locked, so the lock cannot drift there either.
+// package (its release profile is the page's), so it has its own lock. Fails too if that lock is
+// not what cargo resolves for web/ now (web/build.sh builds with --locked and would refuse it).
 #[test]
 fn the_pages_lock_pins_the_root_locks_versions() {
     let root = locked_packages(&common::manifest().join("Cargo.lock"));
@@ -403,6 +403,21 @@ fn the_pages_lock_pins_the_root_locks_versions() {
         "web/Cargo.lock pins packages the root Cargo.lock does not: {not_in_root:?}; make it the \
          root's again: cp Cargo.lock web/ && (cd web && cargo metadata --offline \
          --format-version 1 >/dev/null)"
+    );
+    // The page's lock is the one cargo resolves now: web/build.sh builds with --locked, so a
+    // dependency added to the root's Cargo.toml must reach web/Cargo.lock too (CI once failed there).
+    // `update -w` resolves from the registry's index alone (no sources fetched), as the root's
+    // build left it; with --locked it refuses any change to the lock.
+    let resolve = std::process::Command::new(env!("CARGO"))
+        .args(["update", "-w", "--locked", "--offline"])
+        .current_dir(common::manifest().join("web"))
+        .output()
+        .expect("cargo update runs");
+    assert!(
+        resolve.status.success(),
+        "web/Cargo.lock is not what cargo resolves for web/ now (update it: cd web && cargo \
+         metadata --offline --format-version 1 >/dev/null): {}",
+        String::from_utf8_lossy(&resolve.stderr).trim()
     );
     // Every package the root resolves for the library and the page, the page's lock has too (the
     // root also has the test-only ones).
