@@ -179,8 +179,9 @@ fn add_scaled(sum: Vec3, add: Vec3, e: i32) -> (Vec3, i32) {
 
 /// Whether every component of `t` and `b` is below [`SUM_LIMIT`] in magnitude (false for NaN).
 fn within_limit(t: Vec3, b: Vec3) -> bool {
-    let m = t.abs().max(b.abs());
-    m.x < SUM_LIMIT && m.y < SUM_LIMIT && m.z < SUM_LIMIT
+    // Each vector on its own: glam's `max` of the two would drop a NaN beside a number.
+    let limit = Vec3::splat(SUM_LIMIT);
+    t.abs().cmplt(limit).all() && b.abs().cmplt(limit).all()
 }
 
 impl Builder {
@@ -256,12 +257,11 @@ impl Builder {
         }
     }
 
-    /// A corner that becomes a new vertex; returns its index.
-    fn push(&mut self, corner: (Vec3, Vec2, Vec3), t: Vec3, b: Vec3) -> u32 {
+    /// A corner that becomes a new vertex.
+    fn push(&mut self, corner: (Vec3, Vec2, Vec3), t: Vec3, b: Vec3) {
         let index = self.add_vertex(corner);
         self.start_sums(index, t, b);
         self.indices.push(index);
-        index
     }
 
     /// A new vertex's position, UV and normal; returns its index. Its sums come later.
@@ -332,9 +332,7 @@ pub fn index_vbo_tbn(
         let (t, b) = (basis.tangents[i], basis.bitangents[i]);
         match get_similar_vertex_index(c, &out.mesh) {
             Some(j) => out.reuse(j, t, b),
-            None => {
-                out.push(c, t, b);
-            }
+            None => out.push(c, t, b),
         }
     }
     out.finish()
@@ -370,5 +368,264 @@ mod tests {
     fn index_width_threshold() {
         assert_eq!(Indices::from_u32(vec![65534], 65535).index_size(), 2);
         assert_eq!(Indices::from_u32(vec![65535], 65536).index_size(), 4);
+    }
+
+    // Fails if either width loses or reorders an index, or if len, is_empty, get or to_u32 answer
+    // for anything but the buffer's own indices.
+    #[test]
+    fn both_widths_hold_their_indices() {
+        for (indices, size) in [
+            (Indices::from_u32(vec![2, 0, 1, 7], 8), 2),
+            (Indices::from_u32(vec![2, 0, 1, 70_000], 70_001), 4),
+        ] {
+            assert_eq!(indices.index_size(), size);
+            assert_eq!(indices.len(), 4);
+            assert!(!indices.is_empty());
+            let got: Vec<u32> = (0..4).map(|i| indices.get(i)).collect();
+            assert_eq!(got, indices.to_u32());
+            assert_eq!(got[..3], [2, 0, 1]);
+        }
+        assert!(Indices::from_u32(Vec::new(), 0).is_empty());
+        assert_eq!(Indices::from_u32(Vec::new(), 0).len(), 0);
+    }
+
+    // Fails if `is_near` is not "differs by less than 0.01": 0.01 apart is not near (a `<=`
+    // would be), 0.005 apart is, and so are equal values.
+    #[test]
+    fn is_near_is_strictly_within_the_tutorials_tolerance() {
+        assert!(is_near(1.0, 1.0));
+        assert!(is_near(1.0, 1.005));
+        assert!(is_near(-3.0, -2.995));
+        assert!(!is_near(0.0, NEAR));
+        assert!(!is_near(1.0, 2.0));
+    }
+
+    fn a_corner() -> (Vec3, Vec2, Vec3) {
+        (
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec2::new(0.25, 0.75),
+            Vec3::new(0.0, 0.6, 0.8),
+        )
+    }
+
+    // Fails if any one of the eight components is left out of the comparison: a corner differing
+    // from another in that component alone must not be near it.
+    #[test]
+    fn is_near_vertex_needs_every_component_near() {
+        let a = a_corner();
+        assert!(is_near_vertex(a, a));
+        for k in 0..8 {
+            let mut c = [a.0.x, a.0.y, a.0.z, a.1.x, a.1.y, a.2.x, a.2.y, a.2.z];
+            c[k] += 0.5;
+            let b = (
+                Vec3::new(c[0], c[1], c[2]),
+                Vec2::new(c[3], c[4]),
+                Vec3::new(c[5], c[6], c[7]),
+            );
+            assert!(!is_near_vertex(a, b), "component {k} is not compared");
+        }
+    }
+
+    // Fails if ordinary vectors are not normalized exactly as glam does (the tutorial's sums must
+    // not move by an ulp), or if the vectors whose squared length overflows or underflows lose
+    // their direction, or if zero, infinite or NaN vectors give anything but zero.
+    #[test]
+    fn normalize_or_zero_keeps_glams_result_and_rescues_extremes() {
+        let mut x = 0x2545_f491u32;
+        for _ in 0..1000 {
+            let mut next = || {
+                x ^= x << 13;
+                x ^= x >> 17;
+                x ^= x << 5;
+                (x as f32 / u32::MAX as f32) * 20.0 - 10.0
+            };
+            let v = Vec3::new(next(), next(), next());
+            assert_eq!(normalize_or_zero(v), v.normalize_or_zero(), "{v}");
+        }
+        assert_eq!(normalize_or_zero(Vec3::new(1e-30, 0.0, 0.0)), Vec3::X);
+        assert_eq!(normalize_or_zero(Vec3::new(0.0, -3e30, 0.0)), Vec3::NEG_Y);
+        let diagonal = normalize_or_zero(Vec3::new(1e30, 1e30, 0.0));
+        assert!((diagonal - Vec3::new(1.0, 1.0, 0.0).normalize()).length() < 1e-6);
+        for zero in [
+            Vec3::ZERO,
+            Vec3::new(f32::INFINITY, 0.0, 0.0),
+            Vec3::new(f32::NAN, 1.0, 0.0),
+        ] {
+            assert_eq!(normalize_or_zero(zero), Vec3::ZERO, "{zero}");
+        }
+    }
+
+    // Fails if `add_scaled` does not add `add × 2^-e`, or does not halve a total at or beyond the
+    // limit until it is under it (counting the halvings in e).
+    #[test]
+    fn add_scaled_adds_at_the_sums_scale_and_halves_past_the_limit() {
+        let sum = Vec3::new(1.0, 2.0, 3.0);
+        let add = Vec3::new(4.0, 6.0, -8.0);
+        assert_eq!(add_scaled(sum, add, 0), (Vec3::new(5.0, 8.0, -5.0), 0));
+        assert_eq!(add_scaled(sum, add, 1), (Vec3::new(3.0, 5.0, -1.0), 1));
+        let limit = SUM_LIMIT;
+        // 2^40 exactly is at the limit: halved once.
+        assert_eq!(
+            add_scaled(Vec3::ZERO, Vec3::new(0.0, -limit, 1.0), 0),
+            (Vec3::new(0.0, -limit / 2.0, 0.5), 1)
+        );
+        assert_eq!(
+            add_scaled(Vec3::ZERO, Vec3::new(3.0 * limit, 0.0, 0.0), 0),
+            (Vec3::new(0.75 * limit, 0.0, 0.0), 2)
+        );
+    }
+
+    // Fails if any component of either vector is not held to the limit (each is tried at exactly
+    // 2^40, which is not within, and just under it, which is), or if NaN counts as within.
+    #[test]
+    fn within_limit_checks_all_six_components() {
+        let under = SUM_LIMIT - 65536.0;
+        assert!(within_limit(Vec3::splat(under), Vec3::splat(-under)));
+        assert!(within_limit(Vec3::ZERO, Vec3::new(1.0, -2.0, 3.0)));
+        for k in 0..6 {
+            let mut c = [1.0f32; 6];
+            c[k] = SUM_LIMIT;
+            let (t, b) = (Vec3::from_slice(&c[..3]), Vec3::from_slice(&c[3..]));
+            assert!(!within_limit(t, b), "component {k} at the limit");
+            assert!(!within_limit(-t, -b), "component {k} at minus the limit");
+            c[k] = f32::NAN;
+            let (t, b) = (Vec3::from_slice(&c[..3]), Vec3::from_slice(&c[3..]));
+            assert!(!within_limit(t, b), "component {k} NaN");
+        }
+    }
+
+    /// A soup of the given corners, each with its tangent and bitangent.
+    fn soup(corners: &[((Vec3, Vec2, Vec3), Vec3, Vec3)]) -> (TriangleSoup, TangentBasis) {
+        (
+            TriangleSoup {
+                vertices: corners.iter().map(|c| c.0 .0).collect(),
+                uvs: corners.iter().map(|c| c.0 .1).collect(),
+                normals: corners.iter().map(|c| c.0 .2).collect(),
+            },
+            TangentBasis {
+                tangents: corners.iter().map(|c| c.1).collect(),
+                bitangents: corners.iter().map(|c| c.2).collect(),
+            },
+        )
+    }
+
+    // Fails if a corner near an earlier vertex is not merged into the *first* such vertex with its
+    // tangent and bitangent added (not subtracted, multiplied or dropped), if a corner near none
+    // is not a new vertex with its own attributes and the next index, or if exercise 1's switch
+    // does not normalize each corner's vectors before the sum.
+    #[test]
+    fn index_vbo_tbn_merges_near_corners_into_the_first_and_sums_their_tangents() {
+        let a = a_corner();
+        let b = (Vec3::new(5.0, 2.0, 3.0), a.1, a.2);
+        let near_a = (a.0 + Vec3::splat(0.004), a.1, a.2);
+        let (x, y, z) = (Vec3::X, Vec3::Y, Vec3::Z);
+        let (s, t) = soup(&[
+            (a, 2.0 * x, y),
+            (b, y, z),
+            (near_a, 3.0 * y, 4.0 * z),
+            (b, z, x),
+            (a, x, x),
+        ]);
+        let mesh = index_vbo_tbn(&s, &t, IndexOptions::default());
+        assert_eq!(mesh.indices.to_u32(), [0, 1, 0, 1, 0]);
+        assert_eq!(mesh.vertices, [a.0, b.0]);
+        assert_eq!(mesh.uvs, [a.1, b.1]);
+        assert_eq!(mesh.normals, [a.2, b.2]);
+        assert_eq!(mesh.tangents, [3.0 * x + 3.0 * y, y + z]);
+        assert_eq!(mesh.bitangents, [y + 4.0 * z + x, z + x]);
+
+        let normalized = index_vbo_tbn(
+            &s,
+            &t,
+            IndexOptions {
+                normalize_before_sum: true,
+            },
+        );
+        assert_eq!(normalized.indices, mesh.indices);
+        assert_eq!(normalized.tangents, [2.0 * x + y, y + z]);
+        assert_eq!(normalized.bitangents, [y + z + x, z + x]);
+    }
+
+    fn at(p: f32) -> (Vec3, Vec2, Vec3) {
+        (Vec3::splat(p), Vec2::ZERO, Vec3::Z)
+    }
+
+    // Fails if a sum that reaches 2^40 is not halved (it is stored as the tutorial's plain sum),
+    // if its scale is not remembered so that later corners, even small ones, are added at that
+    // scale, or if the tangent's and the bitangent's scales are not kept apart (each scaled alone,
+    // and both). The figures are exact: powers of two times small integers.
+    #[test]
+    fn sums_past_the_limit_are_halved_and_later_corners_added_at_their_scale() {
+        let big = Vec3::new(1.5 * (1u64 << 39) as f32, 0.0, 0.0); // 0.75 of the limit
+        let step = Vec3::new((1u64 << 38) as f32, 0.0, 0.0);
+        let small = Vec3::Y;
+        let e36 = (1u64 << 36) as f32;
+        // Tangent alone: 0.75 + 0.75 = 1.5 × 2^40 → halved (e = 1); + 0.75 × 2^40 / 2 → 1.125 ×
+        // 2^40 → halved (e = 2): 9 × 2^36; then 2^38 at e = 2 adds 2^36: 10 × 2^36 (a plain sum
+        // would be 13 × 2^36).
+        let corners = [
+            (at(0.0), big, small),
+            (at(0.0), big, small),
+            (at(0.0), big, small),
+        ];
+        let mut all = corners.to_vec();
+        all.push((at(0.0), step, small));
+        let (s, t) = soup(&all);
+        let mesh = index_vbo_tbn(&s, &t, IndexOptions::default());
+        assert_eq!(mesh.tangents, [Vec3::new(10.0 * e36, 0.0, 0.0)]);
+        assert_eq!(mesh.bitangents, [4.0 * small]);
+
+        // The bitangent alone, the same figures.
+        let swapped: Vec<_> = all.iter().map(|&(c, t, b)| (c, b, t)).collect();
+        let (s, t) = soup(&swapped);
+        let mesh = index_vbo_tbn(&s, &t, IndexOptions::default());
+        assert_eq!(mesh.tangents, [4.0 * small]);
+        assert_eq!(mesh.bitangents, [Vec3::new(10.0 * e36, 0.0, 0.0)]);
+
+        // Both, and a first corner already past the limit: 2^41 → 2^39 (e = 2) for the tangent,
+        // 0.75 × 2^40 for the bitangent; the second corner 0.75 × 2^40 each: the tangent
+        // 2^39 + 0.75 × 2^38 → 44 × 2^34 (e = 2), the bitangent 1.5 × 2^40 → 0.75 × 2^40 (e = 1);
+        // then 2^38 each: 44 × 2^34 + 2^36 = 48 × 2^34 and 0.75 × 2^40 + 2^37 = 56 × 2^34.
+        let e34 = (1u64 << 34) as f32;
+        let first = Vec3::new((1u64 << 41) as f32, 0.0, 0.0);
+        let (s, t) = soup(&[
+            (at(0.0), first, big),
+            (at(0.0), big, big),
+            (at(0.0), step, step),
+        ]);
+        let mesh = index_vbo_tbn(&s, &t, IndexOptions::default());
+        assert_eq!(mesh.tangents, [Vec3::new(48.0 * e34, 0.0, 0.0)]);
+        assert_eq!(mesh.bitangents, [Vec3::new(56.0 * e34, 0.0, 0.0)]);
+    }
+
+    // Fails if the lengths are not checked (the indexer would read past a short array).
+    #[test]
+    #[should_panic(expected = "one UV, normal, tangent and bitangent per corner")]
+    fn index_vbo_tbn_refuses_a_basis_of_another_length() {
+        let (s, mut t) = soup(&[(at(0.0), Vec3::X, Vec3::Y), (at(1.0), Vec3::X, Vec3::Y)]);
+        t.bitangents.pop();
+        index_vbo_tbn(&s, &t, IndexOptions::default());
+    }
+
+    // Fails if `index_vbo` merges anything but corners equal to the bit (0.004 apart is near for
+    // `index_vbo_tbn`, not here), or numbers its vertices other than in order of first use.
+    #[test]
+    fn index_vbo_merges_only_equal_corners() {
+        let a = a_corner();
+        let near_a = (a.0 + Vec3::splat(0.004), a.1, a.2);
+        let b = at(7.0);
+        let (s, _) = soup(&[
+            (b, Vec3::X, Vec3::Y),
+            (a, Vec3::X, Vec3::Y),
+            (near_a, Vec3::X, Vec3::Y),
+            (a, Vec3::X, Vec3::Y),
+            (b, Vec3::X, Vec3::Y),
+        ]);
+        let mesh = index_vbo(&s);
+        assert_eq!(mesh.indices.to_u32(), [0, 1, 2, 1, 0]);
+        assert_eq!(mesh.vertices, [b.0, a.0, near_a.0]);
+        assert_eq!(mesh.uvs, [b.1, a.1, near_a.1]);
+        assert_eq!(mesh.normals, [b.2, a.2, near_a.2]);
+        assert!(mesh.tangents.is_empty() && mesh.bitangents.is_empty());
     }
 }
