@@ -267,3 +267,139 @@ pub fn map_format(path: &Path) -> Result<image::ImageFormat> {
         }),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `image` encoded as `format`, in memory.
+    fn encoded(image: &image::DynamicImage, format: image::ImageFormat) -> Vec<u8> {
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        image.write_to(&mut bytes, format).unwrap();
+        bytes.into_inner()
+    }
+
+    // Fails if 8-bit or 16-bit greys are not read as their fraction of white (0.2 is 51 of 255 and
+    // 13107 of 65535), or come out in another order.
+    #[test]
+    fn heights_are_the_fraction_of_white_at_either_depth() {
+        let grey8 = image::GrayImage::from_raw(3, 1, vec![0, 51, 255]).unwrap();
+        let grey16 =
+            image::ImageBuffer::<image::Luma<u16>, _>::from_raw(3, 1, vec![0, 13107, 65535])
+                .unwrap();
+        for image in [
+            image::DynamicImage::ImageLuma8(grey8),
+            image::DynamicImage::ImageLuma16(grey16),
+        ] {
+            let bytes = encoded(&image, image::ImageFormat::Png);
+            let heights = HeightMap::from_bytes(&bytes, Path::new("h.png")).unwrap();
+            assert_eq!((heights.width, heights.height), (3, 1));
+            assert_eq!(heights.values, [0.0, 0.2, 1.0]);
+        }
+    }
+
+    // Fails if a JPEG cut short (its end marker gone) decodes (the decoder would fill the rest in
+    // grey), if a whole JPEG does not, or if the check is applied to another format: a BMP whose
+    // texel bytes happen to be a start-of-scan marker (FF DA) with no end marker after them.
+    #[test]
+    fn only_a_jpeg_cut_short_is_refused() {
+        let picture = image::DynamicImage::ImageRgb8(image::RgbImage::from_fn(16, 16, |x, y| {
+            image::Rgb([(x * 16) as u8, (y * 16) as u8, 90])
+        }));
+        let jpeg = encoded(&picture, image::ImageFormat::Jpeg);
+        assert!(decode_image(&jpeg, Path::new("whole.jpg"), "a picture").is_ok());
+        let cut = &jpeg[..jpeg.len() - 2];
+        let error = decode_image(cut, Path::new("cut.jpg"), "a picture").unwrap_err();
+        assert!(error.to_string().contains("a JPEG cut short"), "{error}");
+        // BMP stores B, G, R: this texel's bytes are FF DA 00.
+        let texel = image::DynamicImage::ImageRgb8(
+            image::RgbImage::from_raw(1, 1, vec![0x00, 0xDA, 0xFF]).unwrap(),
+        );
+        let bmp = encoded(&texel, image::ImageFormat::Bmp);
+        assert!(bmp.windows(2).any(|pair| pair == [0xFF, 0xDA]));
+        assert!(decode_image(&bmp, Path::new("texel.bmp"), "a picture").is_ok());
+    }
+
+    // Fails if `round_to_u8` is not `round().clamp(0, 255) as u8` to the bit (halves round up, out
+    // of range clamps), or if a normal's components are not encoded as round(127.5 (c + 1)) in 8
+    // bits and round(32767.5 (c + 1)) in 16.
+    #[test]
+    fn normals_encode_as_the_rounded_expansion() {
+        for i in 0..=2700 {
+            let x = i as f32 * 0.1 - 10.0;
+            assert_eq!(round_to_u8(x), x.round().clamp(0.0, 255.0) as u8, "{x}");
+        }
+        for x in [0.5, 1.5, 127.5, 254.5, 254.49998] {
+            assert_eq!(round_to_u8(x), x.round() as u8, "{x}");
+        }
+        assert_eq!(encode_normal([0.0, 0.0, 1.0]), [128, 128, 255]);
+        assert_eq!(encode_normal([-1.0, 1.0, -0.6]), [0, 255, 51]);
+        assert_eq!(encode_normal16([-1.0, 0.0, 1.0]), [0, 32768, 65535]);
+        assert_eq!(encode_normal16([-0.6, 0.6, 2.0]), [13107, 52428, 65535]);
+    }
+
+    // Fails if a kernel's weights are not its own: beside a single raised texel, ∂h/∂x is the
+    // middle weight over the sum (Sobel 2/8, Scharr 10/32) or half the step (central), so the
+    // texel left of it leans by −strength × that (strength 4: 45° for Sobel).
+    #[test]
+    fn each_kernel_weighs_a_single_bump_its_own_way() {
+        let mut values = vec![0.0; 9];
+        values[4] = 1.0;
+        let heights = HeightMap {
+            width: 3,
+            height: 3,
+            values,
+        };
+        for (kernel, left_of_bump) in [
+            (Kernel::Sobel, [37, 128, 218]),
+            (Kernel::Scharr, [28, 128, 207]),
+            (Kernel::Central, [13, 128, 185]),
+        ] {
+            let options = NormalMapOptions {
+                strength: 4.0,
+                kernel,
+                ..NormalMapOptions::default()
+            };
+            assert_eq!(normal_map(&heights, options)[3], left_of_bump, "{kernel:?}");
+        }
+    }
+
+    // Fails if an output is not BMP for .bmp and PNG for .png whatever the case, if any other name
+    // is accepted, if a texel count that is not width × height is written, or if a 16-bit map is
+    // written as anything but PNG; each refusal writes nothing.
+    #[test]
+    fn maps_are_written_as_their_names_say() {
+        assert_eq!(
+            map_format(Path::new("n.BMP")).unwrap(),
+            image::ImageFormat::Bmp
+        );
+        assert_eq!(
+            map_format(Path::new("n.png")).unwrap(),
+            image::ImageFormat::Png
+        );
+        for refused in ["n.jpg", "n", "n.bmp.txt"] {
+            assert!(map_format(Path::new(refused)).is_err(), "{refused}");
+        }
+        let dir = std::env::temp_dir().join(format!("normalmap-unit-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let texels = [[1, 2, 3], [4, 5, 6]];
+        for name in ["two.bmp", "two.png"] {
+            let path = dir.join(name);
+            write_normal_map(&path, &texels, 2, 1).unwrap();
+            let back = image::open(&path).unwrap().into_rgb8();
+            assert_eq!(back.into_raw(), [1, 2, 3, 4, 5, 6], "{name}");
+            assert!(write_normal_map(&dir.join("short.png"), &texels, 3, 1).is_err());
+        }
+        let wide = [[0, 1000, 65535], [7, 8, 9]];
+        let path = dir.join("two16.png");
+        write_normal_map16(&path, &wide, 1, 2).unwrap();
+        let back = image::open(&path).unwrap().into_rgb16();
+        assert_eq!(back.into_raw(), [0, 1000, 65535, 7, 8, 9]);
+        assert!(write_normal_map16(&dir.join("two16.bmp"), &wide, 1, 2).is_err());
+        assert!(write_normal_map16(&dir.join("short16.png"), &wide, 2, 2).is_err());
+        for absent in ["short.png", "two16.bmp", "short16.png"] {
+            assert!(!dir.join(absent).exists(), "{absent} was written");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}

@@ -3,6 +3,7 @@
 
 use std::path::Path;
 
+use glow::HasContext;
 use tutorial13::common::texture::{
     dxt_level_size, read_bmp_bytes, read_bmp_custom, read_dds, read_dds_bytes, BmpImage, DxtFormat,
 };
@@ -778,4 +779,108 @@ fn bmp_every_truncation_is_an_error() {
 fn bmp_garbage_headers_never_panic() {
     let valid = bmp_24(5, 3, &pattern(5, 3), false);
     read_with_garbage_headers(read_bmp_bytes, &valid, "g.bmp", 0..54);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The GL uploads (headless, llvmpipe)
+
+/// Level `level`'s value of `parameter` for the bound 2D texture.
+fn level_parameter(gl: &tutorial13::common::Gl, level: i32, parameter: u32) -> i32 {
+    // SAFETY: a query on the current context's bound texture.
+    unsafe { gl.get_tex_level_parameter_i32(glow::TEXTURE_2D, level, parameter) }
+}
+
+// Fails if `upload_bmp` loses, reorders or swaps a texel (read back as BGR, the file's order), if
+// `loadBMP_custom`'s sampling is not set (REPEAT both ways, linear magnification, trilinear
+// minification) or its mipmaps not generated (level 1 is half the size), if `upload_dds` does not
+// upload every level with its size, format and byte count, or sets TEXTURE_MAX_LEVEL to anything
+// but its last level (a chain of 3 of a possible 4 would sample black), if dropping a `Texture`
+// does not delete its name, or if any of it raises a GL error.
+#[test]
+fn uploads_hold_the_files_texels_and_the_tutorials_sampling() {
+    use tutorial13::common::texture::{upload_bmp, upload_dds};
+    use tutorial13::gl::context::HeadlessContext;
+    use tutorial13::gl::{gl_errors, Profile};
+
+    let context = HeadlessContext::new(Profile::Core, false).expect("a core context on llvmpipe");
+    let gl = context.gl();
+
+    let (width, height) = (6, 4);
+    let bmp = read_bmp_bytes(
+        &bmp_24(width, height, &pattern(width, height), false),
+        Path::new("six.bmp"),
+    )
+    .unwrap();
+    let texture = upload_bmp(gl, &bmp).unwrap();
+    let mut bgr = vec![0u8; bmp.bgr.len()];
+    // SAFETY: reads and queries on the current context; `bgr` holds the 6×4 BGR level 0.
+    let parameters = unsafe {
+        gl.bind_texture(glow::TEXTURE_2D, Some(texture.id));
+        gl.pixel_store_i32(glow::PACK_ALIGNMENT, 1);
+        gl.get_tex_image(
+            glow::TEXTURE_2D,
+            0,
+            glow::BGR,
+            glow::UNSIGNED_BYTE,
+            glow::PixelPackData::Slice(Some(&mut bgr)),
+        );
+        [
+            glow::TEXTURE_WRAP_S,
+            glow::TEXTURE_WRAP_T,
+            glow::TEXTURE_MAG_FILTER,
+            glow::TEXTURE_MIN_FILTER,
+        ]
+        .map(|p| gl.get_tex_parameter_i32(glow::TEXTURE_2D, p) as u32)
+    };
+    assert_eq!(bgr, bmp.bgr);
+    assert_eq!(
+        parameters,
+        [
+            glow::REPEAT,
+            glow::REPEAT,
+            glow::LINEAR,
+            glow::LINEAR_MIPMAP_LINEAR
+        ]
+    );
+    assert_eq!(level_parameter(gl, 1, glow::TEXTURE_WIDTH), 3, "mipmaps");
+    assert_eq!(level_parameter(gl, 2, glow::TEXTURE_HEIGHT), 1, "mipmaps");
+    let bmp_id = texture.id;
+    drop(texture);
+    // SAFETY: a query on the current context.
+    assert!(
+        !unsafe { gl.is_texture(bmp_id) },
+        "a dropped texture's name is deleted"
+    );
+
+    let format = DxtFormat::Dxt1;
+    let (w, h, levels) = (8, 4, 3);
+    let path = Path::new("three-levels.dds");
+    let file = dds_file(b"DXT1", w, h, levels, chain_size(format, w, h, levels));
+    let dds = read_dds_bytes(&file, path).unwrap();
+    let texture = upload_dds(gl, &dds, path).unwrap();
+    // SAFETY: a bind and queries on the current context.
+    let max_level = unsafe {
+        gl.bind_texture(glow::TEXTURE_2D, Some(texture.id));
+        gl.get_tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAX_LEVEL)
+    };
+    assert_eq!(max_level, 2);
+    for (level, data) in dds.levels.iter().enumerate() {
+        let at = |p| level_parameter(gl, level as i32, p);
+        assert_eq!(
+            [
+                at(glow::TEXTURE_WIDTH),
+                at(glow::TEXTURE_HEIGHT),
+                at(glow::TEXTURE_INTERNAL_FORMAT),
+                at(glow::TEXTURE_COMPRESSED_IMAGE_SIZE),
+            ],
+            [
+                data.width as i32,
+                data.height as i32,
+                format.gl_internal_format() as i32,
+                data.data.len() as i32
+            ],
+            "level {level}"
+        );
+    }
+    assert_eq!(gl_errors(gl), Vec::<u32>::new());
 }
