@@ -299,7 +299,8 @@ mod tests {
     }
 
     // Fails if a JPEG cut short (its end marker gone) decodes (the decoder would fill the rest in
-    // grey), if a whole JPEG does not, or if the check is applied to another format: a BMP whose
+    // grey), if a whole JPEG does not, even with bytes after its end marker (a check that looks for
+    // the end marker among the last bytes only), or if the check is applied to another format: a BMP whose
     // texel bytes happen to be a start-of-scan marker (FF DA) with no end marker after them.
     #[test]
     fn only_a_jpeg_cut_short_is_refused() {
@@ -308,6 +309,9 @@ mod tests {
         }));
         let jpeg = encoded(&picture, image::ImageFormat::Jpeg);
         assert!(decode_image(&jpeg, Path::new("whole.jpg"), "a picture").is_ok());
+        // Bytes after the end marker (some cameras append their own) are not a cut.
+        let trailing = [jpeg.as_slice(), &[0x00, 0x17]].concat();
+        assert!(decode_image(&trailing, Path::new("trailing.jpg"), "a picture").is_ok());
         let cut = &jpeg[..jpeg.len() - 2];
         let error = decode_image(cut, Path::new("cut.jpg"), "a picture").unwrap_err();
         assert!(error.to_string().contains("a JPEG cut short"), "{error}");
