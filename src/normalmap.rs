@@ -299,9 +299,10 @@ mod tests {
     }
 
     // Fails if a JPEG cut short (its end marker gone) decodes (the decoder would fill the rest in
-    // grey), if a whole JPEG does not, even with bytes after its end marker (a check that looks for
-    // the end marker among the last bytes only), or if the check is applied to another format: a BMP whose
-    // texel bytes happen to be a start-of-scan marker (FF DA) with no end marker after them.
+    // grey), if a whole JPEG does not, even with bytes after its end marker (a check that looks
+    // for the end marker among the last bytes only), or if the check is applied to another
+    // format: a BMP whose texel bytes happen to be a start-of-scan marker (FF DA) with no end
+    // marker after them.
     #[test]
     fn only_a_jpeg_cut_short_is_refused() {
         let picture = image::DynamicImage::ImageRgb8(image::RgbImage::from_fn(16, 16, |x, y| {

@@ -377,10 +377,7 @@ impl Reader<'_> {
 
     /// Says when a material's two maps name different UV sets: the tutorial's shaders have one.
     fn check_tex_coord(&self, material: &gltf::Material, name: &str, notices: &mut Vec<String>) {
-        let pbr = material.pbr_metallic_roughness();
-        let diffuse = pbr.base_color_texture().map(|info| info.tex_coord());
-        let normal = material.normal_texture().map(|info| info.tex_coord());
-        if let (Some(d), Some(n)) = (diffuse, normal) {
+        if let (Some(d), Some(n)) = map_uv_sets(material) {
             if d != n {
                 notices.push(format!(
                     "{}: '{name}': baseColorTexture uses TEXCOORD_{d}, normalTexture \
@@ -487,10 +484,17 @@ struct Primitive {
 /// The UV set a material's maps are laid with: its normal map's (the tangent frame follows it),
 /// else its diffuse map's, else TEXCOORD_0 (glTF's default material has no map).
 fn uv_set(material: &gltf::Material) -> u32 {
-    let normal = material.normal_texture().map(|info| info.tex_coord());
-    let pbr = material.pbr_metallic_roughness();
-    let diffuse = pbr.base_color_texture().map(|info| info.tex_coord());
+    let (diffuse, normal) = map_uv_sets(material);
     normal.or(diffuse).unwrap_or(0)
+}
+
+/// The UV sets a material's diffuse (`baseColorTexture`) and normal maps name, where it has them.
+fn map_uv_sets(material: &gltf::Material) -> (Option<u32>, Option<u32>) {
+    let pbr = material.pbr_metallic_roughness();
+    (
+        pbr.base_color_texture().map(|info| info.tex_coord()),
+        material.normal_texture().map(|info| info.tex_coord()),
+    )
 }
 
 /// A primitive's corners, in `world`, with UV set `set` (`TEXCOORD_set`).

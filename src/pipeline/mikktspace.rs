@@ -760,7 +760,6 @@ fn last_run(corners: &[[u32; 3]], numbers: &mut Numbers) -> Vec<u32> {
         .map(|e| (e, exact(numbers, e)))
         .collect();
     let top = candidates.iter().map(|&(_, n)| n).max().unwrap_or(0);
-    let count = candidates.iter().filter(|&&(_, n)| n == top).count();
     // Their order only decides which of them are paired when some two join the same two vertices
     // (a stretch) beside a third: with at most two, or no two alike, every order pairs them the
     // same, and the quicksort (most of a first frame's neighbour step) need not be run.
@@ -769,6 +768,11 @@ fn last_run(corners: &[[u32; 3]], numbers: &mut Numbers) -> Vec<u32> {
         .filter(|&&(_, n)| n == top)
         .map(|&(e, _)| e)
         .collect();
+    let count = last.len();
+    if count <= 2 {
+        return last;
+    }
+    // All share their lower vertex (numbered `top`): two alike share the upper one too.
     let mut uppers: Vec<u32> = last
         .iter()
         .map(|&e| {
@@ -778,7 +782,7 @@ fn last_run(corners: &[[u32; 3]], numbers: &mut Numbers) -> Vec<u32> {
         .collect();
     uppers.sort_unstable();
     uppers.dedup();
-    if count <= 2 || uppers.len() == count {
+    if uppers.len() == count {
         return last;
     }
     let mut keys: Vec<(u32, u32, u32)> = (0..edge_count)
