@@ -161,7 +161,7 @@ pub fn read_dds_bytes(bytes: &[u8], path: &Path) -> Result<DdsImage> {
     // (ddsfile drops the value when the flag is missing).
     let mip_map_count = header.mip_map_count.unwrap_or_else(|| {
         let field = &bytes[DDS_MIPMAP_COUNT_OFFSET..DDS_MIPMAP_COUNT_OFFSET + 4];
-        u32::from_le_bytes([field[0], field[1], field[2], field[3]])
+        u32::from_le_bytes(field.try_into().expect("4 bytes of a checked header"))
     });
     // Many writers store 0 for "no mipmaps". The tutorial would then upload no level at all (its
     // loop runs mipMapCount times) and leave an empty texture; the base level is always there, so

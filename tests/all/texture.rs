@@ -5,7 +5,8 @@ use std::path::Path;
 
 use glow::HasContext;
 use tutorial13::common::texture::{
-    dxt_level_size, read_bmp_bytes, read_bmp_custom, read_dds, read_dds_bytes, BmpImage, DxtFormat,
+    dxt_level_size, read_bmp_bytes, read_bmp_custom, read_dds, read_dds_bytes, BmpImage, DdsLevel,
+    DxtFormat,
 };
 use tutorial13::Error;
 
@@ -779,6 +780,38 @@ fn bmp_every_truncation_is_an_error() {
 fn bmp_garbage_headers_never_panic() {
     let valid = bmp_24(5, 3, &pattern(5, 3), false);
     read_with_garbage_headers(read_bmp_bytes, &valid, "g.bmp", 0..54);
+}
+
+// Fails if a level is not decompressed as its own format (DXT1's colour block alone, DXT3's explicit
+// 4-bit alpha, DXT5's interpolated alpha: each read as another gives other alphas), or if its rows
+// come out in another order than the file's: row 0 takes colour 0 (pure red in 5:6:5), row 1
+// colour 1 (pure blue).
+#[test]
+fn each_format_decompresses_its_own_block() {
+    // Red and blue in 5:6:5 (red first: four-colour mode), then 2-bit indices row by row.
+    let colours = [0x00, 0xF8, 0x1F, 0x00, 0x00, 0x55, 0xAA, 0xFF];
+    // DXT3: 4 bits a texel, row 0 at 8 (× 17 = 136), row 1 at 15 (255); DXT5: every texel at its
+    // first endpoint, 200.
+    for (format, alpha, [a0, a1]) in [
+        (DxtFormat::Dxt1, vec![], [255, 255]),
+        (
+            DxtFormat::Dxt3,
+            vec![0x88, 0x88, 0xFF, 0xFF, 0, 0, 0, 0],
+            [136, 255],
+        ),
+        (DxtFormat::Dxt5, vec![200, 0, 0, 0, 0, 0, 0, 0], [200, 200]),
+    ] {
+        let level = DdsLevel {
+            width: 4,
+            height: 4,
+            data: [alpha, colours.to_vec()].concat(),
+        };
+        let rgba = level.decompress(format);
+        assert_eq!(rgba.len(), 4 * 4 * 4, "{format:?}");
+        let row = |r: usize| &rgba[16 * r..16 * (r + 1)];
+        assert_eq!(row(0), [255, 0, 0, a0].repeat(4), "{format:?} row 0");
+        assert_eq!(row(1), [0, 0, 255, a1].repeat(4), "{format:?} row 1");
+    }
 }
 
 // ---------------------------------------------------------------------------------------------
