@@ -683,7 +683,9 @@ fn bmp_bad_dib_size_and_planes() {
     assert_bmp_rejects(&bytes, "planes.bmp", "3 colour planes");
 }
 
-// Fails if missing pixel bytes are accepted, or the message lacks needed/present counts.
+// Fails if missing pixel bytes are accepted, or the message lacks needed/present counts, also
+// where a file ends exactly where its pixels would start (not "shorter than its headers", nor an
+// offset "beyond the end").
 #[test]
 fn bmp_truncated_data() {
     // 5 wide: rows of 15 bytes padded to 16, 3 rows = 48 bytes.
@@ -699,6 +701,17 @@ fn bmp_truncated_data() {
     set_u32(&mut bytes, 0x12, 16384);
     set_u32(&mut bytes, 0x16, (-16384i32) as u32);
     assert_bmp_rejects(&bytes, "claims.bmp", "805306368 bytes needed");
+    // Headers and nothing after them, with the data said to start there (offset 54) or right
+    // after the header (offset 0): the file is whole up to its pixels, which are missing.
+    for offset in [54, 0] {
+        let mut headers = bmp_24(5, 3, &pattern(5, 3), false)[..54].to_vec();
+        set_u32(&mut headers, 0x0A, offset);
+        assert_bmp_rejects(
+            &headers,
+            "headers-only.bmp",
+            "pixel data is cut short: 48 bytes needed (3 rows of 16), 0 present",
+        );
+    }
 }
 
 // Fails if a data offset past the end of the file, or inside the headers, is accepted.
