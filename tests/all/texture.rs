@@ -655,10 +655,22 @@ fn bmp_wrong_bit_depths() {
     }
 }
 
-// Fails if RLE or bitfield compression is accepted or not named.
+// Fails if any compression (RLE, bitfields, JPEG, PNG, CMYK) is accepted or not named by its
+// Windows name (an unknown code as "unknown").
 #[test]
 fn bmp_compressed() {
-    for (code, name) in [(1u32, "BI_RLE8"), (2, "BI_RLE4"), (3, "BI_BITFIELDS")] {
+    for (code, name) in [
+        (1u32, "BI_RLE8"),
+        (2, "BI_RLE4"),
+        (3, "BI_BITFIELDS"),
+        (4, "BI_JPEG"),
+        (5, "BI_PNG"),
+        (6, "BI_ALPHABITFIELDS"),
+        (11, "BI_CMYK"),
+        (12, "BI_CMYKRLE8"),
+        (13, "BI_CMYKRLE4"),
+        (7, "unknown"),
+    ] {
         let mut bytes = bmp_24(2, 2, &pattern(2, 2), false);
         set_u32(&mut bytes, 0x1E, code);
         assert_bmp_rejects(&bytes, "rle.bmp", &format!("compression {name} ({code})"));
