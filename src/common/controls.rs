@@ -237,6 +237,93 @@ mod tests {
         assert_eq!(c.projection_matrix(), wide);
     }
 
+    // Fails if a viewport with one side 0 (a window minimized on one axis) changes the aspect to 0
+    // or infinity: only a viewport with both sides above 0 is taken.
+    #[test]
+    fn a_viewport_empty_on_either_side_keeps_the_aspect() {
+        for (width, height) in [(0, 768), (1024, 0), (0, 0)] {
+            let mut c = Controls::default();
+            c.set_viewport(width, height);
+            assert_eq!(c.aspect, 4.0 / 3.0, "{width}×{height}");
+        }
+    }
+
+    // Fails if `direction` is not the tutorial's spherical formula away from the start angles (at
+    // the start, cos v = 1 and a term's product with it cannot be told from a quotient), or if the
+    // view matrix does not look from the camera along it with `right` to the right: a camera turned
+    // and moved off every axis must see its own position at the origin, position + direction at
+    // (0, 0, -1) and `right` along +X (to 0.0008 rad).
+    #[test]
+    fn the_view_looks_along_direction_from_anywhere() {
+        let (h, v) = (0.5f64, 0.3f64);
+        let c = Controls {
+            horizontal_angle: h as f32,
+            vertical_angle: v as f32,
+            ..Controls::default()
+        };
+        let expected = Vec3::new(
+            (v.cos() * h.sin()) as f32,
+            v.sin() as f32,
+            (v.cos() * h.cos()) as f32,
+        );
+        assert!(
+            (c.direction() - expected).length() < 1e-6,
+            "{}",
+            c.direction()
+        );
+
+        let mut c = Controls::default();
+        let input = Input {
+            mouse_dx: 60.0,
+            mouse_dy: -35.0,
+            up: true,
+            left: true,
+            ..Default::default()
+        };
+        c.compute_matrices_from_inputs(&input, 0.7);
+        let view = c.view_matrix();
+        assert!(
+            c.position.x.abs() > 0.3 && c.position.y.abs() > 0.3,
+            "{}",
+            c.position
+        );
+        assert!(view.transform_point3(c.position).length() < 1e-5);
+        let ahead = view.transform_point3(c.position + c.direction());
+        assert!((ahead - Vec3::NEG_Z).length() < 1e-5, "{ahead}");
+        // `right` turns by 3.14 / 2, not π / 2, so it is 0.0008 rad off the view's exact +X.
+        let right = view.transform_vector3(c.right());
+        assert!((right - Vec3::X).length() < 1e-3, "{right}");
+    }
+
+    // Fails if `frame_sphere` does not put the camera back along its view direction at
+    // 1.05 r / sin(half the narrower field of view) from the centre, by an independent f64
+    // computation: at 4:3 the vertical half-angle is 22.5°; at 1:2 the horizontal one,
+    // atan(tan 22.5° / 2) = 11.7°, is the narrower.
+    #[test]
+    fn frame_sphere_fits_the_narrower_field_of_view() {
+        let half_y = 22.5f64.to_radians();
+        for (width, height, half) in [(1024, 768, half_y), (400, 800, (half_y.tan() * 0.5).atan())]
+        {
+            let mut c = Controls::for_viewport(width, height);
+            let center = Vec3::new(1.0, 2.0, 3.0);
+            c.frame_sphere(center, 2.0);
+            let distance = 1.05 * 2.0 / half.sin();
+            let back = center - c.position;
+            assert!(
+                (f64::from(back.length()) - distance).abs() < 1e-4,
+                "{width}×{height}: {} for {distance}",
+                back.length()
+            );
+            assert!((back.normalize() - c.direction()).length() < 1e-6);
+            // The view matrix follows: the centre straight ahead at that distance.
+            let seen = c.view_matrix().transform_point3(center);
+            assert!(
+                (seen - Vec3::new(0.0, 0.0, -distance as f32)).length() < 1e-4,
+                "{seen}"
+            );
+        }
+    }
+
     // Fails if the projection in GLM's order is not glam's perspective matrix up to rounding (the
     // orders differ only in the last bits, which is the point of keeping GLM's).
     #[test]
