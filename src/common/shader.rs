@@ -48,15 +48,21 @@ pub fn find_shader(name: &str, dir: Option<&Path>) -> Result<ShaderFile> {
         return Ok(ShaderFile { path, source });
     }
     let on_disk = crate_shader_dir().join(name);
-    let (_, source) = EMBEDDED
-        .iter()
-        .find(|(embedded, _)| *embedded == name)
+    let source = embedded_shader(name)
         .ok_or_else(|| Error::io(&on_disk, std::io::ErrorKind::NotFound.into()))?;
     log::debug!("{name}: using the copy embedded at build time");
     Ok(ShaderFile {
         path: PathBuf::from("<embedded>").join(name),
         source: source.to_string(),
     })
+}
+
+/// The copy of the crate's `shaders/{name}` embedded at build time, if there is one.
+pub fn embedded_shader(name: &str) -> Option<&'static str> {
+    EMBEDDED
+        .iter()
+        .find(|(embedded, _)| *embedded == name)
+        .map(|(_, source)| *source)
 }
 
 /// A linked program, deleted with the value.
@@ -254,5 +260,30 @@ mod tests {
             assert_eq!(rest, source.split_once('\n').unwrap().1, "{name}");
         }
         assert_eq!(glsl_es("void main() {}"), "void main() {}");
+    }
+
+    // Fails if a shader is not read from the crate's shaders/ folder when no --shaders folder has
+    // it (an empty folder path, or the embedded copy, would be taken), or if the embedded copies
+    // are not found by name: every file there must be embedded with its text, and nothing else.
+    #[test]
+    fn shaders_come_from_the_crates_folder_and_its_embedded_copies() {
+        let mut names = 0;
+        for entry in std::fs::read_dir(crate_shader_dir()).unwrap() {
+            let path = entry.unwrap().path();
+            let name = path.file_name().unwrap().to_str().unwrap();
+            let text = std::fs::read_to_string(&path).unwrap();
+            let found = find_shader(name, None).unwrap();
+            assert_eq!((&found.path, &found.source), (&path, &text), "{name}");
+            assert!(found.path.is_absolute(), "{}", found.path.display());
+            assert_eq!(embedded_shader(name), Some(text.as_str()), "{name}");
+            names += 1;
+        }
+        assert_eq!(EMBEDDED.len(), names);
+        assert_eq!(embedded_shader("NoSuch.fragmentshader"), None);
+        let error = find_shader("NoSuch.fragmentshader", None).unwrap_err();
+        assert!(
+            error.to_string().contains("NoSuch.fragmentshader"),
+            "{error}"
+        );
     }
 }

@@ -197,3 +197,76 @@ fn declared_uniforms_are_read_from_the_source() {
         ["MVP", "A", "B", "Light"]
     );
 }
+
+// Fails if a --shaders folder holding only some of a scene's files does not take the rest from the
+// crate's shaders/ (the frame would differ or the run fail), or if the log does not say which file
+// that was: the line names the vertex shader, missing from the folder, and not the fragment
+// shader, which is there.
+#[test]
+fn a_partial_shaders_folder_takes_the_rest_from_the_crate_and_says_which() {
+    let dir = scratch("partial-shaders");
+    let shaders = dir.join("mine");
+    std::fs::create_dir_all(&shaders).unwrap();
+    std::fs::copy(crate_shader_dir().join(FRAGMENT), shaders.join(FRAGMENT)).unwrap();
+    let out = common::run(
+        common::tutorial13()
+            .args([
+                "--headless",
+                "--screenshot",
+                "partial.png",
+                "--shaders",
+                "mine",
+            ])
+            .current_dir(&dir),
+    );
+    let stderr = common::text(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let said = |name: &str| stderr.contains(&format!("{name} is not in the --shaders folder"));
+    assert!(said("NormalMapping.vertexshader"), "{stderr}");
+    assert!(!said(FRAGMENT), "{stderr}");
+    let partial = image::open(dir.join("partial.png")).unwrap().into_rgb8();
+    let whole = common::headless_screenshot(&dir, "whole.png", &[]);
+    assert!(partial == whole, "the partial folder changed the frame");
+}
+
+// Fails if a linked program is not deleted with its value (GL would keep it, and a learner's every
+// reload would leak one), if its uniforms are not found by name, or if the names its two files
+// declare are not listed (the vertex shader's first, then the fragment shader's).
+#[test]
+fn a_program_finds_its_uniforms_and_is_deleted_with_its_value() {
+    use glow::HasContext;
+    use tutorial13::common::shader::load_program;
+    use tutorial13::gl::context::HeadlessContext;
+
+    let context = HeadlessContext::new(Profile::Core, false).expect("a core context on llvmpipe");
+    let gl = context.gl();
+    let program = load_program(gl, "NormalMapping.vertexshader", FRAGMENT, None).unwrap();
+    let id = program.id;
+    // SAFETY: a query on the current context.
+    assert!(unsafe { gl.is_program(id) });
+    assert!(program.uniform("MVP").is_some());
+    assert!(program.uniform("NoSuchUniform").is_none());
+    assert_eq!(
+        program.declared_uniforms,
+        [
+            "MVP",
+            "V",
+            "M",
+            "MV3x3",
+            "LightPosition_worldspace",
+            "DiffuseTextureSampler",
+            "NormalTextureSampler",
+            "SpecularTextureSampler",
+            "V",
+            "M",
+            "MV3x3",
+            "LightPosition_worldspace"
+        ]
+    );
+    drop(program);
+    // SAFETY: as above.
+    assert!(
+        !unsafe { gl.is_program(id) },
+        "the program outlived its value"
+    );
+}
