@@ -254,6 +254,19 @@ fn smallest_eigenvalue(m: &DMat3) -> f64 {
     q + 2.0 * p * (phi + 2.0 * std::f64::consts::FRAC_PI_3).cos()
 }
 
+/// Whether lights of this spread (see [`light_spread_degrees`]) are refused as coplanar: below
+/// [`MIN_SPREAD_DEGREES`]; exactly that much is enough.
+fn nearly_coplanar(spread_degrees: f64) -> bool {
+    spread_degrees < MIN_SPREAD_DEGREES
+}
+
+/// [`nearly_coplanar`] from the smallest eigenvalue of the lights' mean scatter (1/K) Σ l lᵀ, the
+/// squared sine of their spread, without the arcsine (it is asked once per texel).
+fn nearly_coplanar_scatter(smallest_eigenvalue: f64) -> bool {
+    let sine = MIN_SPREAD_DEGREES.to_radians().sin();
+    smallest_eigenvalue < sine * sine
+}
+
 /// Unit directions of `lights`, one per photo, refused if there are not `photos` of them or if they
 /// are (nearly) coplanar.
 fn unit_lights(lights: &[Vec3], photos: usize) -> Result<Vec<DVec3>> {
@@ -271,7 +284,7 @@ fn unit_lights(lights: &[Vec3], photos: usize) -> Result<Vec<DVec3>> {
     }
     let unit: Vec<DVec3> = lights.iter().map(|l| l.as_dvec3().normalize()).collect();
     let spread = light_spread_degrees(&unit);
-    if spread < MIN_SPREAD_DEGREES {
+    if nearly_coplanar(spread) {
         return Err(Error::Photometric(format!(
             "the --light directions are nearly coplanar (within {spread:.1}° of one plane, at least \
              {MIN_SPREAD_DEGREES}° needed): the photos cannot tell how far a normal leans out of \
@@ -334,9 +347,7 @@ pub fn recover_calibrated(
     let mut normals = vec![[0u8; 3]; texels];
     let mut normals16 = vec![[0u16; 3]; if options.sixteen_bit { texels } else { 0 }];
     let mut albedo = vec![[0u8; 3]; if options.albedo { texels } else { 0 }];
-    // Whole rows per band; each band keeps its own cache of solves.
-    let rows = (height as usize).div_ceil(options.threads.max(1)).max(1);
-    let band = (rows * width as usize).max(1);
+    let band = band_texels(width, height, options.threads);
     let bands: Vec<_> = normals
         .chunks_mut(band)
         .zip(optional_bands(&mut normals16, band))
@@ -373,6 +384,14 @@ pub fn recover_calibrated(
         albedo: options.albedo.then_some(albedo),
         unsolved,
     })
+}
+
+/// How many texels each band of rows solved at once holds: whole rows, as many as make `threads`
+/// bands (fewer if there are fewer rows), and at least one texel. Each band keeps its own cache of
+/// solves.
+fn band_texels(width: u32, height: u32, threads: usize) -> usize {
+    let rows = (height as usize).div_ceil(threads.max(1)).max(1);
+    (rows * width as usize).max(1)
 }
 
 /// `texels` cut in bands of `band`, or (when it is empty: not asked for) `None` for every band.
@@ -524,9 +543,7 @@ impl<'a> Stereo<'a> {
                 let seen = rgb.dot(luminance);
                 let rgb = rgb * self.gains[k];
                 light[k] = Vec4::new(rgb.x, rgb.y, rgb.z, rgb.dot(luminance));
-                if seen >= self.options.shadow
-                    && codes[0].max(codes[1]).max(codes[2]) < self.saturated
-                {
+                if self.keeps(seen, codes) {
                     if self.method == Method::Masks {
                         mask |= 1 << k;
                     }
@@ -569,6 +586,12 @@ impl<'a> Stereo<'a> {
         unsolved
     }
 
+    /// Whether a photo's texel takes part in its solve: lit (its luminance as the camera saw it at
+    /// `shadow` or above) and no channel's stored value saturated.
+    fn keeps(&self, seen: f32, codes: [usize; 3]) -> bool {
+        seen >= self.options.shadow && codes[0].max(codes[1]).max(codes[2]) < self.saturated
+    }
+
     /// Least squares over the photos `kept`, through their own normal equations
     /// (Σ l lᵀ) g = Σ l I; `None` for fewer than three or lights within [`MIN_SPREAD_DEGREES`] of
     /// one plane.
@@ -585,8 +608,7 @@ impl<'a> Stereo<'a> {
             });
         }
         let a = DMat3::from_cols(a[0].as_dvec3(), a[1].as_dvec3(), a[2].as_dvec3());
-        let sine = MIN_SPREAD_DEGREES.to_radians().sin();
-        if smallest_eigenvalue(&(a * (1.0 / kept.len() as f64))) < sine * sine {
+        if nearly_coplanar_scatter(smallest_eigenvalue(&(a * (1.0 / kept.len() as f64)))) {
             return None;
         }
         let inverse = a.inverse().as_mat3();
@@ -704,7 +726,7 @@ fn solve(lights: &[DVec3], mask: u64) -> Option<Vec<[f32; 3]>> {
         .filter(|k| mask & (1 << k) != 0)
         .map(|k| lights[k])
         .collect();
-    if kept.len() < 3 || light_spread_degrees(&kept) < MIN_SPREAD_DEGREES {
+    if kept.len() < 3 || nearly_coplanar(light_spread_degrees(&kept)) {
         return None;
     }
     let inverse = scatter(kept.iter()).inverse();
@@ -990,6 +1012,143 @@ mod tests {
         assert!(light_spread_degrees(&[DVec3::Z; 4]) < 1e-6);
     }
 
+    // Fails if the closed form does not give the smallest eigenvalue of a matrix whose eigenvalues
+    // are distinct and whose eigenvectors lie off the axes: M = R diag(d) Rᵀ for rotations R and
+    // known d (the rings and axes above have zero off-diagonal terms or two equal eigenvalues, on
+    // which a wrong sum of the off-diagonal squares or a wrong angle can still come out right).
+    #[test]
+    fn the_smallest_eigenvalue_of_a_rotated_diagonal_matrix_is_its_smallest_entry() {
+        let spectra = [
+            [0.1, 0.5, 0.9],
+            [2.0, 0.03, 1.1],
+            [0.7, 0.69, 0.2],
+            [1e-4, 3.0, 1.5],
+        ];
+        for (i, d) in spectra.iter().enumerate() {
+            for j in 0..5 {
+                let axis = DVec3::new(1.0 + i as f64, 2.0 - j as f64, 0.5 + j as f64).normalize();
+                let r = DMat3::from_axis_angle(axis, 0.4 + 0.7 * j as f64);
+                let m = r * DMat3::from_diagonal(DVec3::from(*d)) * r.transpose();
+                let smallest = d.iter().copied().fold(f64::INFINITY, f64::min);
+                let got = smallest_eigenvalue(&m);
+                assert!((got - smallest).abs() < 1e-9, "{d:?} turned {j}: {got}");
+            }
+        }
+    }
+
+    // Fails if exactly the least spread allowed is refused (the error asks for "at least" it), or
+    // if less is not.
+    #[test]
+    fn exactly_the_least_spread_is_enough() {
+        assert!(!nearly_coplanar(MIN_SPREAD_DEGREES));
+        assert!(nearly_coplanar(MIN_SPREAD_DEGREES - 1e-9));
+        assert!(!nearly_coplanar(90.0));
+    }
+
+    // Fails if the per-texel check of the spread (its eigenvalue against sin² 5°) does not draw the
+    // line where `nearly_coplanar` does: exactly sin² 5° is enough, less is refused, and sin² 6° is
+    // well clear.
+    #[test]
+    fn the_per_texel_spread_check_is_the_sets() {
+        let sine_squared = |degrees: f64| degrees.to_radians().sin().powi(2);
+        assert!(!nearly_coplanar_scatter(sine_squared(MIN_SPREAD_DEGREES)));
+        assert!(nearly_coplanar_scatter(
+            sine_squared(MIN_SPREAD_DEGREES) - 1e-12
+        ));
+        assert!(!nearly_coplanar_scatter(sine_squared(6.0)));
+        assert!(!nearly_coplanar_scatter(1.0 / 3.0));
+    }
+
+    // Fails if a photo's texel is kept or left out on the wrong side of either line: a luminance of
+    // exactly `shadow` is lit, just below is not; for 8 bits the first saturated value is
+    // ceil(0.98 · 255) = 250, for 16 bits ceil(0.98 · 65535) = 64225, in any channel.
+    #[test]
+    fn a_texel_is_kept_from_the_shadow_line_up_to_below_saturation() {
+        let options = PhotometricOptions::default();
+        let calibration = Calibration::default();
+        for (bits, first_saturated) in [(8, 250), (16, 64225)] {
+            let stereo = Stereo::new(&[], &calibration, bits, &options);
+            let shadow = options.shadow;
+            let below = first_saturated - 1;
+            assert!(stereo.keeps(shadow, [below, 0, 0]));
+            assert!(stereo.keeps(1.0, [0, below, below]));
+            assert!(!stereo.keeps(shadow - 1e-6, [100, 100, 100]));
+            for c in 0..3 {
+                let mut codes = [10; 3];
+                codes[c] = first_saturated;
+                assert!(!stereo.keeps(1.0, codes), "{bits} bits, channel {c}");
+            }
+        }
+    }
+
+    // Fails if the per-texel fit (the robust solver's, and least squares' above 64 photos) refuses
+    // exactly three photos, or solves three whose lights are nearly coplanar: three lights 30° up
+    // recover a tilted normal and its albedo, the same three 3° up are refused, and so are two.
+    #[test]
+    fn the_per_texel_fit_solves_three_photos_unless_coplanar() {
+        let options = PhotometricOptions::default();
+        let calibration = Calibration::default();
+        let n = DVec3::new(0.2, -0.3, 1.0).normalize();
+        let albedo = 0.6;
+        for (elevation, solved) in [(30.0, true), (3.0, false)] {
+            let lights = ring(elevation, 3);
+            let stereo = Stereo::new(&lights, &calibration, 8, &options);
+            let seen: Vec<Vec4> = lights
+                .iter()
+                .map(|l| Vec4::splat((albedo * n.dot(*l)) as f32))
+                .collect();
+            // Lambert's law without its max(0, ·): 30° up, every light reaches the texel.
+            assert!(!solved || seen.iter().all(|v| v.w > 0.0));
+            let fit = stereo.fit(&[0, 1, 2], &seen);
+            assert_eq!(fit.is_some(), solved, "{elevation}°");
+            if let Some((normal, rho)) = fit {
+                assert!((normal.as_dvec3() - n).length() < 1e-5, "{normal}");
+                assert!((rho - Vec4::splat(albedo as f32)).length() < 1e-5, "{rho}");
+            }
+            assert_eq!(stereo.fit(&[0, 1], &seen), None);
+        }
+    }
+
+    // Fails if the rows are not shared out in whole rows, one band per thread (a band that is not a
+    // multiple of the width, or one thread per texel, gives the same normals, so only this sees it).
+    #[test]
+    fn bands_are_whole_rows_one_per_thread() {
+        assert_eq!(band_texels(7, 10, 1), 70);
+        assert_eq!(band_texels(7, 10, 3), 28);
+        assert_eq!(band_texels(7, 10, 16), 7);
+        assert_eq!(band_texels(7, 10, 0), 70);
+        assert_eq!(band_texels(0, 0, 4), 1);
+    }
+
+    // Fails if photos of different bit depths but the same size (or a photo whose samples are not
+    // 3 × width × height) reach the solver: each must be refused, not read as the first one's depth.
+    #[test]
+    fn photos_must_share_size_depth_and_sample_count() {
+        let lights = [Vec3::Z, Vec3::X + Vec3::Z, Vec3::Y + Vec3::Z];
+        let eight = |n: usize| Photo {
+            width: 2,
+            height: 2,
+            samples: Samples::Eight(vec![128; n]),
+        };
+        let sixteen = Photo {
+            width: 2,
+            height: 2,
+            samples: Samples::Sixteen(vec![30000; 12]),
+        };
+        let options = PhotometricOptions::default();
+        recover(&[eight(12), eight(12), eight(12)], &lights, &options).unwrap();
+        for photos in [
+            [eight(12), sixteen.clone(), eight(12)],
+            [eight(12), eight(12), eight(9)],
+        ] {
+            let error = recover(&photos, &lights, &options).unwrap_err();
+            assert!(
+                error.to_string().contains("different sizes or bit depths"),
+                "{error}"
+            );
+        }
+    }
+
     // Fails if the albedo's 8-bit value is not round(from_linear(l) · 255) (computed in f64, so
     // that only values within float rounding of a midpoint may go either way) for sRGB and linear.
     #[test]
@@ -1088,6 +1247,15 @@ mod tests {
             .collect();
         middle.sort();
         assert_eq!(middle, (2..15).collect::<Vec<u32>>());
+        // Fewer than four kept (the robust solver's sets in shadow): a tenth and a quarter of them
+        // round down to none, and all are kept; four leave out the brightest only.
+        for n in 3..=4u32 {
+            let light: Vec<Vec4> = (0..n).map(|y| Vec4::new(0.0, 0.0, 0.0, y as f32)).collect();
+            let mut kept: Vec<u32> = (0..n).rev().collect();
+            let mut middle = middle_ranked(&mut kept, &light).to_vec();
+            middle.sort();
+            assert_eq!(middle, (0..3).collect::<Vec<u32>>(), "{n} kept");
+        }
     }
 
     // Fails if a set too large to hold is not refused before anything is decoded, with the bytes it

@@ -1343,3 +1343,33 @@ fn a_set_too_large_for_memory_is_refused_with_its_size() {
     let says = format!("3 photos of 16777216×2147483647 need {need} bytes");
     assert_refused(&dir, &args, &says, &before);
 }
+
+// Fails if a set of 8-bit photos is widened to 16 bits (twice the memory, for the same linear
+// values), or if a set with one 16-bit photo is not widened whole (the solver reads every photo at
+// the first one's depth): 8-bit stays 8-bit, and 8 + 16 + 8 becomes 16-bit with v × 257.
+#[test]
+fn load_photos_widens_a_set_only_if_one_is_deeper() {
+    use tutorial13::photo::Samples;
+    use tutorial13::photometric::load_photos;
+
+    let dir = scratch("widen");
+    let eight = image::RgbImage::from_fn(3, 2, |x, y| image::Rgb([x as u8 * 80, y as u8 * 200, 7]));
+    let deep = image::ImageBuffer::<image::Rgb<u16>, _>::from_fn(3, 2, |x, _| {
+        image::Rgb([x as u16 * 20000, 1, 65535])
+    });
+    eight.save(dir.join("a.png")).unwrap();
+    eight.save(dir.join("b.png")).unwrap();
+    deep.save(dir.join("deep.png")).unwrap();
+    let paths = |names: &[&str]| names.iter().map(|n| dir.join(n)).collect::<Vec<_>>();
+
+    let photos = load_photos(&paths(&["a.png", "b.png", "a.png"]), 2).unwrap();
+    assert!(photos
+        .iter()
+        .all(|p| p.samples == Samples::Eight(eight.as_raw().clone())));
+
+    let photos = load_photos(&paths(&["a.png", "deep.png", "b.png"]), 2).unwrap();
+    let widened: Vec<u16> = eight.as_raw().iter().map(|&v| u16::from(v) * 257).collect();
+    assert_eq!(photos[0].samples, Samples::Sixteen(widened.clone()));
+    assert_eq!(photos[1].samples, Samples::Sixteen(deep.as_raw().clone()));
+    assert_eq!(photos[2].samples, Samples::Sixteen(widened));
+}
