@@ -1248,14 +1248,15 @@ mod tests {
         middle.sort();
         assert_eq!(middle, (2..15).collect::<Vec<u32>>());
         // Fewer than four kept (the robust solver's sets in shadow): a tenth and a quarter of them
-        // round down to none, and all are kept; four leave out the brightest only.
-        for n in 3..=4u32 {
-            let light: Vec<Vec4> = (0..n).map(|y| Vec4::new(0.0, 0.0, 0.0, y as f32)).collect();
-            let mut kept: Vec<u32> = (0..n).rev().collect();
-            let mut middle = middle_ranked(&mut kept, &light).to_vec();
-            middle.sort();
-            assert_eq!(middle, (0..3).collect::<Vec<u32>>(), "{n} kept");
-        }
+        // round down to none, and all are kept in their order (so that the fit sums them as least
+        // squares does, to the bit); four leave out the brightest only.
+        let light: Vec<Vec4> = (0..4).map(|y| Vec4::new(0.0, 0.0, 0.0, y as f32)).collect();
+        let mut kept = vec![2, 1, 0];
+        assert_eq!(middle_ranked(&mut kept, &light), [2, 1, 0]);
+        let mut kept = vec![3, 2, 1, 0];
+        let mut middle = middle_ranked(&mut kept, &light).to_vec();
+        middle.sort();
+        assert_eq!(middle, [0, 1, 2]);
     }
 
     // Fails if a set too large to hold is not refused before anything is decoded, with the bytes it
