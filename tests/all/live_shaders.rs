@@ -180,8 +180,9 @@ fn a_misspelt_uniform_is_refused_and_an_unused_one_is_not() {
     assert!(frame(&mut r) != first, "the edit did not show");
 }
 
-// Fails if the reading of `uniform` declarations misses a name or invents one: comments, several
-// names in one declaration, arrays, precision and layout qualifiers.
+// Fails if the reading of `uniform` declarations misses a name or invents one: comments (one that
+// ends right before `uniform`, an empty one), several names in one declaration, arrays, precision
+// and layout qualifiers, and a uniform block (not listed).
 #[test]
 fn declared_uniforms_are_read_from_the_source() {
     let source = "#version 330 core\n\
@@ -191,17 +192,19 @@ fn declared_uniforms_are_read_from_the_source() {
         uniform highp float A, B[2];\n\
         layout(location = 3) uniform vec3 Light = vec3(0);\n\
         in vec3 uniformish;\n\
+        /* no space after a comment */uniform float C;/**/\n\
+        uniform Lights { vec3 colour; };\n\
         void main() { gl_Position = MVP * vec4(A); }\n";
     assert_eq!(
         tutorial13::common::shader::declared_uniforms(source),
-        ["MVP", "A", "B", "Light"]
+        ["MVP", "A", "B", "Light", "C"]
     );
 }
 
 // Fails if a --shaders folder holding only some of a scene's files does not take the rest from the
 // crate's shaders/ (the frame would differ or the run fail), or if the log does not say which file
 // that was: the line names the vertex shader, missing from the folder, and not the fragment
-// shader, which is there.
+// shader, which is there. Also fails if an empty link log is logged at the debug level.
 #[test]
 fn a_partial_shaders_folder_takes_the_rest_from_the_crate_and_says_which() {
     let dir = scratch("partial-shaders");
@@ -217,6 +220,7 @@ fn a_partial_shaders_folder_takes_the_rest_from_the_crate_and_says_which() {
                 "--shaders",
                 "mine",
             ])
+            .env("RUST_LOG", "tutorial13=debug")
             .current_dir(&dir),
     );
     let stderr = common::text(&out.stderr);
@@ -224,6 +228,9 @@ fn a_partial_shaders_folder_takes_the_rest_from_the_crate_and_says_which() {
     let said = |name: &str| stderr.contains(&format!("{name} is not in the --shaders folder"));
     assert!(said("NormalMapping.vertexshader"), "{stderr}");
     assert!(!said(FRAGMENT), "{stderr}");
+    // llvmpipe links these programs without a word: an empty link log is not logged.
+    assert!(stderr.contains("DEBUG"), "{stderr}");
+    assert!(!stderr.contains("link log:"), "{stderr}");
     let partial = image::open(dir.join("partial.png")).unwrap().into_rgb8();
     let whole = common::headless_screenshot(&dir, "whole.png", &[]);
     assert!(partial == whole, "the partial folder changed the frame");
