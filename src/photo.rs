@@ -185,3 +185,26 @@ fn box_blur(values: &mut [f32], w: usize, h: usize, radius: usize) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Fails if either sRGB curve leaves its linear segment on the wrong side of the knee (stored
+    // 0.04045, linear 0.0031308) or if `from_linear` is not `to_linear`'s inverse: near black the
+    // power branch gives 1.055 · l^(1/2.4) − 0.055, below 0 at l = 0 where the line gives 0.
+    #[test]
+    fn the_srgb_curves_are_each_others_inverse_on_both_sides_of_the_knee() {
+        let srgb = Encoding::Srgb;
+        assert_eq!(srgb.from_linear(0.0), 0.0);
+        assert_eq!(srgb.from_linear(0.001), 12.92 * 0.001);
+        assert_eq!(srgb.to_linear(0.02), 0.02 / 12.92);
+        for i in 0..=1000 {
+            let stored = i as f32 / 1000.0;
+            let back = srgb.from_linear(srgb.to_linear(stored));
+            assert!((back - stored).abs() < 1e-5, "{stored}: {back}");
+        }
+        assert_eq!(Encoding::Linear.from_linear(0.25), 0.25);
+        assert_eq!(Encoding::Linear.to_linear(0.25), 0.25);
+    }
+}
