@@ -64,6 +64,9 @@ pub enum Error {
     /// A file given to the program (dropped on the window) that nothing opens.
     #[error("{}: {reason}", path.display())]
     Open { path: PathBuf, reason: String },
+    /// Models a bake cannot use (LOW with no UV layout, no frame to bake for); `path` is the model.
+    #[error("{}: {reason}", path.display())]
+    Bake { path: PathBuf, reason: String },
     /// Writing a generated asset failed for a reason other than I/O (e.g. the encoder refused).
     #[error("{}: cannot write: {reason}", path.display())]
     Write { path: PathBuf, reason: String },
@@ -91,6 +94,7 @@ impl Error {
             | Error::Shader { path, .. }
             | Error::Image { path, .. }
             | Error::Open { path, .. }
+            | Error::Bake { path, .. }
             | Error::Write { path, .. } => Some(path),
             Error::Screenshot { error } => error.path(),
             Error::WouldOverwrite { paths } => paths.first().map(PathBuf::as_path),

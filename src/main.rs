@@ -8,6 +8,7 @@ use std::process::ExitCode;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use tutorial13::scenes::{self, SceneOptions};
+use tutorial13::tools::bake::{bake, BakeOptions};
 use tutorial13::tools::help;
 use tutorial13::tools::make_assets::{make_assets, MakeAssetsOptions};
 use tutorial13::tools::normalmap::{normalmap, NormalmapOptions};
@@ -31,6 +32,7 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     MakeAssets(MakeAssetsOptions),
+    Bake(BakeOptions),
     Normalmap(NormalmapOptions),
     Photometric(PhotometricOptions),
 }
@@ -45,6 +47,7 @@ fn main() -> ExitCode {
     let done = match &cli.command {
         None => run(&cli.run, scene),
         Some(Command::MakeAssets(options)) => make_assets(options),
+        Some(Command::Bake(options)) => bake(options),
         Some(Command::Normalmap(options)) => normalmap(options),
         Some(Command::Photometric(options)) => photometric(options),
     };

@@ -154,3 +154,139 @@ fn write_normals(text: &mut String, segments: u32) {
 fn angle(s: u32, segments: u32) -> f32 {
     std::f32::consts::TAU * s as f32 / segments as f32
 }
+
+/// A sphere's relief for [`sphere_obj_text`]: the radius in unit direction u, and the gradient of
+/// that radius as a function of u (for the exact normals).
+pub type Relief = dyn Fn(glam::DVec3) -> (f64, glam::DVec3);
+
+/// A round sphere of radius 1 as a [`Relief`].
+pub fn round(_direction: glam::DVec3) -> (f64, glam::DVec3) {
+    (1.0, glam::DVec3::ZERO)
+}
+
+/// Bumps: r = 1 + `amplitude` · cos(k x) cos(k y) cos(k z) of the unit direction (x, y, z); smooth
+/// everywhere, the poles included, and the same under x → −x (a mirrored half sees the same relief).
+pub fn bumps(amplitude: f64, k: f64) -> impl Fn(glam::DVec3) -> (f64, glam::DVec3) {
+    move |u| {
+        let (c, s) = (
+            glam::DVec3::new((k * u.x).cos(), (k * u.y).cos(), (k * u.z).cos()),
+            glam::DVec3::new((k * u.x).sin(), (k * u.y).sin(), (k * u.z).sin()),
+        );
+        let gradient =
+            -amplitude * k * glam::DVec3::new(s.x * c.y * c.z, c.x * s.y * c.z, c.x * c.y * s.z);
+        (1.0 + amplitude * c.x * c.y * c.z, gradient)
+    }
+}
+
+/// The point of a sphere whose radius is `relief`'s in unit direction `u`, and its exact unit
+/// normal: the gradient of |p| − r(p / |p|), u tilted against the radius's slope.
+pub fn relief_point(relief: &Relief, u: glam::DVec3) -> (glam::DVec3, glam::DVec3) {
+    let (r, gradient) = relief(u);
+    // Only the gradient's part across u moves the normal (r does not change along u).
+    let across = gradient - u * gradient.dot(u);
+    (u * r, (u - across / r).normalize())
+}
+
+/// The unit direction at polar angle θ (from +y) and azimuth φ (from +z towards +x).
+pub fn sphere_direction(theta: f64, phi: f64) -> glam::DVec3 {
+    let (st, ct) = theta.sin_cos();
+    let (sp, cp) = phi.sin_cos();
+    glam::DVec3::new(st * sp, ct, st * cp)
+}
+
+/// OBJ text of a UV sphere laid out as Blender's "UV Sphere" exports it: `segments` around (U from
+/// 0 to 1, its seam repeated), `rings` from the top pole (V = 1) to the bottom (V = 0), a fan of
+/// triangles at each pole (each pole corner's U in the middle of its segment), quads split in two
+/// elsewhere; exact normals of `relief` at each vertex; counter-clockwise seen from outside. With
+/// `mirror_u`, U runs 0 → 1 → 0 around (the two halves share their texels, as a symmetric model's
+/// mirrored UVs do).
+pub fn sphere_obj_text(segments: u32, rings: u32, relief: &Relief, mirror_u: bool) -> String {
+    use std::f64::consts::PI;
+    use std::fmt::Write;
+    let mut text = String::with_capacity(segments as usize * rings as usize * 120);
+    let _ = writeln!(
+        text,
+        "# tutorial13: UV sphere, {segments} segments, {rings} rings"
+    );
+    // Positions and normals: the top pole, rings 1..rings-1, the bottom pole.
+    let mut points = vec![(0.0, 0.0)];
+    for r in 1..rings {
+        for s in 0..segments {
+            let phi = 2.0 * PI * s as f64 / segments as f64;
+            points.push((PI * r as f64 / rings as f64, phi));
+        }
+    }
+    points.push((PI, 0.0));
+    for &(theta, phi) in &points {
+        let (p, n) = relief_point(relief, sphere_direction(theta, phi));
+        let _ = writeln!(text, "v {:.7} {:.7} {:.7}", p.x, p.y, p.z);
+        let _ = writeln!(text, "vn {:.7} {:.7} {:.7}", n.x, n.y, n.z);
+    }
+    let u = |s: f64| {
+        let u = s / segments as f64;
+        if mirror_u {
+            1.0 - (2.0 * u - 1.0).abs()
+        } else {
+            u
+        }
+    };
+    // UVs: each ring's segments + 1 columns, then the poles' one per segment.
+    for r in 1..rings {
+        let v = 1.0 - r as f64 / rings as f64;
+        for s in 0..=segments {
+            let _ = writeln!(text, "vt {:.7} {v:.7}", u(s as f64));
+        }
+    }
+    for pole_v in [1.0, 0.0] {
+        for s in 0..segments {
+            let _ = writeln!(text, "vt {:.7} {pole_v:.1}", u(s as f64 + 0.5));
+        }
+    }
+    let last = points.len() as u32;
+    let v = |r: u32, s: u32| match r {
+        0 => 1,
+        _ if r == rings => last,
+        _ => 2 + (r - 1) * segments + s % segments,
+    };
+    let ring_vts = (rings - 1) * (segments + 1);
+    let vt = |r: u32, s: u32| match r {
+        0 => ring_vts + s + 1,
+        _ if r == rings => ring_vts + segments + s + 1,
+        _ => (r - 1) * (segments + 1) + s + 1,
+    };
+    let corner = |r: u32, s: u32, pole_s: u32| {
+        let (pv, pt) = (
+            v(r, s),
+            vt(r, if r == 0 || r == rings { pole_s } else { s }),
+        );
+        format!("{pv}/{pt}/{pv}")
+    };
+    for s in 0..segments {
+        // φ grows from +z towards +x: seen from outside, (r, s) → (r + 1, s) → (r + 1, s + 1) is
+        // counter-clockwise.
+        let _ = writeln!(
+            text,
+            "f {} {} {}",
+            corner(0, s, s),
+            corner(1, s, s),
+            corner(1, s + 1, s)
+        );
+        for r in 1..rings - 1 {
+            let (a, b, c, d) = (
+                corner(r, s, s),
+                corner(r + 1, s, s),
+                corner(r + 1, s + 1, s),
+                corner(r, s + 1, s),
+            );
+            let _ = writeln!(text, "f {a} {b} {c}\nf {a} {c} {d}");
+        }
+        let _ = writeln!(
+            text,
+            "f {} {} {}",
+            corner(rings - 1, s, s),
+            corner(rings, s, s),
+            corner(rings - 1, s + 1, s)
+        );
+    }
+    text
+}

@@ -5,6 +5,7 @@
 //! lays `--help` out for the terminal. The options derive `clap::Args`: their doc comments are the
 //! help texts.
 
+pub mod bake;
 pub mod help;
 pub mod make_assets;
 pub mod normalmap;

@@ -1,0 +1,518 @@
+//! Baking: the normals of a detailed model (HIGH) written into a simple model's (LOW's) UV layout, in
+//! the tangent frame that will draw LOW. The tutorial's "How to create a normal map" ends with such a
+//! map ("baked normals"); this is the tool that makes one.
+//!
+//! For every texel of LOW's layout (K × K positions in it), LOW's surface point and interpolated
+//! normal are found; a ray starts on the cage (the point pushed out along that normal by the
+//! extrusion) and goes back along the normal, up to the maximum distance; the first triangle of HIGH
+//! it meets gives its interpolated normal there (its face normal where HIGH's file has none). That
+//! normal is written in LOW's frame at the texel: the inverse of what the renderer does with the
+//! frame, so that drawing LOW with the map in that frame gives HIGH's normal back. A ray that meets
+//! nothing writes the flat normal. These are Blender's semantics (`cage_extrusion`,
+//! `max_ray_distance`), so that the same settings give the same map.
+//!
+//! The frames ([`Tangents`]):
+//! * MikkTSpace (glTF's rule, Blender's bake): the renderer rebuilds n = t.x·T + t.y·B + t.z·N per
+//!   pixel from the interpolated, unnormalized T and N, with B = sign · N × T; the bake solves that
+//!   3 × 3 system for t.
+//! * The tutorial's frame: `computeTangentBasis` + `indexVBO_TBN`, each vertex's summed T, B and N
+//!   (normalized first with `--normalize-tbn`, as the article's text does). Its shader moves the light
+//!   into that frame, l' = (T·l, B·l, N·l), and normalizes l' before lighting; the map that gives
+//!   HIGH's normal back is t = (T B N)⁻¹ n, the same solve. Where T, B and N are not at right angles
+//!   with equal lengths, normalizing l' after the frame stretched it changes the light's brightness
+//!   by up to the frame's stretch σmax/σmin whatever the map holds: no map can be right there, and
+//!   the bake measures by how much ([`Skew`]).
+
+pub mod bvh;
+mod texels;
+
+use std::path::Path;
+
+use glam::{DMat3, DVec3, Vec3};
+
+use crate::clock::Instant;
+use crate::common::objloader::TriangleSoup;
+use crate::mesh::{build_mesh, MeshOptions};
+use crate::model::{load_model, MapOverrides, Model};
+use crate::{Error, Result};
+
+pub use texels::{TexelState, UvLayout};
+
+/// The frame the map is baked for.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Tangents {
+    /// MikkTSpace, computed from LOW (glTF's and Blender's convention)
+    #[default]
+    #[value(name = "mikktspace")]
+    MikkTSpace,
+    /// LOW's own TANGENTs (a glTF that has them; MikkTSpace's where a primitive has none)
+    File,
+    /// The tutorial's computeTangentBasis + indexVBO_TBN (summed, as its shader takes them)
+    Tutorial,
+}
+
+/// Where the map's vectors live.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Space {
+    /// In LOW's tangent frame at each texel.
+    #[default]
+    Tangent,
+    /// In the model's own axes (the file's: placing only scales and moves).
+    Object,
+}
+
+/// Everything the bake needs besides the two models. Distances are in LOW's file units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BakeSettings {
+    pub width: u32,
+    pub height: u32,
+    /// K: K × K positions per texel.
+    pub samples: u32,
+    /// How far the cage is pushed out along LOW's normal.
+    pub extrusion: f32,
+    /// How far a ray goes from the cage.
+    pub max_distance: f32,
+    /// Texels filled around each island's edge.
+    pub margin: u32,
+    pub tangents: Tangents,
+    /// The tutorial's frame with each vertex's T, B and N normalized (the article's text).
+    pub normalize_tbn: bool,
+    pub space: Space,
+    pub threads: usize,
+}
+
+impl Default for BakeSettings {
+    fn default() -> Self {
+        BakeSettings {
+            width: 1024,
+            height: 1024,
+            samples: 1,
+            extrusion: 0.0,
+            max_distance: 0.0,
+            margin: 16,
+            tangents: Tangents::MikkTSpace,
+            normalize_tbn: false,
+            space: Space::Tangent,
+            threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        }
+    }
+}
+
+/// LOW's frame at each corner, as its renderer interpolates it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CornerFrames {
+    pub tangents: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub bitangents: Bitangents,
+}
+
+/// How the renderer gets B.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Bitangents {
+    /// MikkTSpace's: sign · N × T per pixel, the sign per corner.
+    Signs(Vec<f32>),
+    /// Interpolated as given (the tutorial's vertex attribute).
+    Given(Vec<Vec3>),
+}
+
+impl CornerFrames {
+    /// MikkTSpace's tangents (xyz, w the sign) over `soup`'s normals.
+    pub fn mikktspace(soup: &TriangleSoup, tangents: &[[f32; 4]]) -> Self {
+        CornerFrames {
+            tangents: tangents
+                .iter()
+                .map(|t| Vec3::new(t[0], t[1], t[2]))
+                .collect(),
+            normals: soup.normals.clone(),
+            bitangents: Bitangents::Signs(tangents.iter().map(|t| t[3]).collect()),
+        }
+    }
+
+    /// The tutorial's pipeline's vertices (what its renderer uploads) at each corner; each vector
+    /// normalized first when `normalize` (the article's normalized TBN).
+    pub fn tutorial(soup: &TriangleSoup, normalize: bool) -> Self {
+        let mesh = build_mesh(soup, MeshOptions::default());
+        let indices = mesh.indices.to_u32();
+        let pick = |values: &[Vec3]| -> Vec<Vec3> {
+            indices
+                .iter()
+                .map(|&i| {
+                    let v = values[i as usize];
+                    if normalize {
+                        v.normalize_or_zero()
+                    } else {
+                        v
+                    }
+                })
+                .collect()
+        };
+        CornerFrames {
+            tangents: pick(&mesh.tangents),
+            normals: pick(&mesh.normals),
+            bitangents: Bitangents::Given(pick(&mesh.bitangents)),
+        }
+    }
+
+    /// The frame at barycentrics `b` of triangle `t`: the columns T, B, N.
+    fn at(&self, t: usize, b: [f32; 3]) -> [DVec3; 3] {
+        let mix = |v: &[Vec3]| -> DVec3 {
+            (0..3)
+                .map(|i| v[3 * t + i].as_dvec3() * b[i] as f64)
+                .sum::<DVec3>()
+        };
+        let tangent = mix(&self.tangents);
+        let normal = mix(&self.normals);
+        let bitangent = match &self.bitangents {
+            Bitangents::Given(v) => mix(v),
+            Bitangents::Signs(signs) => {
+                let sign: f32 = (0..3).map(|i| signs[3 * t + i] * b[i]).sum();
+                normal.cross(tangent) * if sign < 0.0 { -1.0 } else { 1.0 }
+            }
+        };
+        [tangent, bitangent, normal]
+    }
+}
+
+/// How far the tutorial's frame is from one that lights right: its stretch σmax/σmin (1 for T, B
+/// and N at right angles with equal lengths), over the covered texels.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Skew {
+    /// Texels whose stretch is over [`SKEW_LIMIT`].
+    pub skewed: usize,
+    pub median: f64,
+    pub max: f64,
+}
+
+/// A stretch above this changes the light by more than 5 % for some light direction.
+pub const SKEW_LIMIT: f64 = 1.05;
+
+/// What the bake did.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BakeStats {
+    /// Texels with at least one sample on LOW.
+    pub covered: usize,
+    /// Texels the margin filled.
+    pub margin: usize,
+    /// Rays cast (covered samples).
+    pub rays: usize,
+    /// Rays that met nothing within the maximum distance (flat normal written).
+    pub missed: usize,
+    /// Of those, rays that meet HIGH farther on (a longer `--max-distance` would reach it).
+    pub missed_beyond: usize,
+    /// Of those, rays whose cage point has HIGH outside it (a larger `--extrusion` would enclose it).
+    pub missed_outside: usize,
+    /// Texels where two triangles' UVs claim one sample (mirrored or overlapping islands).
+    pub overlapping: usize,
+    /// LOW's triangles with no area in UV space (they cover nothing).
+    pub flat_uv_triangles: usize,
+    /// Samples whose frame has no inverse (T, B and N in one plane): flat normal written.
+    pub singular: usize,
+    /// For the tutorial's frame.
+    pub skew: Option<Skew>,
+}
+
+/// A baked map: unit vectors, row 0 at the top (V = 1), y up the picture.
+#[derive(Debug, Clone)]
+pub struct BakedMap {
+    pub width: u32,
+    pub height: u32,
+    pub normals: Vec<Vec3>,
+    pub states: Vec<TexelState>,
+    pub stats: BakeStats,
+}
+
+/// Both models in one space, and LOW's frames.
+pub struct BakeInput<'a> {
+    pub low: &'a TriangleSoup,
+    pub frames: &'a CornerFrames,
+    pub high: &'a TriangleSoup,
+    /// HIGH's file has no normals: its face normals are taken.
+    pub high_face_normals: bool,
+    /// In this space's units.
+    pub extrusion: f32,
+    pub max_distance: f32,
+}
+
+/// The bake on soups already in one space: raster, rays and margin.
+pub fn bake_soups(input: &BakeInput, settings: &BakeSettings) -> BakedMap {
+    let clock = Instant::now();
+    let bvh = bvh::Bvh::build(&input.high.vertices, settings.threads);
+    log::info!(
+        "bake: BVH over {} triangles ({} nodes) in {:.2} s",
+        input.high.triangle_count(),
+        bvh.node_count(),
+        clock.elapsed().as_secs_f64()
+    );
+    let clock = Instant::now();
+    let layout = UvLayout::new(input.low, settings.width, settings.height, settings.samples);
+    let sampler = Sampler {
+        input,
+        bvh: &bvh,
+        space: settings.space,
+        measure_skew: matches!(input.frames.bitangents, Bitangents::Given(_)),
+    };
+    let mut map = layout.bake(settings.threads, |t, b| sampler.sample(t, b));
+    log::info!(
+        "bake: {} rays in {:.2} s",
+        map.stats.rays,
+        clock.elapsed().as_secs_f64()
+    );
+    let clock = Instant::now();
+    map.stats.margin = texels::fill_margin(
+        settings.width as usize,
+        settings.height as usize,
+        &mut map.normals,
+        &mut map.states,
+        settings.margin as usize,
+    );
+    log::info!(
+        "bake: margin of {} in {:.2} s",
+        settings.margin,
+        clock.elapsed().as_secs_f64()
+    );
+    map
+}
+
+/// One sample's ray and its normal in the map's space.
+struct Sampler<'a> {
+    input: &'a BakeInput<'a>,
+    bvh: &'a bvh::Bvh,
+    space: Space,
+    measure_skew: bool,
+}
+
+/// What one sample gives.
+pub(crate) struct Sample {
+    pub normal: Vec3,
+    pub missed: bool,
+    pub missed_beyond: bool,
+    pub missed_outside: bool,
+    pub singular: bool,
+    /// The frame's stretch, where it is measured.
+    pub stretch: Option<f64>,
+}
+
+impl Sampler<'_> {
+    fn sample(&self, t: usize, b: [f32; 3]) -> Sample {
+        let low = self.input.low;
+        let mix = |v: &[Vec3]| -> Vec3 { (0..3).map(|i| v[3 * t + i] * b[i]).sum() };
+        let position = mix(&low.vertices);
+        let normal = mix(&low.normals).normalize_or_zero();
+        let origin = position + normal * self.input.extrusion;
+        let hit = self.bvh.first_hit(origin, -normal, self.input.max_distance);
+        let missed = hit.is_none();
+        // Where a missed ray's HIGH is: past its end, or outside the cage.
+        let look = |direction: Vec3| {
+            missed
+                && normal != Vec3::ZERO
+                && self
+                    .bvh
+                    .first_hit(origin, direction, f32::INFINITY)
+                    .is_some()
+        };
+        let high_normal = hit.map(|hit| self.high_normal(hit));
+        let mut sample = Sample {
+            normal: Vec3::Z,
+            missed,
+            missed_beyond: look(-normal),
+            missed_outside: look(normal),
+            singular: false,
+            stretch: None,
+        };
+        if self.space == Space::Object {
+            // A miss keeps LOW's own normal: the object-space map's "flat".
+            sample.normal = match high_normal {
+                Some(n) => n,
+                None if normal == Vec3::ZERO => Vec3::Z,
+                None => normal,
+            };
+            return sample;
+        }
+        let frame = self.input.frames.at(t, b);
+        if self.measure_skew {
+            sample.stretch = Some(stretch(&frame));
+        }
+        match high_normal {
+            None => {}
+            Some(n) => {
+                let matrix = DMat3::from_cols(frame[0], frame[1], frame[2]);
+                let det = matrix.determinant();
+                let scale = frame.iter().map(|c| c.length()).product::<f64>();
+                // A frame whose columns span no volume (relative to their lengths) has no inverse.
+                if det.abs() > 1e-9 * scale && det.is_finite() {
+                    let t = (matrix.inverse() * n.as_dvec3()).normalize_or_zero();
+                    if t != DVec3::ZERO {
+                        sample.normal = t.as_vec3();
+                    }
+                } else {
+                    sample.singular = true;
+                }
+            }
+        }
+        sample
+    }
+
+    /// HIGH's normal where the ray met it: interpolated, or the face's.
+    fn high_normal(&self, hit: bvh::Hit) -> Vec3 {
+        let high = self.input.high;
+        let t = hit.triangle as usize;
+        let corners = 3 * t..3 * t + 3;
+        let n = if self.input.high_face_normals {
+            let p = &high.vertices[corners];
+            (p[1] - p[0]).cross(p[2] - p[0])
+        } else {
+            let n = &high.normals[corners];
+            n[0] * (1.0 - hit.u - hit.v) + n[1] * hit.u + n[2] * hit.v
+        };
+        n.normalize_or_zero()
+    }
+}
+
+/// σmax/σmin of the frame's matrix (the square roots of its Gram matrix's extreme eigenvalues); a
+/// frame with no inverse is infinitely stretched.
+fn stretch(frame: &[DVec3; 3]) -> f64 {
+    let m = DMat3::from_cols(frame[0], frame[1], frame[2]);
+    let gram = m.transpose() * m;
+    let (smallest, largest) = symmetric_eigen_extremes(&gram);
+    if smallest <= 0.0 || !smallest.is_finite() {
+        return f64::INFINITY;
+    }
+    (largest / smallest).sqrt()
+}
+
+/// The smallest and largest eigenvalues of a symmetric 3 × 3 matrix (the trigonometric solution of
+/// its characteristic cubic).
+fn symmetric_eigen_extremes(a: &DMat3) -> (f64, f64) {
+    let (a00, a11, a22) = (a.x_axis.x, a.y_axis.y, a.z_axis.z);
+    let (a01, a02, a12) = (a.y_axis.x, a.z_axis.x, a.z_axis.y);
+    let off = a01 * a01 + a02 * a02 + a12 * a12;
+    let q = (a00 + a11 + a22) / 3.0;
+    if off <= 1e-30 * q * q {
+        let d = [a00, a11, a22];
+        return (
+            d.iter().copied().fold(f64::INFINITY, f64::min),
+            d.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+        );
+    }
+    let p2 = (a00 - q).powi(2) + (a11 - q).powi(2) + (a22 - q).powi(2) + 2.0 * off;
+    let p = (p2 / 6.0).sqrt();
+    let b = (*a - DMat3::from_diagonal(DVec3::splat(q))) * (1.0 / p);
+    let r = (b.determinant() / 2.0).clamp(-1.0, 1.0);
+    let phi = r.acos() / 3.0;
+    let largest = q + 2.0 * p * phi.cos();
+    let smallest = q + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
+    (smallest, largest)
+}
+
+/// The files' side of a bake: both models read, HIGH moved into LOW's placed space, LOW's frames.
+pub struct BakeFiles {
+    pub high: Model,
+    pub low: Model,
+    /// HIGH's positions in LOW's placed space.
+    pub high_soup: TriangleSoup,
+    pub frames: CornerFrames,
+    /// Placed units per LOW file unit.
+    pub scale: f32,
+}
+
+impl BakeFiles {
+    /// Reads HIGH and LOW (anything `--model` reads) and computes LOW's frame for `settings`.
+    pub fn load(high_path: &Path, low_path: &Path, settings: &BakeSettings) -> Result<BakeFiles> {
+        let clock = Instant::now();
+        let (high, low) = std::thread::scope(|scope| {
+            let high = scope.spawn(|| load_model(high_path, &MapOverrides::default()));
+            let low = load_model(low_path, &MapOverrides::default());
+            let high = high
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            (high, low)
+        });
+        let (high, low) = (high?, low?);
+        log::info!(
+            "bake: read {} and {} in {:.2} s",
+            high_path.display(),
+            low_path.display(),
+            clock.elapsed().as_secs_f64()
+        );
+        let clock = Instant::now();
+        // Each model was placed on the tutorial's cylinder by its own bounding sphere: HIGH goes back
+        // to its file's coordinates, then where LOW's placing puts them.
+        let mut high_soup = high.soup.clone();
+        for p in &mut high_soup.vertices {
+            *p = low.placement.to_world(high.placement.to_file(*p));
+        }
+        let frames = match settings.tangents {
+            Tangents::MikkTSpace => CornerFrames::mikktspace(
+                &low.soup,
+                &crate::tangents::mikktspace_tangents(&low.soup)?,
+            ),
+            Tangents::File => {
+                let file = low.file_tangents.as_ref().ok_or_else(|| Error::Bake {
+                    path: low_path.to_path_buf(),
+                    reason: "--tangents file: the file has no TANGENT (a glTF exported with \
+                             tangents has them); --tangents mikktspace computes the same \
+                             convention"
+                        .into(),
+                })?;
+                CornerFrames::mikktspace(&low.soup, &file.complete(&low.soup)?)
+            }
+            Tangents::Tutorial => CornerFrames::tutorial(&low.soup, settings.normalize_tbn),
+        };
+        log::info!(
+            "bake: LOW's frames in {:.2} s",
+            clock.elapsed().as_secs_f64()
+        );
+        let scale = low.placement.scale();
+        Ok(BakeFiles {
+            high,
+            low,
+            high_soup,
+            frames,
+            scale,
+        })
+    }
+
+    /// The bake, with `extrusion` and `max_distance` in LOW's file units.
+    pub fn bake(&self, settings: &BakeSettings) -> Result<BakedMap> {
+        let input = BakeInput {
+            low: &self.low.soup,
+            frames: &self.frames,
+            high: &self.high_soup,
+            high_face_normals: self.high.normals_computed,
+            extrusion: settings.extrusion * self.scale,
+            max_distance: settings.max_distance * self.scale,
+        };
+        let map = bake_soups(&input, settings);
+        if map.stats.covered == 0 {
+            return Err(Error::Bake {
+                path: self.low.path.clone(),
+                reason: format!(
+                    "no texel of the {}×{} map is covered: its triangles have no area in UV \
+                     space, or lie outside 0..1 (a bake needs LOW's UV layout)",
+                    settings.width, settings.height
+                ),
+            });
+        }
+        Ok(map)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Fails if the eigenvalue solution is wrong for a rotated spectrum, or for a diagonal one.
+    #[test]
+    fn the_stretch_of_a_frame_is_its_singular_values_ratio() {
+        let rotation = DMat3::from_euler(glam::EulerRot::XYZ, 0.3, -0.7, 1.1);
+        let scaled = rotation * DMat3::from_diagonal(DVec3::new(2.0, 0.5, 1.0));
+        let frame = [scaled.x_axis, scaled.y_axis, scaled.z_axis];
+        assert!((stretch(&frame) - 4.0).abs() < 1e-9, "{}", stretch(&frame));
+        let identity = [DVec3::X, DVec3::Y, DVec3::Z];
+        assert!((stretch(&identity) - 1.0).abs() < 1e-12);
+        let scaled = [DVec3::X * 3.0, DVec3::Y * 3.0, DVec3::Z * 3.0];
+        assert!((stretch(&scaled) - 1.0).abs() < 1e-12);
+        let flat = [DVec3::X, DVec3::Y, DVec3::X + DVec3::Y];
+        assert!(stretch(&flat) > 1e6);
+    }
+}

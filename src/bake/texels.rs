@@ -1,0 +1,461 @@
+//! LOW's UV layout as texels: which triangle covers each sample position, with its barycentrics, in
+//! bands of rows baked on every core; and the margin around the islands.
+
+use std::sync::Mutex;
+
+use glam::{DVec2, Vec3};
+
+use super::{BakeStats, BakedMap, Sample, Skew, SKEW_LIMIT};
+use crate::common::objloader::TriangleSoup;
+
+/// Rows of texels baked together: small enough that the bands share the cores evenly.
+const BAND_ROWS: usize = 8;
+/// No triangle owns a sample.
+const NONE: u32 = u32::MAX;
+
+/// What a texel of the baked map holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TexelState {
+    /// Nothing of LOW: the flat normal.
+    Empty,
+    /// A sample of LOW's surface.
+    Covered,
+    /// Filled by the margin from its neighbours.
+    Margin,
+}
+
+/// A triangle in sample coordinates (x right, y down the picture, one unit per sample), its
+/// corners ordered so that its area is positive.
+#[derive(Debug, Clone, Copy)]
+struct PixelTriangle {
+    corners: [DVec2; 3],
+    /// Which soup corner each of `corners` is.
+    order: [usize; 3],
+    area: f64,
+}
+
+/// LOW's triangles laid on a `width × height` map sampled `samples × samples` times per texel.
+#[derive(Debug)]
+pub struct UvLayout {
+    width: usize,
+    height: usize,
+    samples: usize,
+    triangles: Vec<Option<PixelTriangle>>,
+    /// Each band's triangles, in the soup's order.
+    bands: Vec<Vec<u32>>,
+}
+
+impl UvLayout {
+    /// The layout of `soup`'s UVs (V up: V = 1 is the picture's top row, as image files store it).
+    pub fn new(soup: &TriangleSoup, width: u32, height: u32, samples: u32) -> UvLayout {
+        let (width, height, samples) = (width as usize, height as usize, samples.max(1) as usize);
+        let scale = DVec2::new((width * samples) as f64, (height * samples) as f64);
+        let band_count = height.div_ceil(BAND_ROWS);
+        let mut bands = vec![Vec::new(); band_count];
+        let triangles: Vec<Option<PixelTriangle>> = soup
+            .uvs
+            .chunks_exact(3)
+            .map(|uv| {
+                let at = |k: usize| DVec2::new(uv[k].x as f64, 1.0 - uv[k].y as f64) * scale;
+                let (a, b, c) = (at(0), at(1), at(2));
+                let area = (b - a).perp_dot(c - a);
+                // Zero area (or NaN UVs): the triangle covers nothing.
+                if area == 0.0 || !area.is_finite() {
+                    return None;
+                }
+                Some(if area > 0.0 {
+                    PixelTriangle {
+                        corners: [a, b, c],
+                        order: [0, 1, 2],
+                        area,
+                    }
+                } else {
+                    PixelTriangle {
+                        corners: [a, c, b],
+                        order: [0, 2, 1],
+                        area: -area,
+                    }
+                })
+            })
+            .collect();
+        for (t, tri) in triangles.iter().enumerate() {
+            let Some(tri) = tri else { continue };
+            let Some((_, rows)) = sample_box(tri, width * samples, height * samples) else {
+                continue;
+            };
+            let first = rows.start / samples / BAND_ROWS;
+            let last = (rows.end - 1) / samples / BAND_ROWS;
+            for band in &mut bands[first..=last] {
+                band.push(t as u32);
+            }
+        }
+        UvLayout {
+            width,
+            height,
+            samples,
+            triangles,
+            bands,
+        }
+    }
+
+    /// LOW's triangles with no area in UV space.
+    pub fn flat_triangles(&self) -> usize {
+        self.triangles.iter().filter(|t| t.is_none()).count()
+    }
+
+    /// Every covered sample through `sample` (triangle index, barycentrics of its corners), on
+    /// `threads` threads, averaged per texel. Where two triangles claim a sample, the later one in
+    /// the soup keeps it.
+    pub(crate) fn bake(
+        &self,
+        threads: usize,
+        sample: impl Fn(usize, [f32; 3]) -> Sample + Sync,
+    ) -> BakedMap {
+        let texels = self.width * self.height;
+        let mut normals = vec![Vec3::Z; texels];
+        let mut states = vec![TexelState::Empty; texels];
+        let work: Vec<_> = normals
+            .chunks_mut(BAND_ROWS * self.width)
+            .zip(states.chunks_mut(BAND_ROWS * self.width))
+            .enumerate()
+            .collect();
+        let work = Mutex::new(work.into_iter());
+        let results = Mutex::new((BakeStats::default(), Vec::<f32>::new()));
+        let sample = &sample;
+        std::thread::scope(|scope| {
+            let worker = || loop {
+                let next = work.lock().expect("no worker panics holding it").next();
+                let Some((band, (normals, states))) = next else {
+                    break;
+                };
+                let (stats, stretches) = self.bake_band(band, normals, states, sample);
+                let mut all = results.lock().expect("no worker panics holding it");
+                add_stats(&mut all.0, &stats);
+                all.1.extend(stretches);
+            };
+            let others: Vec<_> = (1..threads.max(1)).map(|_| scope.spawn(worker)).collect();
+            worker();
+            for other in others {
+                other
+                    .join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            }
+        });
+        let (mut stats, mut stretches) = results.into_inner().expect("workers are done");
+        stats.flat_uv_triangles = self.flat_triangles();
+        if !stretches.is_empty() {
+            stretches.sort_unstable_by(f32::total_cmp);
+            stats.skew = Some(Skew {
+                skewed: stretches.iter().filter(|&&s| s as f64 > SKEW_LIMIT).count(),
+                median: stretches[stretches.len() / 2] as f64,
+                max: *stretches.last().expect("not empty") as f64,
+            });
+        }
+        BakedMap {
+            width: self.width as u32,
+            height: self.height as u32,
+            normals,
+            states,
+            stats,
+        }
+    }
+
+    /// One band: its triangles rasterized into per-sample owners, then each owned sample baked.
+    /// Returns the band's counts and each covered texel's frame stretch (where measured).
+    fn bake_band(
+        &self,
+        band: usize,
+        normals: &mut [Vec3],
+        states: &mut [TexelState],
+        sample: &(impl Fn(usize, [f32; 3]) -> Sample + Sync),
+    ) -> (BakeStats, Vec<f32>) {
+        let (w, k) = (self.width, self.samples);
+        let rows = normals.len() / w;
+        let first_sample_row = band * BAND_ROWS * k;
+        let sample_rows = first_sample_row..first_sample_row + rows * k;
+        let per_row = w * k;
+        let count = rows * k * per_row;
+        let mut owner = vec![NONE; count];
+        let mut weights = vec![[0f32; 3]; count];
+        let mut claims = vec![0u8; count];
+        for &t in &self.bands[band] {
+            let tri = self.triangles[t as usize].expect("only triangles with area are in bands");
+            let Some((xs, ys)) = sample_box(&tri, w * k, self.height * k) else {
+                continue;
+            };
+            let ys = ys.start.max(sample_rows.start)..ys.end.min(sample_rows.end);
+            for sy in ys {
+                for sx in xs.clone() {
+                    let p = DVec2::new(sx as f64 + 0.5, sy as f64 + 0.5);
+                    let Some(b) = barycentrics(&tri, p) else {
+                        continue;
+                    };
+                    let at = (sy - sample_rows.start) * per_row + sx;
+                    owner[at] = t;
+                    weights[at] = b;
+                    claims[at] = claims[at].saturating_add(1);
+                }
+            }
+        }
+        let mut stats = BakeStats::default();
+        let mut stretches = Vec::new();
+        for row in 0..rows {
+            for x in 0..w {
+                let mut sum = Vec3::ZERO;
+                let mut first: Option<Vec3> = None;
+                let mut stretch = None;
+                let mut overlapping = false;
+                for j in 0..k {
+                    for i in 0..k {
+                        let at = (row * k + j) * per_row + x * k + i;
+                        if owner[at] == NONE {
+                            continue;
+                        }
+                        overlapping |= claims[at] > 1;
+                        let s = sample(owner[at] as usize, weights[at]);
+                        stats.rays += 1;
+                        stats.missed += usize::from(s.missed);
+                        stats.missed_beyond += usize::from(s.missed_beyond);
+                        stats.missed_outside += usize::from(s.missed_outside);
+                        stats.singular += usize::from(s.singular);
+                        stretch = stretch.or(s.stretch);
+                        first.get_or_insert(s.normal);
+                        sum += s.normal;
+                    }
+                }
+                let Some(first) = first else { continue };
+                let texel = row * w + x;
+                // Samples that cancel (a fold) keep the first one's direction.
+                normals[texel] = sum.try_normalize().unwrap_or(first);
+                states[texel] = TexelState::Covered;
+                stats.covered += 1;
+                stats.overlapping += usize::from(overlapping);
+                if let Some(s) = stretch {
+                    stretches.push(s.min(f32::MAX as f64) as f32);
+                }
+            }
+        }
+        (stats, stretches)
+    }
+}
+
+/// The sample columns and rows whose centres (x + ½, y + ½) can fall in `tri`, clipped to the map.
+fn sample_box(
+    tri: &PixelTriangle,
+    columns: usize,
+    rows: usize,
+) -> Option<(std::ops::Range<usize>, std::ops::Range<usize>)> {
+    let min = tri.corners[0].min(tri.corners[1]).min(tri.corners[2]);
+    let max = tri.corners[0].max(tri.corners[1]).max(tri.corners[2]);
+    let range = |low: f64, high: f64, size: usize| {
+        let start = (low - 0.5).ceil().max(0.0);
+        let end = ((high - 0.5).floor() + 1.0).min(size as f64);
+        (start < end).then_some(start as usize..end as usize)
+    };
+    Some((range(min.x, max.x, columns)?, range(min.y, max.y, rows)?))
+}
+
+/// The barycentrics (in the soup's corner order) of `p` if it is inside `tri`. A point on an edge
+/// belongs to one of the two triangles that share it: the edge's own triangle when the edge is a
+/// "top" or "left" one, as GL rasterizes, so that no sample is counted twice on a shared edge.
+fn barycentrics(tri: &PixelTriangle, p: DVec2) -> Option<[f32; 3]> {
+    let [a, b, c] = tri.corners;
+    let weight = |from: DVec2, to: DVec2| {
+        let edge = to - from;
+        let w = edge.perp_dot(p - from);
+        // With y down and positive area the inside is w > 0; on the edge (w = 0) take the point
+        // only for edges going one way, which the neighbour's copy of the edge does not.
+        let owns_edge = edge.y > 0.0 || (edge.y == 0.0 && edge.x < 0.0);
+        (w > 0.0 || (w == 0.0 && owns_edge)).then_some(w)
+    };
+    // Each corner's weight is the edge opposite it.
+    let wa = weight(b, c)?;
+    let wb = weight(c, a)?;
+    let wc = weight(a, b)?;
+    let mut out = [0f32; 3];
+    for (k, w) in [wa, wb, wc].into_iter().enumerate() {
+        out[tri.order[k]] = (w / tri.area) as f32;
+    }
+    Some(out)
+}
+
+fn add_stats(all: &mut BakeStats, band: &BakeStats) {
+    all.covered += band.covered;
+    all.rays += band.rays;
+    all.missed += band.missed;
+    all.missed_beyond += band.missed_beyond;
+    all.missed_outside += band.missed_outside;
+    all.overlapping += band.overlapping;
+    all.singular += band.singular;
+}
+
+/// Grows the covered texels outward by `margin` rings (8 neighbours: each ring is the texels at
+/// that Chebyshev distance), each new texel the normalized mean of its filled neighbours. Returns
+/// how many texels it filled.
+pub fn fill_margin(
+    width: usize,
+    height: usize,
+    normals: &mut [Vec3],
+    states: &mut [TexelState],
+    margin: usize,
+) -> usize {
+    let neighbours = |i: usize| {
+        let (x, y) = ((i % width) as isize, (i / width) as isize);
+        (-1..=1isize)
+            .flat_map(move |dy| (-1..=1isize).map(move |dx| (x + dx, y + dy)))
+            .filter(move |&(nx, ny)| {
+                (nx, ny) != (x, y)
+                    && (0..width as isize).contains(&nx)
+                    && (0..height as isize).contains(&ny)
+            })
+            .map(move |(nx, ny)| ny as usize * width + nx as usize)
+    };
+    let mut frontier: Vec<usize> = (0..states.len())
+        .filter(|&i| states[i] == TexelState::Covered)
+        .filter(|&i| neighbours(i).any(|n| states[n] == TexelState::Empty))
+        .collect();
+    let mut queued = vec![false; states.len()];
+    let mut filled = 0;
+    for _ in 0..margin {
+        let mut ring = Vec::new();
+        for &f in &frontier {
+            for n in neighbours(f) {
+                if states[n] == TexelState::Empty && !queued[n] {
+                    queued[n] = true;
+                    ring.push(n);
+                }
+            }
+        }
+        if ring.is_empty() {
+            break;
+        }
+        // Every value of the ring is computed from the rings before it, then written.
+        let values: Vec<Vec3> = ring
+            .iter()
+            .map(|&i| {
+                let sum: Vec3 = neighbours(i)
+                    .filter(|&n| states[n] != TexelState::Empty)
+                    .map(|n| normals[n])
+                    .sum();
+                sum.try_normalize().unwrap_or(Vec3::Z)
+            })
+            .collect();
+        for (&i, v) in ring.iter().zip(values) {
+            normals[i] = v;
+            states[i] = TexelState::Margin;
+        }
+        filled += ring.len();
+        frontier = ring;
+    }
+    filled
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec2;
+
+    fn soup(uvs: &[Vec2]) -> TriangleSoup {
+        TriangleSoup {
+            vertices: vec![Vec3::ZERO; uvs.len()],
+            uvs: uvs.to_vec(),
+            normals: vec![Vec3::Z; uvs.len()],
+        }
+    }
+
+    fn flat(_: usize, _: [f32; 3]) -> Sample {
+        Sample {
+            normal: Vec3::Z,
+            missed: false,
+            missed_beyond: false,
+            missed_outside: false,
+            singular: false,
+            stretch: None,
+        }
+    }
+
+    /// Fails if a shared edge's samples are counted by both triangles or by neither (the fill
+    /// rule), or if the square's texels are not all covered exactly once.
+    #[test]
+    fn two_triangles_of_a_square_cover_each_sample_once() {
+        let (a, b, c, d) = (
+            Vec2::new(0.1, 0.1),
+            Vec2::new(0.9, 0.1),
+            Vec2::new(0.9, 0.9),
+            Vec2::new(0.1, 0.9),
+        );
+        // One wound each way in UV space: the rule must hold for both orientations.
+        let layout = UvLayout::new(&soup(&[a, b, c, a, d, c]), 10, 10, 3);
+        let map = layout.bake(2, flat);
+        // Samples at (x + 1/6, 3/6, 5/6) in 0.1..0.9 of 10 texels: texels 1..=8 in each direction.
+        assert_eq!(map.stats.covered, 64);
+        assert_eq!(map.stats.rays, 64 * 9);
+        assert_eq!(map.stats.overlapping, 0);
+    }
+
+    /// Fails if a sample claimed by two overlapping triangles is not counted as overlapping.
+    #[test]
+    fn overlapping_islands_are_counted() {
+        let tri = [
+            Vec2::new(0.0, 0.0),
+            Vec2::new(1.0, 0.0),
+            Vec2::new(0.0, 1.0),
+        ];
+        // The same UV triangle twice, wound the other way the second time (as a mirrored half's
+        // copy is); the hypotenuse's 8 texel centres are on an edge its orientation owns.
+        let mirrored: Vec<Vec2> = tri.iter().rev().copied().collect();
+        let uvs: Vec<Vec2> = tri.iter().copied().chain(mirrored).collect();
+        let map = UvLayout::new(&soup(&uvs), 8, 8, 1).bake(1, flat);
+        assert_eq!(map.stats.covered, 36);
+        assert_eq!(map.stats.overlapping, 36);
+    }
+
+    /// Fails if the margin fills anything other than the texels within `margin` (Chebyshev) of
+    /// the island, or writes over the island.
+    #[test]
+    fn the_margin_fills_exactly_its_rings() {
+        let (w, h) = (40, 30);
+        let mut states = vec![TexelState::Empty; w * h];
+        let mut normals = vec![Vec3::Z; w * h];
+        // An L-shaped island.
+        let island = |x: usize, y: usize| {
+            (10..20).contains(&x) && (8..12).contains(&y)
+                || (10..13).contains(&x) && (8..20).contains(&y)
+        };
+        for y in 0..h {
+            for x in 0..w {
+                if island(x, y) {
+                    states[y * w + x] = TexelState::Covered;
+                    normals[y * w + x] = Vec3::X;
+                }
+            }
+        }
+        let filled = fill_margin(w, h, &mut normals, &mut states, 3);
+        let mut expected = 0;
+        for y in 0..h {
+            for x in 0..w {
+                let distance = (0..h)
+                    .flat_map(|iy| (0..w).map(move |ix| (ix, iy)))
+                    .filter(|&(ix, iy)| island(ix, iy))
+                    .map(|(ix, iy)| {
+                        (ix as isize - x as isize)
+                            .abs()
+                            .max((iy as isize - y as isize).abs())
+                    })
+                    .min()
+                    .unwrap();
+                let state = states[y * w + x];
+                match distance {
+                    0 => assert_eq!(state, TexelState::Covered),
+                    1..=3 => {
+                        expected += 1;
+                        assert_eq!(state, TexelState::Margin, "({x}, {y}) at {distance}");
+                        assert_eq!(normals[y * w + x], Vec3::X);
+                    }
+                    _ => assert_eq!(state, TexelState::Empty, "({x}, {y}) at {distance}"),
+                }
+            }
+        }
+        assert_eq!(filled, expected);
+    }
+}

@@ -1,0 +1,286 @@
+//! `tutorial13 bake HIGH LOW -o normal.png`: a detailed model's normals baked into a simple model's
+//! UV layout, in the tangent frame that will draw it ([`crate::bake`]).
+
+use std::path::PathBuf;
+
+use crate::bake::{BakeFiles, BakeSettings, BakedMap, Space, Tangents};
+use crate::clock::Instant;
+use crate::normalmap::{encode_normal, encode_normal16, map_format, Green};
+use crate::normalmap::{write_normal_map, write_normal_map16};
+use crate::{Error, Result};
+
+/// Bake a normal map from a detailed model (HIGH) into a simple model's UV layout (LOW), in the
+/// tangent frame that will draw LOW (docs/tools.md, "Baking")
+#[derive(clap::Args, Debug, Clone)]
+pub struct BakeOptions {
+    /// The detailed model: OBJ or glTF, anything --model reads
+    pub high: PathBuf,
+    /// The simple model whose UV layout the map fills: OBJ or glTF
+    pub low: PathBuf,
+    /// Output: .png (8 or 16 bits) or .bmp (8 bits)
+    #[arg(short, long, value_name = "FILE")]
+    pub output: PathBuf,
+    /// Map size: N (square) or WxH, each 1 to 16384
+    #[arg(long, value_name = "N|WxH", default_value = "1024", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// K × K rays per texel, averaged (1 to 16)
+    #[arg(long, value_name = "K", default_value_t = 1,
+          value_parser = clap::value_parser!(u32).range(1..=16))]
+    pub samples: u32,
+    /// How far out along LOW's normal the rays start (the cage), in LOW's file units [default: 5 %
+    /// of LOW's bounding-sphere radius]
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    pub extrusion: Option<f32>,
+    /// How far a ray goes from the cage, in LOW's file units [default: 2 × the extrusion]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub max_distance: Option<f32>,
+    /// Texels filled around each UV island's edge
+    #[arg(long, value_name = "M", default_value_t = 16)]
+    pub margin: u32,
+    /// The tangent frame the map is for
+    #[arg(long, value_enum, default_value_t = Tangents::MikkTSpace)]
+    pub tangents: Tangents,
+    /// With --tangents tutorial: each vertex's T, B and N normalized, as the article's text does
+    /// (the scene's --normalize-tbn)
+    #[arg(long)]
+    pub normalize_tbn: bool,
+    /// Green channel up the picture (OpenGL, the tutorial) or down (DirectX)
+    #[arg(long, value_enum, default_value_t = Green::Up)]
+    pub green: Green,
+    /// Bits per channel: 16 needs a .png
+    #[arg(long, value_name = "BITS", default_value_t = 8, value_parser = parse_depth)]
+    pub depth: u8,
+    /// A model-space map (the model's own axes) instead of a tangent-space one
+    #[arg(long, conflicts_with_all = ["tangents", "normalize_tbn", "green"])]
+    pub object_space: bool,
+}
+
+/// 8 or 16.
+fn parse_depth(text: &str) -> std::result::Result<u8, String> {
+    match text {
+        "8" => Ok(8),
+        "16" => Ok(16),
+        _ => Err(format!("{text} bits: 8 or 16")),
+    }
+}
+
+/// `N` or `WxH`, each side 1 to 16384.
+fn parse_size(text: &str) -> std::result::Result<(u32, u32), String> {
+    let side = |s: &str| -> std::result::Result<u32, String> {
+        let n: u32 = s
+            .trim()
+            .parse()
+            .map_err(|_| format!("'{s}' is not a whole number of texels"))?;
+        match n {
+            1..=16384 => Ok(n),
+            _ => Err(format!("{n} texels: a side must be 1 to 16384")),
+        }
+    };
+    match text.split_once(['x', 'X']) {
+        Some((w, h)) => Ok((side(w)?, side(h)?)),
+        None => side(text).map(|n| (n, n)),
+    }
+}
+
+/// Reads both models, bakes, writes the map and says what happened.
+pub fn bake(options: &BakeOptions) -> Result<()> {
+    let start = Instant::now();
+    check_output(options)?;
+    if options.normalize_tbn && options.tangents != Tangents::Tutorial {
+        return Err(Error::Argument(
+            "--normalize-tbn: only with --tangents tutorial (the other frames are unit already)"
+                .into(),
+        ));
+    }
+    let mut settings = BakeSettings {
+        width: options.size.0,
+        height: options.size.1,
+        samples: options.samples,
+        margin: options.margin,
+        tangents: options.tangents,
+        normalize_tbn: options.normalize_tbn,
+        space: if options.object_space {
+            Space::Object
+        } else {
+            Space::Tangent
+        },
+        ..BakeSettings::default()
+    };
+    let files = BakeFiles::load(&options.high, &options.low, &settings)?;
+    let radius = files.low.placement.radius;
+    settings.extrusion = distance("--extrusion", options.extrusion, 0.05 * radius)?;
+    settings.max_distance = distance(
+        "--max-distance",
+        options.max_distance,
+        2.0 * settings.extrusion,
+    )?;
+    if settings.max_distance <= 0.0 {
+        return Err(Error::Argument(
+            "--max-distance: must be more than 0 (the rays go nowhere)".into(),
+        ));
+    }
+    let map = files.bake(&settings)?;
+    let clock = Instant::now();
+    write(options, &map)?;
+    log::info!("bake: written in {:.2} s", clock.elapsed().as_secs_f64());
+    report(options, &settings, &files, &map);
+    log::info!("bake: {:.2} s in all", start.elapsed().as_secs_f64());
+    Ok(())
+}
+
+/// `value` or `default`, which must be a finite distance of 0 or more.
+fn distance(flag: &str, value: Option<f32>, default: f32) -> Result<f32> {
+    let d = value.unwrap_or(default);
+    if !(d.is_finite() && d >= 0.0) {
+        return Err(Error::Argument(format!(
+            "{flag} {d}: must be a finite distance of 0 or more"
+        )));
+    }
+    Ok(d)
+}
+
+/// Refuses an output that cannot be written before the models are read: a format by extension, a
+/// depth the format has, a folder that is there.
+fn check_output(options: &BakeOptions) -> Result<()> {
+    let path = &options.output;
+    let format = map_format(path)?;
+    if options.depth == 16 && format != image::ImageFormat::Png {
+        return Err(Error::Write {
+            path: path.clone(),
+            reason: "--depth 16 is written as PNG only: name it .png".into(),
+        });
+    }
+    let folder = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => std::path::Path::new("."),
+    };
+    if !folder.is_dir() {
+        return Err(Error::Write {
+            path: path.clone(),
+            reason: format!("{} is not a folder", folder.display()),
+        });
+    }
+    Ok(())
+}
+
+/// The map as 8- or 16-bit texels, green flipped for `--green down` (tangent space only).
+fn write(options: &BakeOptions, map: &BakedMap) -> Result<()> {
+    let flip = !options.object_space && options.green == Green::Down;
+    let vectors = map.normals.iter().map(|n| {
+        let y = if flip { -n.y } else { n.y };
+        [n.x, y, n.z]
+    });
+    if options.depth == 16 {
+        let texels: Vec<[u16; 3]> = vectors.map(encode_normal16).collect();
+        write_normal_map16(&options.output, &texels, map.width, map.height)
+    } else {
+        let texels: Vec<[u8; 3]> = vectors.map(encode_normal).collect();
+        write_normal_map(&options.output, &texels, map.width, map.height)
+    }
+}
+
+/// A few lines on stdout: the map, what it covers, the rays that missed and what to change.
+fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map: &BakedMap) {
+    let stats = &map.stats;
+    let texels = map.states.len();
+    let frame = match (settings.space, settings.tangents, settings.normalize_tbn) {
+        (Space::Object, ..) => "object space (the model's axes)".to_string(),
+        (_, Tangents::MikkTSpace, _) => "MikkTSpace's frame (glTF's, Blender's)".to_string(),
+        (_, Tangents::File, _) => "the file's own tangents".to_string(),
+        (_, Tangents::Tutorial, false) => {
+            "the tutorial's frame (summed, as its shader takes it)".to_string()
+        }
+        (_, Tangents::Tutorial, true) => {
+            "the tutorial's frame, normalized (--normalize-tbn)".to_string()
+        }
+    };
+    println!(
+        "wrote {} ({}x{}, {} bits) from {} ({} triangles) onto {} ({} triangles), for {frame}",
+        options.output.display(),
+        map.width,
+        map.height,
+        options.depth,
+        options.high.display(),
+        files.high.soup.triangle_count(),
+        options.low.display(),
+        files.low.soup.triangle_count(),
+    );
+    println!(
+        "covered {} of {texels} texels ({:.1} %) with {} rays ({}x{} per texel); the margin filled {} more",
+        stats.covered,
+        100.0 * stats.covered as f64 / texels as f64,
+        stats.rays,
+        settings.samples,
+        settings.samples,
+        stats.margin,
+    );
+    if stats.missed > 0 {
+        let mut advice = Vec::new();
+        if stats.missed_outside > 0 {
+            advice.push(format!(
+                "for {} HIGH lies outside the cage: raise --extrusion",
+                stats.missed_outside
+            ));
+        }
+        if stats.missed_beyond > 0 {
+            advice.push(format!(
+                "for {} HIGH lies farther in: raise --max-distance",
+                stats.missed_beyond
+            ));
+        }
+        if advice.is_empty() {
+            advice.push(
+                "HIGH is on neither side of LOW there (a hole, or LOW reaches past it)".into(),
+            );
+        }
+        println!(
+            "{} rays ({:.2} %) met nothing within --max-distance {} of the cage (--extrusion {}) \
+             and wrote the flat normal; {}",
+            stats.missed,
+            100.0 * stats.missed as f64 / stats.rays.max(1) as f64,
+            settings.max_distance,
+            settings.extrusion,
+            advice.join("; ")
+        );
+    } else {
+        println!("every ray met HIGH");
+    }
+    if stats.overlapping > 0 {
+        println!(
+            "{} texels are claimed by two or more triangles (mirrored or overlapping UV islands): \
+             the later triangle in the file is kept",
+            stats.overlapping
+        );
+    }
+    if stats.flat_uv_triangles > 0 {
+        println!(
+            "{} of LOW's triangles have no area in UV space and cover nothing",
+            stats.flat_uv_triangles
+        );
+    }
+    if stats.singular > 0 {
+        println!(
+            "{} rays fell where LOW's frame has no inverse (T, B and N in one plane): flat normal",
+            stats.singular
+        );
+    }
+    if let Some(skew) = stats.skew {
+        if skew.skewed > 0 {
+            println!(
+                "no map can be right for this frame at {:.1} % of the covered texels: there its T, \
+                 B and N are not at right angles with equal lengths (stretch median {:.2}, max {:.2}), \
+                 and the shader normalizes the light after the frame stretched it, so the light comes \
+                 out up to that many times too bright or dim, whatever the map holds \
+                 (docs/tangent-space-sync.md). {}",
+                100.0 * skew.skewed as f64 / stats.covered.max(1) as f64,
+                skew.median,
+                skew.max,
+                if settings.normalize_tbn {
+                    "--tangents mikktspace has right angles everywhere"
+                } else {
+                    "--normalize-tbn (drawn with the scene's --normalize-tbn) or --tangents mikktspace"
+                }
+            );
+        }
+    }
+}

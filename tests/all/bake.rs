@@ -1,0 +1,588 @@
+//! `tutorial13 bake`: a model baked onto itself is flat, a fine sphere baked onto a 32×16 UV sphere
+//! gives the sphere's exact normals back through MikkTSpace's rule, mirrored UVs give both halves
+//! right, the margin and the misses are what they say, the tutorial's frame is said to be skewed,
+//! and bad input is one line with nothing written.
+
+use std::path::{Path, PathBuf};
+
+use glam::{DVec3, Vec2, Vec3};
+use tutorial13::bake::{BakeFiles, BakeSettings, BakedMap, Space, Tangents, TexelState};
+use tutorial13::mesh::{bumps, relief_point, round, sphere_obj_text, Relief};
+use tutorial13::model::{load_model, MapOverrides};
+
+use crate::common::{run, scratch, text, tutorial13};
+
+/// HIGH's segments and rings: fine enough that its interpolated normals are the relief's within a
+/// few hundredths of a degree.
+const HIGH: (u32, u32) = (384, 192);
+
+/// A UV sphere (Blender's layout) written as `name` in `dir`.
+fn sphere(
+    dir: &Path,
+    name: &str,
+    segments: u32,
+    rings: u32,
+    relief: &Relief,
+    mirror: bool,
+) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, sphere_obj_text(segments, rings, relief, mirror)).unwrap();
+    path
+}
+
+fn bake_cli(args: &[&str]) -> std::process::Output {
+    run(tutorial13().arg("bake").args(args))
+}
+
+/// A PNG's texels as unit vectors (8 or 16 bits), row 0 at the top.
+fn decode(path: &Path) -> (u32, u32, Vec<Vec3>) {
+    let image = image::open(path).unwrap().into_rgb16();
+    let texels = image
+        .pixels()
+        .map(|p| Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32) / 65535.0 * 2.0 - Vec3::ONE)
+        .map(|v| v.normalize())
+        .collect();
+    (image.width(), image.height(), texels)
+}
+
+fn degrees(a: Vec3, b: Vec3) -> f64 {
+    (a.as_dvec3().dot(b.as_dvec3()) / (a.length() as f64 * b.length() as f64))
+        .clamp(-1.0, 1.0)
+        .acos()
+        .to_degrees()
+}
+
+/// The value below which `fraction` of `values` lie.
+fn percentile(values: &mut [f64], fraction: f64) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[((values.len() - 1) as f64 * fraction).round() as usize]
+}
+
+// Fails if a model baked onto itself is not (128, 128, 255) within one level on every texel
+// (covered, margin and background), in each frame: the solve against LOW's own frame, the ray
+// from the cage back to LOW's surface, or the encoding is wrong.
+#[test]
+fn a_model_baked_onto_itself_is_flat() {
+    let dir = scratch("self");
+    let low = sphere(&dir, "low.obj", 32, 16, &round, false);
+    let low = low.to_str().unwrap();
+    for frame in [
+        &["--tangents", "mikktspace"][..],
+        &["--tangents", "tutorial"],
+        &["--tangents", "tutorial", "--normalize-tbn"],
+    ] {
+        let out = dir.join("self.png");
+        let output = bake_cli(
+            &[
+                &[low, low, "-o", out.to_str().unwrap(), "--size", "128"][..],
+                frame,
+            ]
+            .concat(),
+        );
+        assert!(output.status.success(), "{}", text(&output.stderr));
+        let image = image::open(&out).unwrap().into_rgb8();
+        let worst = image
+            .pixels()
+            .map(|p| {
+                (p[0] as i32 - 128)
+                    .abs()
+                    .max((p[1] as i32 - 128).abs())
+                    .max((p[2] as i32 - 255).abs())
+            })
+            .max()
+            .unwrap();
+        assert!(worst <= 1, "{frame:?}: a texel {worst} levels from flat");
+        let said = text(&output.stdout);
+        assert!(said.contains("every ray met HIGH"), "{said}");
+    }
+}
+
+/// Where each texel centre of a `size²` map falls on LOW: (triangle, barycentrics), found by the
+/// test's own walk over every triangle's UVs, in f64.
+fn texel_owners(uvs: &[Vec2], size: u32) -> Vec<Vec<(usize, [f64; 3])>> {
+    let n = size as usize;
+    let mut owners = vec![Vec::new(); n * n];
+    for (t, uv) in uvs.chunks_exact(3).enumerate() {
+        let p: Vec<glam::DVec2> = uv
+            .iter()
+            .map(|c| glam::DVec2::new(c.x as f64, 1.0 - c.y as f64) * size as f64)
+            .collect();
+        let area = (p[1] - p[0]).perp_dot(p[2] - p[0]);
+        if area == 0.0 {
+            continue;
+        }
+        let (lo, hi) = (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2]));
+        for y in (lo.y.floor().max(0.0) as usize)..(hi.y.ceil() as usize).min(n) {
+            for x in (lo.x.floor().max(0.0) as usize)..(hi.x.ceil() as usize).min(n) {
+                let c = glam::DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
+                let w = [
+                    (p[2] - p[1]).perp_dot(c - p[1]) / area,
+                    (p[0] - p[2]).perp_dot(c - p[2]) / area,
+                    (p[1] - p[0]).perp_dot(c - p[0]) / area,
+                ];
+                if w.iter().all(|&w| w >= -1e-9) {
+                    owners[y * n + x].push((t, w));
+                }
+            }
+        }
+    }
+    owners
+}
+
+/// The bumps HIGH has in these tests: up to ±0.02, normals tilted up to about 7°.
+fn relief() -> impl Fn(DVec3) -> (f64, DVec3) {
+    bumps(0.02, 6.0)
+}
+
+/// The exact normal that a ray from LOW's cage meets on `relief`'s surface: LOW's point and
+/// interpolated normal at `w` on triangle `t` (file coordinates), the cage `extrusion` out, back
+/// along the normal; the surface found by marching and bisection on |p| − r(p/|p|).
+fn exact_hit(low: &Low, t: usize, w: [f64; 3], extrusion: f64, relief: &Relief) -> DVec3 {
+    let mix = |v: &[DVec3]| (0..3).map(|i| v[3 * t + i] * w[i]).sum::<DVec3>();
+    let n = mix(&low.normals).normalize();
+    let origin = mix(&low.points) + n * extrusion;
+    let outside = |s: f64| {
+        let p = origin - n * s;
+        p.length() > relief(p.normalize()).0
+    };
+    let step = extrusion / 100.0;
+    let mut inside = step;
+    while outside(inside) {
+        assert!(inside < 4.0 * extrusion, "the ray meets nothing");
+        inside += step;
+    }
+    let mut out = inside - step;
+    for _ in 0..60 {
+        let middle = 0.5 * (out + inside);
+        if outside(middle) {
+            out = middle;
+        } else {
+            inside = middle;
+        }
+    }
+    relief_point(relief, (origin - n * out).normalize()).1
+}
+
+/// What a MikkTSpace renderer draws from tangent-space texel `t` at `w` on triangle `tri`: the
+/// interpolated T and N, B = sign · N × T, n = normalize(t.x T + t.y B + t.z N).
+fn mikktspace_render(
+    tangents: &[[f32; 4]],
+    normals: &[DVec3],
+    tri: usize,
+    w: [f64; 3],
+    t: Vec3,
+) -> DVec3 {
+    let mix = |f: &dyn Fn(usize) -> DVec3| (0..3).map(|i| f(3 * tri + i) * w[i]).sum::<DVec3>();
+    let tangent = mix(&|k| Vec3::from_slice(&tangents[k][..3]).as_dvec3());
+    let normal = mix(&|k| normals[k]);
+    let sign: f64 = (0..3).map(|i| tangents[3 * tri + i][3] as f64 * w[i]).sum();
+    let bitangent = normal.cross(tangent) * sign.signum();
+    (tangent * t.x as f64 + bitangent * t.y as f64 + normal * t.z as f64).normalize()
+}
+
+/// LOW as the bake reads it, in its file's coordinates: corners, normals, UVs, MikkTSpace.
+struct Low {
+    points: Vec<DVec3>,
+    normals: Vec<DVec3>,
+    uvs: Vec<Vec2>,
+    tangents: Vec<[f32; 4]>,
+}
+
+fn read_low(path: &Path) -> Low {
+    let model = load_model(path, &MapOverrides::default()).unwrap();
+    Low {
+        points: model
+            .soup
+            .vertices
+            .iter()
+            .map(|&p| model.placement.to_file(p).as_dvec3())
+            .collect(),
+        normals: model.soup.normals.iter().map(|n| n.as_dvec3()).collect(),
+        uvs: model.soup.uvs.clone(),
+        tangents: tutorial13::tangents::mikktspace_tangents(&model.soup).unwrap(),
+    }
+}
+
+// Fails if the baked normals, drawn by MikkTSpace's rule, are not the unit sphere's exact normals
+// within 0.5° on 99 % of the texels whose centre lies on LOW (16-bit PNG): a wrong cage or ray
+// direction, a wrong hit, HIGH's normals not interpolated, the frame not inverted, V upside down
+// or the green channel flipped would each put most texels degrees off.
+#[test]
+fn a_fine_sphere_baked_onto_a_uv_sphere_gives_its_exact_normals() {
+    let dir = scratch("sphere");
+    let high = sphere(&dir, "high.obj", HIGH.0, HIGH.1, &relief(), false);
+    let low_path = sphere(&dir, "low.obj", 32, 16, &round, false);
+    let out = dir.join("baked.png");
+    let output = bake_cli(&[
+        high.to_str().unwrap(),
+        low_path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "256",
+        "--depth",
+        "16",
+        "--extrusion",
+        "0.05",
+    ]);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let (size, _, texels) = decode(&out);
+    let low = read_low(&low_path);
+    let owners = texel_owners(&low.uvs, size);
+    let (mut errors, mut flat_errors) = (Vec::new(), Vec::new());
+    for (i, owners) in owners.iter().enumerate() {
+        let Some(&(t, w)) = owners.first() else {
+            continue;
+        };
+        let exact = exact_hit(&low, t, w, 0.05, &relief());
+        let drawn = mikktspace_render(&low.tangents, &low.normals, t, w, texels[i]);
+        errors.push(exact.angle_between(drawn).to_degrees());
+        flat_errors.push(
+            exact
+                .angle_between(mikktspace_render(
+                    &low.tangents,
+                    &low.normals,
+                    t,
+                    w,
+                    Vec3::Z,
+                ))
+                .to_degrees(),
+        );
+    }
+    let covered = errors.len();
+    let p99 = percentile(&mut errors, 0.99);
+    let mean = errors.iter().sum::<f64>() / covered as f64;
+    // The relief is there to be found: a flat map would be this far off.
+    let flat_mean = flat_errors.iter().sum::<f64>() / covered as f64;
+    eprintln!(
+        "sphere bake: {covered} texels, mean {mean:.3}°, 99th percentile {p99:.3}° (a flat map: mean {flat_mean:.2}°)"
+    );
+    assert!(covered > 40_000, "{covered} texels covered");
+    assert!(flat_mean > 2.0, "a flat map is only {flat_mean:.2}° off");
+    assert!(p99 < 0.5, "99th percentile {p99:.3}° (mean {mean:.3}°)");
+}
+
+/// The library's bake of `high` onto `low` with `settings` (no file written).
+fn bake_lib(high: &Path, low: &Path, settings: &BakeSettings) -> BakedMap {
+    let files = BakeFiles::load(high, low, settings).unwrap();
+    files.bake(settings).unwrap()
+}
+
+// Fails if an object-space bake is not the sphere's exact normals within 0.5° on 99 % of covered
+// texels (the ray and hit without any tangent frame).
+#[test]
+fn an_object_space_bake_holds_the_exact_normals() {
+    let dir = scratch("object");
+    let high = sphere(&dir, "high.obj", HIGH.0, HIGH.1, &relief(), false);
+    let low_path = sphere(&dir, "low.obj", 32, 16, &round, false);
+    let settings = BakeSettings {
+        width: 128,
+        height: 128,
+        extrusion: 0.05,
+        max_distance: 0.1,
+        space: Space::Object,
+        ..BakeSettings::default()
+    };
+    let map = bake_lib(&high, &low_path, &settings);
+    let low = read_low(&low_path);
+    let owners = texel_owners(&low.uvs, 128);
+    let mut errors: Vec<f64> = owners
+        .iter()
+        .enumerate()
+        .filter_map(|(i, o)| o.first().map(|&(t, w)| (i, t, w)))
+        .map(|(i, t, w)| {
+            exact_hit(&low, t, w, 0.05, &relief())
+                .angle_between(map.normals[i].as_dvec3())
+                .to_degrees()
+        })
+        .collect();
+    let p99 = percentile(&mut errors, 0.99);
+    assert!(p99 < 0.5, "99th percentile {p99:.3}°");
+}
+
+// Fails if mirrored UVs (both halves of the sphere on the same texels) leave one half wrong: each
+// texel must give the exact normal through MikkTSpace's rule on both triangles that claim it, so
+// nothing differs across the mirror's seam. Also fails if the overlap is not reported.
+#[test]
+fn mirrored_uvs_bake_right_on_both_halves() {
+    let dir = scratch("mirrored");
+    let high = sphere(&dir, "high.obj", HIGH.0, HIGH.1, &relief(), false);
+    let low_path = sphere(&dir, "low.obj", 32, 16, &round, true);
+    let settings = BakeSettings {
+        width: 128,
+        height: 128,
+        extrusion: 0.05,
+        max_distance: 0.1,
+        ..BakeSettings::default()
+    };
+    let map = bake_lib(&high, &low_path, &settings);
+    assert!(
+        map.stats.overlapping > map.stats.covered / 2,
+        "{:?}",
+        map.stats
+    );
+    let low = read_low(&low_path);
+    let owners = texel_owners(&low.uvs, 128);
+    let mut errors = [Vec::new(), Vec::new()];
+    for (i, owners) in owners.iter().enumerate() {
+        for &(t, w) in owners {
+            let exact = exact_hit(&low, t, w, 0.05, &relief());
+            let drawn = mikktspace_render(&low.tangents, &low.normals, t, w, map.normals[i]);
+            // The half the triangle is on: x ≥ 0 is φ in 0..π.
+            let half = usize::from(low.points[3 * t..3 * t + 3].iter().sum::<DVec3>().x < 0.0);
+            errors[half].push(exact.angle_between(drawn).to_degrees());
+        }
+    }
+    for (half, errors) in errors.iter_mut().enumerate() {
+        assert!(errors.len() > 5000, "half {half}: {} samples", errors.len());
+        let p99 = percentile(errors, 0.99);
+        assert!(p99 < 0.5, "half {half}: 99th percentile {p99:.3}°");
+    }
+}
+
+// Fails if the margin fills other texels than those within M (8-neighbour rings) of the covered
+// ones, or the count it reports is not the texels it filled.
+#[test]
+fn the_margin_fills_m_texels_around_the_islands() {
+    let dir = scratch("margin");
+    let high = sphere(&dir, "high.obj", 64, 32, &round, false);
+    // A quarter of the sphere's UVs: a small island in the corner, far from the map's edges.
+    let low_path = dir.join("low.obj");
+    let quarter = sphere_obj_text(32, 16, &round, false)
+        .lines()
+        .map(|line| match line.strip_prefix("vt ") {
+            Some(uv) => {
+                let mut c = uv.split(' ').map(|c| c.parse::<f32>().unwrap());
+                let (u, v) = (c.next().unwrap(), c.next().unwrap());
+                format!("vt {} {}", 0.25 + 0.5 * u, 0.25 + 0.5 * v)
+            }
+            None => line.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    std::fs::write(&low_path, quarter).unwrap();
+    let (w, h, m) = (96usize, 64usize, 5usize);
+    let settings = BakeSettings {
+        width: w as u32,
+        height: h as u32,
+        margin: m as u32,
+        extrusion: 0.05,
+        max_distance: 0.1,
+        ..BakeSettings::default()
+    };
+    let map = bake_lib(&high, &low_path, &settings);
+    let covered: Vec<(isize, isize)> = (0..w * h)
+        .filter(|&i| map.states[i] == TexelState::Covered)
+        .map(|i| ((i % w) as isize, (i / w) as isize))
+        .collect();
+    let mut filled = 0;
+    for i in 0..w * h {
+        let (x, y) = ((i % w) as isize, (i / w) as isize);
+        let distance = covered
+            .iter()
+            .map(|&(cx, cy)| (cx - x).abs().max((cy - y).abs()))
+            .min()
+            .unwrap();
+        let expected = match distance {
+            0 => TexelState::Covered,
+            d if d <= m as isize => TexelState::Margin,
+            _ => TexelState::Empty,
+        };
+        assert_eq!(map.states[i], expected, "texel ({x}, {y}) at {distance}");
+        filled += usize::from(expected == TexelState::Margin);
+        if expected == TexelState::Empty {
+            assert_eq!(map.normals[i], Vec3::Z, "background is flat");
+        }
+    }
+    assert_eq!(map.stats.margin, filled);
+}
+
+// Fails if rays that meet nothing are not counted, or the advice names the wrong setting: LOW
+// inside HIGH by more than the cage (every ray misses, HIGH is outside), then HIGH deeper inside
+// than --max-distance (every ray misses, HIGH lies farther in).
+#[test]
+fn missed_rays_are_counted_with_what_to_change() {
+    let dir = scratch("misses");
+    let big = sphere(&dir, "big.obj", 64, 32, &round, false);
+    let half: &Relief = &|_| (0.5, DVec3::ZERO);
+    let small = sphere(&dir, "small.obj", 32, 16, half, false);
+    let out = dir.join("m.png");
+    let cases = [
+        (&big, &small, "raise --extrusion"),
+        (&small, &big, "raise --max-distance"),
+    ];
+    for (high, low, advice) in cases {
+        let output = bake_cli(&[
+            high.to_str().unwrap(),
+            low.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "64",
+            "--extrusion",
+            "0.1",
+        ]);
+        assert!(output.status.success(), "{}", text(&output.stderr));
+        let said = text(&output.stdout);
+        let rays: usize = said
+            .split(" with ")
+            .nth(1)
+            .unwrap()
+            .split(' ')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert!(
+            said.contains(&format!("{rays} rays (100.00 %) met nothing")),
+            "{said}"
+        );
+        assert!(said.contains(&format!("for {rays} HIGH lies")), "{said}");
+        assert!(said.contains(advice), "{said}");
+    }
+}
+
+// Fails if the tutorial's summed frame is not said to be one no map can be right for (its T and B
+// are tens of times N's length on a sphere placed on the tutorial's cylinder), or if MikkTSpace's
+// is (it has right angles and unit vectors).
+#[test]
+fn the_tutorial_frame_is_said_to_skew_the_light() {
+    let dir = scratch("skew");
+    let low = sphere(&dir, "low.obj", 32, 16, &round, false);
+    let low = low.to_str().unwrap();
+    let out = dir.join("s.png");
+    let said = |frame: &[&str]| {
+        let output = bake_cli(
+            &[
+                &[low, low, "-o", out.to_str().unwrap(), "--size", "64"][..],
+                frame,
+            ]
+            .concat(),
+        );
+        assert!(output.status.success(), "{}", text(&output.stderr));
+        text(&output.stdout)
+    };
+    let tutorial = said(&["--tangents", "tutorial"]);
+    assert!(
+        tutorial.contains("no map can be right for this frame at 100.0 %"),
+        "{tutorial}"
+    );
+    assert!(!said(&["--tangents", "mikktspace"]).contains("no map can be right"));
+    // Normalized, the frame is nearly orthonormal: the line either goes or covers fewer texels.
+    let normalized = said(&["--tangents", "tutorial", "--normalize-tbn"]);
+    assert!(!normalized.contains("at 100.0 %"), "{normalized}");
+}
+
+// Fails if bad input panics, exits 0, says more or less than one line naming the file and reason,
+// or writes anything.
+#[test]
+fn bad_input_is_one_line_and_nothing_written() {
+    let dir = scratch("bad");
+    let low = sphere(&dir, "low.obj", 8, 4, &round, false);
+    let low = low.to_str().unwrap();
+    let no_faces = dir.join("points.obj");
+    std::fs::write(&no_faces, "v 0 0 0\nv 1 0 0\nv 0 1 0\n").unwrap();
+    let no_uvs = dir.join("no_uvs.obj");
+    std::fs::write(
+        &no_uvs,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0.5 0.5\nf 1/1 2/1 3/1\n",
+    )
+    .unwrap();
+    let picture = dir.join("picture.obj");
+    std::fs::write(&picture, b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR").unwrap();
+    let out = dir.join("out").join("map.png");
+    std::fs::create_dir_all(out.parent().unwrap()).unwrap();
+    let out = out.to_str().unwrap();
+    let missing_folder = dir.join("nowhere").join("map.png");
+    let (jpg, bmp) = (out.replace(".png", ".jpg"), out.replace(".png", ".bmp"));
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec![no_faces.to_str().unwrap(), low, "-o", out],
+            "points.obj",
+        ),
+        (
+            vec![low, no_uvs.to_str().unwrap(), "-o", out],
+            "no_uvs.obj: no texel",
+        ),
+        (
+            vec![picture.to_str().unwrap(), low, "-o", out],
+            "picture.obj",
+        ),
+        (vec![low, "missing.obj", "-o", out], "missing.obj"),
+        (
+            vec![low, low, "-o", missing_folder.to_str().unwrap()],
+            "nowhere",
+        ),
+        (vec![low, low, "-o", &jpg], "name the output .bmp or .png"),
+        (vec![low, low, "-o", &bmp, "--depth", "16"], "PNG only"),
+        (vec![low, low, "-o", out, "--size", "0"], "1 to 16384"),
+        (vec![low, low, "-o", out, "--size", "16385x8"], "1 to 16384"),
+        (
+            vec![low, low, "-o", out, "--extrusion", "-1"],
+            "--extrusion",
+        ),
+        (
+            vec![low, low, "-o", out, "--normalize-tbn"],
+            "--normalize-tbn",
+        ),
+    ];
+    for (args, reason) in cases {
+        let output = bake_cli(&args);
+        let err = text(&output.stderr);
+        assert!(!output.status.success(), "{args:?} succeeded");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert!(err.contains(reason), "{args:?}: {err}");
+        let error_lines = err
+            .lines()
+            .filter(|l| l.contains("error") || l.starts_with("tutorial13:"))
+            .count();
+        assert_eq!(error_lines, 1, "{args:?}: {err}");
+        assert!(
+            crate::common::files_under(&dir.join("out")).is_empty(),
+            "{args:?} wrote a file"
+        );
+    }
+}
+
+// Fails if --tangents tutorial and mikktspace give the same map (the frames differ on a sphere:
+// T's length and direction), which would mean the option is not reaching the bake.
+#[test]
+fn the_frame_option_reaches_the_bake() {
+    let dir = scratch("frames");
+    let high = sphere(&dir, "high.obj", 128, 64, &relief(), false);
+    let low = sphere(&dir, "low.obj", 16, 8, &round, false);
+    let bake = |tangents| {
+        let settings = BakeSettings {
+            width: 64,
+            height: 64,
+            extrusion: 0.05,
+            max_distance: 0.1,
+            tangents,
+            ..BakeSettings::default()
+        };
+        bake_lib(&high, &low, &settings)
+    };
+    let (mikk, tutorial) = (bake(Tangents::MikkTSpace), bake(Tangents::Tutorial));
+    let tilt = |m: &BakedMap| {
+        m.normals
+            .iter()
+            .map(|n| degrees(*n, Vec3::Z))
+            .fold(0.0, f64::max)
+    };
+    eprintln!(
+        "largest tilt: mikk {:.4}° tutorial {:.4}° stats {:?}",
+        tilt(&mikk),
+        tilt(&tutorial),
+        mikk.stats
+    );
+    let largest = mikk
+        .normals
+        .iter()
+        .zip(&tutorial.normals)
+        .map(|(a, b)| degrees(*a, *b))
+        .fold(0.0, f64::max);
+    assert!(
+        largest > 1.0,
+        "the two frames' maps differ by at most {largest:.3}°"
+    );
+}
