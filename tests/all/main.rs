@@ -12,6 +12,7 @@ mod mikktspace_reference;
 
 mod asset_fallback;
 mod assets;
+mod bake;
 mod cli;
 mod compare_view;
 mod context;
