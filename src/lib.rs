@@ -22,6 +22,7 @@ pub mod assets;
 pub mod bake;
 pub mod choices;
 pub mod clock;
+pub mod combine;
 pub mod common;
 pub mod debug;
 pub mod error;

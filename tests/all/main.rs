@@ -14,6 +14,7 @@ mod asset_fallback;
 mod assets;
 mod bake;
 mod cli;
+mod combine;
 mod compare_view;
 mod context;
 mod debug_lines;
