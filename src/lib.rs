@@ -7,12 +7,12 @@
 //! | errors and files  | [`error`], [`files`], [`progress`] | the crate's error type; atomic file writing; a line for a long load |
 //! | the tutorial's `common/` | [`common`] | objloader, tangentspace, vboindexer, texture, shader, controls |
 //! | the fast pipeline   | [`pipeline`]  | the OBJ parse on every core and the linear-time indexers: the `common/` ports' results, to the bit, for a learner's large model |
-//! | CPU helpers         | [`mesh`], [`normalmap`], [`photo`], [`photometric`], [`assets`], [`model`], [`bake`] | the CPU pipeline's switches, mesh generators, height map → normal map, photos → normal map (one photo's guess, photometric stereo), the project's own assets, a learner's OBJ with its MTL maps, a detailed model's normals baked into a simple one's UVs |
+//! | CPU helpers         | [`mesh`], [`normalmap`], [`photo`], [`photometric`], [`assets`], [`model`], [`bake`], [`combine`] | the CPU pipeline's switches, mesh generators, height map → normal map, photos → normal map (one photo's guess, photometric stereo), the project's own assets, a learner's OBJ with its MTL maps, a detailed model's normals baked into a simple one's UVs, two normal maps combined |
 //! | GL helpers          | [`gl`]        | the `Gl` handle, context info, error draining, mesh buffers, read-back and image files, the headless context and offscreen targets |
 //! | debugging aids      | [`debug`]     | the TBN lines (immediate mode and line shader), colour views  |
 //! | scenes              | [`scenes`]    | `tutorial13.rs` (`tutorial13.cpp`), the cylinder scene, the [`scenes::Scene`] seam |
 //! | front ends          | [`frontends`] | the window, headless rendering (`--headless`, `--bench`, tests), the browser page (wasm32 only, `web/build.sh`) |
-//! | commands            | [`tools`]     | what the binary runs: a scene (window or headless), `make-assets`, `normalmap`, `photometric`; `--help`'s layout |
+//! | commands            | [`tools`]     | what the binary runs: a scene (window or headless), `make-assets`, `normalmap`, `photometric`, `bake`; `--help`'s layout |
 //!
 //! `docs/reading-guide.md` maps every block of `tutorial13.cpp` and every `common/*.cpp` function to
 //! the Rust that ports it.

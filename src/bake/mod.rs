@@ -34,6 +34,7 @@ use crate::clock::Instant;
 use crate::common::objloader::TriangleSoup;
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::model::{load_model, MapOverrides, Model};
+use crate::tangents::stretch;
 use crate::{Error, Result};
 
 pub use texels::{TexelState, UvLayout};
@@ -368,42 +369,6 @@ impl Sampler<'_> {
     }
 }
 
-/// σmax/σmin of the frame's matrix (the square roots of its Gram matrix's extreme eigenvalues); a
-/// frame with no inverse is infinitely stretched.
-fn stretch(frame: &[DVec3; 3]) -> f64 {
-    let m = DMat3::from_cols(frame[0], frame[1], frame[2]);
-    let gram = m.transpose() * m;
-    let (smallest, largest) = symmetric_eigen_extremes(&gram);
-    if smallest <= 0.0 || !smallest.is_finite() {
-        return f64::INFINITY;
-    }
-    (largest / smallest).sqrt()
-}
-
-/// The smallest and largest eigenvalues of a symmetric 3 × 3 matrix (the trigonometric solution of
-/// its characteristic cubic).
-fn symmetric_eigen_extremes(a: &DMat3) -> (f64, f64) {
-    let (a00, a11, a22) = (a.x_axis.x, a.y_axis.y, a.z_axis.z);
-    let (a01, a02, a12) = (a.y_axis.x, a.z_axis.x, a.z_axis.y);
-    let off = a01 * a01 + a02 * a02 + a12 * a12;
-    let q = (a00 + a11 + a22) / 3.0;
-    if off <= 1e-30 * q * q {
-        let d = [a00, a11, a22];
-        return (
-            d.iter().copied().fold(f64::INFINITY, f64::min),
-            d.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-        );
-    }
-    let p2 = (a00 - q).powi(2) + (a11 - q).powi(2) + (a22 - q).powi(2) + 2.0 * off;
-    let p = (p2 / 6.0).sqrt();
-    let b = (*a - DMat3::from_diagonal(DVec3::splat(q))) * (1.0 / p);
-    let r = (b.determinant() / 2.0).clamp(-1.0, 1.0);
-    let phi = r.acos() / 3.0;
-    let largest = q + 2.0 * p * phi.cos();
-    let smallest = q + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
-    (smallest, largest)
-}
-
 /// The files' side of a bake: both models read, HIGH moved into LOW's placed space, LOW's frames.
 pub struct BakeFiles {
     pub high: Model,
@@ -494,25 +459,5 @@ impl BakeFiles {
             });
         }
         Ok(map)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Fails if the eigenvalue solution is wrong for a rotated spectrum, or for a diagonal one.
-    #[test]
-    fn the_stretch_of_a_frame_is_its_singular_values_ratio() {
-        let rotation = DMat3::from_euler(glam::EulerRot::XYZ, 0.3, -0.7, 1.1);
-        let scaled = rotation * DMat3::from_diagonal(DVec3::new(2.0, 0.5, 1.0));
-        let frame = [scaled.x_axis, scaled.y_axis, scaled.z_axis];
-        assert!((stretch(&frame) - 4.0).abs() < 1e-9, "{}", stretch(&frame));
-        let identity = [DVec3::X, DVec3::Y, DVec3::Z];
-        assert!((stretch(&identity) - 1.0).abs() < 1e-12);
-        let scaled = [DVec3::X * 3.0, DVec3::Y * 3.0, DVec3::Z * 3.0];
-        assert!((stretch(&scaled) - 1.0).abs() < 1e-12);
-        let flat = [DVec3::X, DVec3::Y, DVec3::X + DVec3::Y];
-        assert!(stretch(&flat) > 1e6);
     }
 }

@@ -1,7 +1,7 @@
 //! The program's commands, each a function of plain options returning [`crate::Result`], so that
 //! the binary (`src/main.rs`) only parses the command line and prints the error: [`run::run`]
 //! draws a scene in the window or headless (none of the tools named), [`make_assets::make_assets`],
-//! [`normalmap::normalmap`] and [`photometric::photometric`] are the three tools, and [`help`]
+//! [`normalmap::normalmap`], [`photometric::photometric`] and [`bake::bake`] are the four tools, and [`help`]
 //! lays `--help` out for the terminal. The options derive `clap::Args`: their doc comments are the
 //! help texts.
 

@@ -586,3 +586,247 @@ fn the_frame_option_reaches_the_bake() {
         "the two frames' maps differ by at most {largest:.3}°"
     );
 }
+
+// Fails if a learner's model drawn with the tutorial's summed frame (26× stretched on this sphere)
+// is not warned of once with the keys that change it, if MikkTSpace's frame or the normalized TBN
+// are warned of, or if the information lines (no material, no map_Ks) are warnings.
+#[test]
+fn a_model_drawn_with_a_frame_far_from_mikktspace_is_warned_of_once() {
+    let dir = scratch("far-frame");
+    sphere(&dir, "low.obj", 32, 16, &round, false);
+    let warnings = |args: &[&str]| {
+        let output = run(tutorial13()
+            .args(["--headless", "--screenshot", "x.png", "--model", "low.obj"])
+            .args(args)
+            .current_dir(&dir));
+        assert!(output.status.success(), "{}", text(&output.stderr));
+        text(&output.stderr)
+            .lines()
+            .filter(|l| l.starts_with("[WARN"))
+            .map(str::to_string)
+            .collect::<Vec<_>>()
+    };
+    let tutorial = warnings(&[]);
+    assert_eq!(tutorial.len(), 1, "{tutorial:?}");
+    assert!(
+        tutorial[0].contains("stretched 26.4×") && tutorial[0].contains("F steps to MikkTSpace"),
+        "{tutorial:?}"
+    );
+    assert_eq!(
+        warnings(&["--tangents", "mikktspace"]),
+        Vec::<String>::new()
+    );
+    assert_eq!(warnings(&["--normalize-tbn"]), Vec::<String>::new());
+}
+
+/// The drawn-back pair's relief: r = 1 − a (1 − cos(k x) cos(k z)), dents up to 2a deep that
+/// leave the poles (and a lattice of points) at radius 1, normals tilted up to about 20°.
+fn drawn_relief() -> impl Fn(DVec3) -> (f64, DVec3) {
+    let (a, k) = (0.04, 8.0);
+    move |u: DVec3| {
+        let (cx, sx, cz, sz) = (
+            (k * u.x).cos(),
+            (k * u.x).sin(),
+            (k * u.z).cos(),
+            (k * u.z).sin(),
+        );
+        (
+            1.0 - a * (1.0 - cx * cz),
+            DVec3::new(-a * k * sx * cz, 0.0, -a * k * cx * sz),
+        )
+    }
+}
+
+/// Pixels inside both frames' silhouettes (no background within 2 pixels in either).
+fn inside_both(a: &image::RgbImage, b: &image::RgbImage) -> Vec<(u32, u32)> {
+    let (w, h) = a.dimensions();
+    let background = |x: u32, y: u32| {
+        crate::common::is_background(a.get_pixel(x, y))
+            || crate::common::is_background(b.get_pixel(x, y))
+    };
+    (2..h - 2)
+        .flat_map(|y| (2..w - 2).map(move |x| (x, y)))
+        .filter(|&(x, y)| !(y - 2..=y + 2).any(|yy| (x - 2..=x + 2).any(|xx| background(xx, yy))))
+        .collect()
+}
+
+/// Mean and 99th percentile of the per-pixel largest channel difference over `pixels`.
+fn difference(a: &image::RgbImage, b: &image::RgbImage, pixels: &[(u32, u32)]) -> (f64, f64) {
+    let mut d: Vec<f64> = pixels
+        .iter()
+        .map(|&(x, y)| {
+            let (p, q) = (a.get_pixel(x, y), b.get_pixel(x, y));
+            (0..3)
+                .map(|c| (p[c] as i32 - q[c] as i32).abs())
+                .max()
+                .unwrap() as f64
+        })
+        .collect();
+    let mean = d.iter().sum::<f64>() / d.len() as f64;
+    (mean, percentile(&mut d, 0.99))
+}
+
+// Fails if LOW drawn with its bake, in the frame it was baked for (MikkTSpace), is not HIGH drawn
+// alone within 3 levels on average and 14 at the 99th percentile inside both silhouettes (within
+// 0.8 of their radius, past which the rim shows parallax, which no normal map has), if LOW without the map is not at least 3
+// times as far, or if the same map drawn in the tutorial's frame is not far off (at least 20
+// levels on average): the bake and the renderer must agree on the frame, V, green and the inverse.
+// Also makes docs/tangent-space-sync.png from the same frames (checked as the docs' other pictures).
+#[test]
+fn drawn_back_in_its_frame_a_bake_looks_like_high() {
+    let dir = scratch("drawn");
+    // Each model is placed on the tutorial's cylinder by its bounding sphere, and the light is
+    // placed with it: HIGH's relief reaches radius 1 only at the poles, as LOW does, so that the
+    // two are placed alike and lit from one place.
+    sphere(&dir, "high.obj", HIGH.0, HIGH.1, &drawn_relief(), false);
+    sphere(&dir, "low.obj", 32, 16, &round, false);
+    image::RgbImage::from_pixel(4, 4, image::Rgb([40, 40, 40]))
+        .save(dir.join("grey.png"))
+        .unwrap();
+    image::RgbImage::from_pixel(4, 4, image::Rgb([0, 0, 0]))
+        .save(dir.join("black.png"))
+        .unwrap();
+    for (map, frame) in [
+        ("mikk.png", &[][..]),
+        ("tutorial.png", &["--tangents", "tutorial"]),
+        (
+            "normalized.png",
+            &["--tangents", "tutorial", "--normalize-tbn"],
+        ),
+    ] {
+        let output = run(tutorial13()
+            .args([
+                "bake",
+                "high.obj",
+                "low.obj",
+                "-o",
+                map,
+                "--size",
+                "1024",
+                "--extrusion",
+                "0.08",
+            ])
+            .args(frame)
+            .current_dir(&dir));
+        assert!(output.status.success(), "{}", text(&output.stderr));
+    }
+    // A far light (its falloff the same on HIGH's dents as on LOW's surface), grey and matte.
+    let draw = |name: &str, args: &[&str]| {
+        let materials = [
+            "--diffuse",
+            "grey.png",
+            "--specular",
+            "black.png",
+            "--light",
+            "40,25,20",
+            "--light-power",
+            "16000",
+        ];
+        crate::common::headless_screenshot(&dir, name, &[args, &materials].concat())
+    };
+    let high = draw(
+        "high.png",
+        &["--model", "high.obj", "--tangents", "mikktspace"],
+    );
+    let frames = [
+        (
+            "mikktspace",
+            draw(
+                "low-mikk.png",
+                &[
+                    "--model",
+                    "low.obj",
+                    "--normal-map",
+                    "mikk.png",
+                    "--tangents",
+                    "mikktspace",
+                ],
+            ),
+        ),
+        (
+            "mikktspace map, tutorial frame",
+            draw(
+                "low-mikk-tutorial.png",
+                &["--model", "low.obj", "--normal-map", "mikk.png"],
+            ),
+        ),
+        (
+            "tutorial",
+            draw(
+                "low-tutorial.png",
+                &["--model", "low.obj", "--normal-map", "tutorial.png"],
+            ),
+        ),
+        (
+            "tutorial normalized",
+            draw(
+                "low-normalized.png",
+                &[
+                    "--model",
+                    "low.obj",
+                    "--normal-map",
+                    "normalized.png",
+                    "--normalize-tbn",
+                ],
+            ),
+        ),
+        (
+            "no map",
+            draw(
+                "low-flat.png",
+                &["--model", "low.obj", "--tangents", "mikktspace"],
+            ),
+        ),
+    ];
+    // Inside both silhouettes, within 0.8 of the silhouette's radius: past it the surface turns
+    // away and LOW's surface shows the relief where HIGH's rim stands in front of it (parallax,
+    // which no normal map has).
+    let inside = inside_both(&high, &frames[0].1);
+    let radius = (inside.len() as f64 / std::f64::consts::PI).sqrt();
+    let centre = inside
+        .iter()
+        .fold((0.0, 0.0), |c, &(x, y)| (c.0 + x as f64, c.1 + y as f64));
+    let centre = (
+        centre.0 / inside.len() as f64,
+        centre.1 / inside.len() as f64,
+    );
+    let pixels: Vec<(u32, u32)> = inside
+        .iter()
+        .copied()
+        .filter(|&(x, y)| (x as f64 - centre.0).hypot(y as f64 - centre.1) < 0.8 * radius)
+        .collect();
+    assert!(
+        pixels.len() > 100_000,
+        "{} pixels inside both",
+        pixels.len()
+    );
+    let differences: Vec<(f64, f64)> = frames
+        .iter()
+        .map(|(_, f)| difference(&high, f, &pixels))
+        .collect();
+    for ((name, _), (mean, p99)) in frames.iter().zip(&differences) {
+        eprintln!("drawn back, {name}: mean {mean:.2}, 99th percentile {p99:.0} levels from HIGH");
+    }
+    let (mean, p99) = differences[0];
+    assert!(
+        mean <= 3.0 && p99 <= 14.0,
+        "in its own frame: mean {mean:.2}, 99th percentile {p99}"
+    );
+    let (flat, _) = differences[4];
+    assert!(flat >= 3.0 * mean, "without the map: mean only {flat:.2}");
+    let (mean, _) = differences[1];
+    assert!(mean >= 20.0, "in the tutorial's frame: mean only {mean:.2}");
+    // The picture: HIGH, then each of LOW's frames, 256 × 192 each.
+    let tile = |image: &image::RgbImage| {
+        image::imageops::resize(image, 256, 192, image::imageops::FilterType::Triangle)
+    };
+    let mut picture = image::RgbImage::new(768, 384);
+    for (i, image) in std::iter::once(&high)
+        .chain(frames.iter().map(|(_, f)| f))
+        .enumerate()
+    {
+        let (x, y) = (256 * (i as i64 % 3), 192 * (i as i64 / 3));
+        image::imageops::replace(&mut picture, &tile(image), x, y);
+    }
+    crate::common::check_docs_picture(&picture, "docs/tangent-space-sync.png", "bake");
+}

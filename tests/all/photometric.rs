@@ -13,7 +13,7 @@ use tutorial13::photo::{Encoding, Photo};
 use tutorial13::photometric::{recover, PhotometricOptions};
 
 use crate::capture_rig::rig;
-use crate::common::{files_under, headless_screenshot, hybrid_score, is_background, manifest};
+use crate::common::{files_under, headless_screenshot, hybrid_score, is_background};
 use crate::common::{own_assets, run, scratch, text, tutorial13};
 
 /// A surface the tests photograph: unit normals (x right, y up the picture, z out) and linear
@@ -859,32 +859,7 @@ fn both_outputs_light_the_wall_as_the_readme_shows() {
         let (x, y) = (128 * (i as i64 % 4), 128 * (i as i64 / 4));
         image::imageops::replace(&mut picture, &tile(image), x, y);
     }
-    let path = manifest().join("docs/photometric.png");
-    if std::env::var_os("TUTORIAL13_UPDATE_DOCS").is_some() {
-        picture.save(&path).unwrap();
-        println!("docs/photometric.png rewritten (TUTORIAL13_UPDATE_DOCS)");
-        return;
-    }
-    let committed = read_rgb(&path);
-    let context =
-        tutorial13::gl::context::HeadlessContext::new(tutorial13::gl::Profile::Core, false)
-            .unwrap();
-    if crate::common::not_reference_renderer(context.info()).is_none() {
-        let (differing, max, _) = crate::common::pixel_diff(&committed, &picture);
-        assert!(
-            differing == 0,
-            "docs/photometric.png: {differing} pixels differ (by up to {max}) from what the \
-             commands make; rewrite it with: TUTORIAL13_UPDATE_DOCS=1 cargo test --release -- \
-             photometric::"
-        );
-        return;
-    }
-    let similarity = hybrid_score(&committed, &picture, "photometric-readme-picture", 0.95);
-    assert!(
-        similarity >= 0.95,
-        "docs/photometric.png is not what the commands make ({similarity:.4}); rewrite it with: \
-         TUTORIAL13_UPDATE_DOCS=1 cargo test --release -- photometric::"
-    );
+    crate::common::check_docs_picture(&picture, "docs/photometric.png", "photometric");
 }
 
 /// FNV-1a (64 bits) of the decoded RGB texels of the image at `path`: a record of its exact output

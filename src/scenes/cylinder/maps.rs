@@ -13,7 +13,7 @@ use crate::Result;
 use super::tutorial13::TextureSet;
 
 /// One set per material of `model`, each drawing its range. Notices (maps left out, options
-/// ignored) go to the log.
+/// ignored) go to the log as information: the model draws, with what they say.
 pub fn model_texture_sets(gl: &Gl, model: &Model) -> Result<Vec<TextureSet>> {
     let mut notices = Vec::new();
     let mut sets = Vec::with_capacity(model.ranges.len());
@@ -33,7 +33,7 @@ pub fn model_texture_sets(gl: &Gl, model: &Model) -> Result<Vec<TextureSet>> {
         });
     }
     for notice in model.notices.iter().chain(&notices) {
-        log::warn!("{notice}");
+        log::info!("{notice}");
     }
     Ok(sets)
 }

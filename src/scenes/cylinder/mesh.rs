@@ -18,12 +18,12 @@ use super::Cylinder;
 /// `indexVBO_TBN` merges a corner into an earlier vertex within 0.01 of it (position, UV and normal,
 /// in the tutorial's units): on a model much denser than the tutorial's cylinder that moves corners.
 /// Says so once, with how many moved, since the model then looks coarser than it is.
-pub(super) fn warn_of_merged_corners(model: &Model, mesh: &crate::common::vboindexer::IndexedMesh) {
+pub(super) fn say_merged_corners(model: &Model, mesh: &crate::common::vboindexer::IndexedMesh) {
     let moved = (0..mesh.indices.len())
         .filter(|&i| mesh.vertices[mesh.indices.get(i) as usize] != model.soup.vertices[i])
         .count();
     if moved > 0 {
-        log::warn!(
+        log::info!(
             "{}: indexVBO_TBN's 0.01 tolerance moved {moved} of {} corners onto a neighbour (the \
              tutorial's indexer, on a model denser than its cylinder); F switches to MikkTSpace, \
              which merges only equal corners",
@@ -31,6 +31,84 @@ pub(super) fn warn_of_merged_corners(model: &Model, mesh: &crate::common::vboind
             mesh.indices.len()
         );
     }
+}
+
+/// Above this many triangles the comparison with MikkTSpace is left out of loading (its tangents
+/// would add a noticeable part of a large model's first frame); the skew is still measured.
+const COMPARE_UP_TO: usize = 300_000;
+
+/// How far the tutorial's frame on a learner's model is from MikkTSpace's, which most maps are baked
+/// for: the median and largest angle between their tangents, and the median stretch of the
+/// tutorial's T, B, N (σmax/σmin of the matrix; 1 for a frame at right angles with equal lengths).
+/// One warning when they are far apart, naming the keys that change frame. With the article's
+/// normalized TBN (`normalized`) the shader undoes the stretch, so only the angle counts.
+pub(super) fn warn_of_far_frame(
+    model: &Model,
+    mesh: &crate::common::vboindexer::IndexedMesh,
+    normalized: bool,
+) {
+    let corners = mesh.indices.len();
+    if corners == 0 {
+        return;
+    }
+    let mut stretches: Vec<f32> = (0..corners)
+        .step_by((corners / 4096).max(1))
+        .map(|i| {
+            let v = mesh.indices.get(i) as usize;
+            crate::tangents::frame_stretch(mesh.tangents[v], mesh.bitangents[v], mesh.normals[v])
+                as f32
+        })
+        .collect();
+    stretches.sort_unstable_by(f32::total_cmp);
+    let stretch = if normalized {
+        1.0
+    } else {
+        stretches[stretches.len() / 2]
+    };
+    let mikktspace = (model.soup.triangle_count() <= COMPARE_UP_TO)
+        .then(|| crate::tangents::mikktspace_tangents(&model.soup).ok())
+        .flatten();
+    let angles = mikktspace.map(|tangents| {
+        let mut angles: Vec<f32> = (0..corners)
+            .map(|i| {
+                let t = mesh.tangents[mesh.indices.get(i) as usize];
+                let m = Vec3::from_slice(&tangents[i][..3]);
+                t.angle_between(m).to_degrees()
+            })
+            .filter(|a| a.is_finite())
+            .collect();
+        angles.sort_unstable_by(f32::total_cmp);
+        let median = angles.get(angles.len() / 2).copied().unwrap_or(0.0);
+        (median, angles.last().copied().unwrap_or(0.0))
+    });
+    let far_angle = angles.is_some_and(|(median, _)| median > 10.0);
+    if stretch < 1.5 && !far_angle {
+        return;
+    }
+    let mut reasons = Vec::new();
+    if let Some((median, max)) = angles.filter(|_| far_angle) {
+        let mirrored = if max > 90.0 {
+            "; mirrored UVs turn its T round"
+        } else {
+            ""
+        };
+        reasons.push(format!(
+            "its tangents point a median {median:.0}° from MikkTSpace's (at most {max:.0}°{mirrored})"
+        ));
+    }
+    if stretch >= 1.5 {
+        reasons.push(format!(
+            "its T, B and N are stretched {stretch:.1}× (median), which skews the light whatever \
+             the map holds"
+        ));
+    }
+    log::warn!(
+        "{}: drawn with the tutorial's frame, far from MikkTSpace's, the frame most normal maps are \
+         baked for: {}. F steps to MikkTSpace; T normalizes the tutorial's TBN \
+         (docs/tangent-space-sync.md)",
+        model.path.display(),
+        reasons.join(", and "),
+    );
 }
 
 /// The mesh the scene draws: the tutorial's `cylinder.obj` (read again by `loadOBJ` whenever the

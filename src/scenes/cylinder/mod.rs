@@ -43,7 +43,7 @@ pub use controls::KEYS;
 use controls::{flags_without_effect, CONTROLS, PER_PIXEL};
 use lines::TbnLines;
 use maps::{model_texture_sets, override_tutorial_maps};
-use mesh::{warn_of_merged_corners, MeshState, SoupSource};
+use mesh::{say_merged_corners, warn_of_far_frame, MeshState, SoupSource};
 pub use programs::{DebugProgram, Knobs, DEBUG_SHADERS, DERIVATIVE_SHADERS};
 use programs::{Drawing, Programs};
 use tutorial13::{NormalMappingProgram, Tutorial13, CLEAR_COLOR, SHADERS};
@@ -213,7 +213,8 @@ impl SceneType for Cylinder {
                             cylinder.mesh,
                             sets,
                         )?;
-                        warn_of_merged_corners(&model, &tutorial.mesh);
+                        say_merged_corners(&model, &tutorial.mesh);
+                        warn_of_far_frame(&model, &tutorial.mesh, cylinder.switches.normalize_tbn);
                         tutorial
                     }
                     // Another source's mesh straight away: the tutorial's would be built for

@@ -672,3 +672,39 @@ pub fn mesh_bit_difference(a: &IndexedMesh, b: &IndexedMesh) -> Option<String> {
 fn floats<T: bytemuck::Pod>(values: &[T]) -> Vec<f32> {
     bytemuck::cast_slice(values).to_vec()
 }
+
+/// Checks a picture the docs show against what a test makes: bit for bit on the reference
+/// renderer, where it was made, a hybrid similarity of at least 0.95 elsewhere. With
+/// TUTORIAL13_UPDATE_DOCS=1 it writes the picture instead. `module` names the tests that make it.
+pub fn check_docs_picture(picture: &RgbImage, docs_path: &str, module: &str) {
+    let path = manifest().join(docs_path);
+    if std::env::var_os("TUTORIAL13_UPDATE_DOCS").is_some() {
+        picture.save(&path).unwrap();
+        println!("{docs_path} rewritten (TUTORIAL13_UPDATE_DOCS)");
+        return;
+    }
+    let committed = image::open(&path)
+        .unwrap_or_else(|e| panic!("{docs_path}: {e}"))
+        .into_rgb8();
+    let context = tutorial13::gl::context::HeadlessContext::new(Profile::Core, false).unwrap();
+    if not_reference_renderer(context.info()).is_none() {
+        let (differing, max, _) = pixel_diff(&committed, picture);
+        assert!(
+            differing == 0,
+            "{docs_path}: {differing} pixels differ (by up to {max}) from what the commands make; \
+             rewrite it with: TUTORIAL13_UPDATE_DOCS=1 cargo test --release -- {module}::"
+        );
+        return;
+    }
+    let name = Path::new(docs_path)
+        .file_stem()
+        .unwrap()
+        .to_string_lossy()
+        .into_owned();
+    let similarity = hybrid_score(&committed, picture, &name, 0.95);
+    assert!(
+        similarity >= 0.95,
+        "{docs_path} is not what the commands make ({similarity:.4}); rewrite it with: \
+         TUTORIAL13_UPDATE_DOCS=1 cargo test --release -- {module}::"
+    );
+}
