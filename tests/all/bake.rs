@@ -830,3 +830,48 @@ fn drawn_back_in_its_frame_a_bake_looks_like_high() {
     }
     crate::common::check_docs_picture(&picture, "docs/tangent-space-sync.png", "bake");
 }
+
+// Fails if HIGH exported without a UV layout (a sculpt: `f v//vn` corners, no `vt`) is refused or
+// baked differently from the same HIGH with UVs (HIGH's UVs take no part in a bake).
+#[test]
+fn high_without_uvs_bakes_the_same_map() {
+    let dir = scratch("high-no-uvs");
+    let high = sphere(&dir, "high.obj", 64, 32, &relief(), false);
+    let low = sphere(&dir, "low.obj", 16, 8, &round, false);
+    let sculpt = std::fs::read_to_string(&high)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with("vt "))
+        .map(|l| match l.strip_prefix("f ") {
+            Some(corners) => {
+                let corners: Vec<String> = corners
+                    .split(' ')
+                    .map(|c| {
+                        let p: Vec<&str> = c.split('/').collect();
+                        format!("{}//{}", p[0], p[2])
+                    })
+                    .collect();
+                format!("f {}", corners.join(" "))
+            }
+            None => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let sculpt_path = dir.join("sculpt.obj");
+    std::fs::write(&sculpt_path, sculpt).unwrap();
+    let mut maps = Vec::new();
+    for (high, name) in [(&high, "with.png"), (&sculpt_path, "without.png")] {
+        let out = dir.join(name);
+        let output = bake_cli(&[
+            high.to_str().unwrap(),
+            low.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "64",
+        ]);
+        assert!(output.status.success(), "{}", text(&output.stderr));
+        maps.push(image::open(&out).unwrap().into_rgb8());
+    }
+    assert!(maps[0] == maps[1], "the maps differ");
+}
