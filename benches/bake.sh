@@ -82,3 +82,12 @@ for k in 1 4; do
   split=$(grep -oE "(read .* in [0-9.]+ s|frames in [0-9.]+ s|BVH over .* in [0-9.]+ s|rays in [0-9.]+ s|margin of .* in [0-9.]+ s|written in [0-9.]+ s)" "$dir/ours-$k.log" | grep -oE "[0-9.]+ s$" | tr '\n' ' ')
   echo "ours ${k}x${k}: ${s} s in all (read, frames, BVH, rays, margin, write: ${split})"
 done
+
+# Agreement with Blender's bake of the same files: 16-bit maps, texels inside LOW's UV triangles.
+if command -v blender > /dev/null; then
+  "$bin" bake "$pair/high.obj" "$pair/low.obj" -o "$dir/ours-16bit.png" --size 2048 --depth 16 \
+    "${settings[@]}" > /dev/null 2>&1
+  echo "agreement with Blender's map (16 bits):"
+  python3 benches/blender/compare.py "$dir/ours-16bit.png" "$pair/blender_normal16.png" \
+    --uv-mask "$pair/low.obj" | sed -n 2p
+fi

@@ -12,6 +12,8 @@ const LEAF_SIZE: usize = 4;
 const BINS: usize = 16;
 /// Below this many triangles a subtree is built on the thread that reached it.
 const PARALLEL_MIN: usize = 1 << 16;
+/// A box within this fraction past the nearest hit so far is still searched ([`enter`]).
+const LIMIT_SLACK: f32 = 1e-5;
 /// The deepest a node may be: the traversal's stack holds one more than this.
 const MAX_DEPTH: usize = 120;
 
@@ -156,7 +158,13 @@ impl Bvh {
                 let start = node.first as usize;
                 for k in start..start + node.count as usize {
                     if let Some((t, u, v)) = intersect(&self.triangles[k], origin, direction) {
-                        if t <= nearest {
+                        // Of hits at one distance (a shared edge) the lowest triangle index
+                        // wins, so that the order of the search cannot change the answer.
+                        let wins = match best {
+                            None => t <= nearest,
+                            Some(b) => t < nearest || (t == nearest && self.order[k] < b.triangle),
+                        };
+                        if wins {
                             nearest = t;
                             best = Some(Hit {
                                 triangle: self.order[k],
@@ -201,9 +209,22 @@ impl Bvh {
 fn enter(bounds: &Aabb, origin: Vec3, inverse: Vec3, limit: f32) -> Option<f32> {
     let t0 = (bounds.min - origin) * inverse;
     let t1 = (bounds.max - origin) * inverse;
-    // NaN (0 × ∞ on a slab's plane) drops out of min/max as the other operand.
-    let near = t0.min(t1).max_element().max(0.0);
-    let far = t0.max(t1).min_element().min(limit);
+    // 0 × ∞ is NaN: the ray runs in the plane of one of that slab's faces (a direction component
+    // of 0, the origin on the face), so all of it is in the slab, its faces counted in as the
+    // triangle test counts its edges: that axis limits nothing. (Left to min/max, the NaN would
+    // give way to the other face's ±∞ on both sides, and the box would be missed.)
+    let along = t0.is_nan_mask() | t1.is_nan_mask();
+    let near = Vec3::select(along, Vec3::NEG_INFINITY, t0.min(t1));
+    let far = Vec3::select(along, Vec3::INFINITY, t0.max(t1));
+    let near = near.max_element().max(0.0);
+    // The limit is a hit's distance from the triangle test, and a box holding another triangle at
+    // that very distance may round its entry a few ulps past it: with a little slack such a box is
+    // still searched, so that which of two triangles at one distance was met first cannot change
+    // the answer.
+    // The box's own exit is widened as much (Ize's robust slab test widens it by 2γ₃): a ray that
+    // grazes a triangle's edge on the box's face must not be rounded out of the box.
+    let far = far.min_element();
+    let far = (far + far.abs() * LIMIT_SLACK).min(limit + limit * LIMIT_SLACK);
     (near <= far).then_some(near)
 }
 
@@ -425,7 +446,8 @@ mod tests {
     }
 
     /// Fails if the traversal skips a subtree it should enter, orders children wrongly (a farther
-    /// hit wins), or a parallel build's subtree lands at the wrong offset (threads 1 and 4 differ).
+    /// hit wins), or a parallel build's subtree lands at the wrong offset (threads 1 and 4
+    /// differ).
     #[test]
     fn the_hierarchy_finds_what_testing_every_triangle_finds() {
         let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
@@ -498,6 +520,43 @@ mod tests {
             }
         }
         assert_eq!(bvh.first_hit(Vec3::NAN, -Vec3::Z, 10.0), None);
+    }
+
+    /// Fails if a ray that runs in the plane of a box's face (an axis-aligned ray, as a flat LOW's
+    /// normal gives, on a grid line of HIGH) misses the box, and so the triangles whose edges it
+    /// meets: found by the `bake` fuzz target (fuzz/regressions/bake/).
+    #[test]
+    fn a_ray_along_a_box_face_meets_the_triangles_there() {
+        // A 4 × 4 grid of unit squares in z = 0, two triangles each: the tree's boxes have their
+        // faces on the grid lines.
+        let positions: Vec<Vec3> = (0..16)
+            .flat_map(|i| {
+                let (x, y) = ((i % 4) as f32, (i / 4) as f32);
+                let [a, b, c, d] = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+                    .map(|(dx, dy)| Vec3::new(x + dx, y + dy, 0.0));
+                [a, b, c, a, c, d]
+            })
+            .collect();
+        let bvh = Bvh::build(&positions, 1);
+        assert!(bvh.node_count() > 1);
+        for (x, y) in [
+            (1.0, 0.5),
+            (2.5, 2.0),
+            (0.0, 0.5),
+            (3.5, 4.0),
+            (2.0, 3.0),
+            (0.25, 0.0),
+        ] {
+            let origin = Vec3::new(x, y, 1.0);
+            let expected = brute_force(&positions, origin, -Vec3::Z, 2.0);
+            assert!(expected.is_some(), "({x}, {y}): the test is wrong");
+            let found = bvh.first_hit(origin, -Vec3::Z, 2.0);
+            assert_eq!(
+                found.map(|h| h.distance),
+                expected.map(|h| h.distance),
+                "({x}, {y})"
+            );
+        }
     }
 
     /// Fails if triangles whose centres coincide make the build recurse forever or lose some.

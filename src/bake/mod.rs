@@ -321,8 +321,10 @@ impl Sampler<'_> {
             stretch: None,
         };
         if self.space == Space::Object {
-            // A miss keeps LOW's own normal: the object-space map's "flat".
-            sample.normal = match high_normal {
+            // A miss keeps LOW's own normal: the object-space map's "flat"; so does a hit where
+            // HIGH's normal has no direction (a file normal of 0, or one too long to square in
+            // f32), which the tangent-space map writes flat too.
+            sample.normal = match high_normal.filter(|n| *n != Vec3::ZERO) {
                 Some(n) => n,
                 None if normal == Vec3::ZERO => Vec3::Z,
                 None => normal,
@@ -537,5 +539,52 @@ mod tests {
         );
         assert_eq!(with_one_uv("v 0 0 0\nvt 0 0\nf 1/1 1/1 1/1\n"), None);
         assert_eq!(with_one_uv("v 0 0 0\n"), None);
+    }
+}
+
+#[cfg(test)]
+mod found_by_fuzzing {
+    use super::*;
+
+    /// Fails if an object-space map holds a zero vector where the ray met HIGH at a normal with no
+    /// direction (HIGH's file normals 0, or 1e38 long, whose square overflows f32): found by the
+    /// `bake` fuzz target (fuzz/regressions/bake/); LOW's own normal is the right value there.
+    #[test]
+    fn an_object_space_texel_is_unit_where_high_has_no_normal() {
+        let triangle = vec![Vec3::ZERO, Vec3::X, Vec3::Y];
+        let low = TriangleSoup {
+            vertices: triangle.clone(),
+            uvs: vec![glam::Vec2::ZERO, glam::Vec2::X, glam::Vec2::Y],
+            normals: vec![Vec3::Z; 3],
+        };
+        let frames = CornerFrames::tutorial(&low, false);
+        for high_normals in [vec![Vec3::ZERO; 3], vec![Vec3::new(1e38, 1e38, 0.0); 3]] {
+            let high = TriangleSoup {
+                vertices: triangle.clone(),
+                uvs: vec![glam::Vec2::ZERO; 3],
+                normals: high_normals,
+            };
+            let input = BakeInput {
+                low: &low,
+                frames: &frames,
+                high: &high,
+                high_face_normals: false,
+                extrusion: 0.1,
+                max_distance: 0.2,
+            };
+            let settings = BakeSettings {
+                width: 8,
+                height: 8,
+                margin: 0,
+                space: Space::Object,
+                threads: 1,
+                ..BakeSettings::default()
+            };
+            let map = bake_soups(&input, &settings);
+            assert!(map.stats.covered > 0 && map.stats.missed == 0);
+            // LOW's normal, +Z, on the covered texels; +Z on the others.
+            let wrong = map.normals.iter().find(|n| **n != Vec3::Z);
+            assert_eq!(wrong, None, "HIGH's normals {}", high.normals[0]);
+        }
     }
 }
