@@ -628,6 +628,15 @@ fn top_red_png() -> Vec<u8> {
 // beside it is not read, or if a material naming TEXCOORD_1 is laid with TEXCOORD_0 (there upside
 // down): that frame must be the TEXCOORD_0 file's, bit for bit. Also fails if two UV sets or a
 // clamping sampler go unsaid.
+//
+// Upright is read off two pixels of one column, a quarter of the quad's height below its top and
+// above its bottom: red must exceed blue by 32 or more in the first, blue red in the second
+// (computed in i16, not in u8, which would wrap or overflow). The picture's halves are (220, 30, 30)
+// and (30, 30, 220), but the default light washes the quad out towards white, and its specular
+// highlight, (255, 255, 255), covers the middle of the lower half, where neither check could hold.
+// So the column is an eighth of the quad's width from its left edge, out of the highlight, where
+// the pixels are (255, 123, 123) and (200, 200, 255): margins of 132 and 55. With the picture
+// upside down (its rows or its V flipped) both differences are negative there, and both checks fail.
 #[test]
 fn a_gltf_picture_is_upright() {
     let dir = common::scratch("gltf_upright");
@@ -644,23 +653,30 @@ fn a_gltf_picture_is_upright() {
     for model in ["quad.glb", "quad.gltf", "quad-set1.glb"] {
         let (frame, stderr) = shot(&dir, model, &format!("{model}.png"), &[]);
         assert!(stderr.contains("metallic-roughness"), "{stderr}");
-        let x = frame.width() / 2;
-        let drawn: Vec<u32> = (0..frame.height())
-            .filter(|&y| !common::is_background(frame.get_pixel(x, y)))
+        let (mid_x, mid_y) = (frame.width() / 2, frame.height() / 2);
+        let row: Vec<u32> = (0..frame.width())
+            .filter(|&x| !common::is_background(frame.get_pixel(x, mid_y)))
             .collect();
-        let (top, bottom) = (drawn[0], drawn[drawn.len() - 1]);
-        let at = |y: u32| *frame.get_pixel(x, y);
+        let column: Vec<u32> = (0..frame.height())
+            .filter(|&y| !common::is_background(frame.get_pixel(mid_x, y)))
+            .collect();
+        assert!(!row.is_empty() && !column.is_empty(), "{model}: no quad");
+        let (left, right) = (row[0], row[row.len() - 1]);
+        let (top, bottom) = (column[0], column[column.len() - 1]);
+        let x = left + (right - left) / 8;
         let (upper, lower) = (
-            at(top + (bottom - top) / 4),
-            at(bottom - (bottom - top) / 4),
+            *frame.get_pixel(x, top + (bottom - top) / 4),
+            *frame.get_pixel(x, bottom - (bottom - top) / 4),
+        );
+        // How far one channel is above another, in i16: no u8 arithmetic to wrap or overflow.
+        let above = |p: image::Rgb<u8>, a: usize, b: usize| i16::from(p[a]) - i16::from(p[b]);
+        assert!(
+            above(upper, 0, 2) >= 32,
+            "{model}: upper half at x = {x} is not red: {upper:?}"
         );
         assert!(
-            upper[0] > 2 * upper[2].max(1),
-            "{model}: upper half {upper:?}"
-        );
-        assert!(
-            lower[2] > 2 * lower[0].max(1),
-            "{model}: lower half {lower:?}"
+            above(lower, 2, 0) >= 32,
+            "{model}: lower half at x = {x} is not blue: {lower:?}"
         );
         frames.push(frame);
     }
