@@ -126,4 +126,5 @@ def main():
               f"{np.median(a):.4f}  p95 {np.percentile(a, 95):.4f}  max {a.max():.4f}")
 
 
-main()
+if __name__ == "__main__":
+    main()

@@ -25,6 +25,8 @@ import zlib
 
 import numpy as np
 
+from analytic import texels
+
 
 def read_png(path):
     """(H, W, C) uint16 values and their maximum; RGB/RGBA, 8/16-bit, not interlaced."""
@@ -75,20 +77,10 @@ def uv_mask(obj_path, w, h):
             corners = [int(c.split("/")[1]) for c in word[1:]]
             corners = [k - 1 if k > 0 else len(vt) + k for k in corners]
             tris += [(corners[0], corners[i], corners[i + 1]) for i in range(1, len(corners) - 1)]
-    vt = np.array(vt) * [w, h]  # texel units, v up
-    mask = np.zeros((h, w), bool)  # row 0 = v up to 1/H ... built bottom-up, flipped at the end
-    for tri in tris:
-        p = vt[list(tri)]
-        x0, y0 = np.floor(p.min(0)).astype(int).clip(0, [w, h])
-        x1, y1 = np.ceil(p.max(0)).astype(int).clip(0, [w, h])
-        X, Y = np.meshgrid(np.arange(x0, x1) + 0.5, np.arange(y0, y1) + 0.5)
-        (ax, ay), (bx, by), (cx, cy) = p
-        det = (bx - ax) * (cy - ay) - (cx - ax) * (by - ay)
-        if det == 0:
-            continue
-        l1 = ((X - ax) * (cy - ay) - (cx - ax) * (Y - ay)) / det
-        l2 = ((bx - ax) * (Y - ay) - (X - ax) * (by - ay)) / det
-        mask[y0:y1, x0:x1] |= (l1 >= 0) & (l2 >= 0) & (l1 + l2 <= 1)
+    # The texel centres inside LOW's UV triangles, rows counted up from v = 0, flipped at the end.
+    rows, cols = texels(np.array(vt), np.array(tris), w, h)[:2]
+    mask = np.zeros((h, w), bool)
+    mask[rows, cols] = True
     return mask[::-1]
 
 
