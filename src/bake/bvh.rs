@@ -1,5 +1,5 @@
 //! A bounding volume hierarchy over HIGH's triangles, for the bake's rays: binned SAH, built on every
-//! core near the root, leaves of at most [`LEAF_SIZE`] triangles, nodes in one array with each
+//! core near the root, leaves of at most four triangles, nodes in one array with each
 //! node's children side by side. A bake's rays are short (from the cage to a little past LOW's
 //! surface) and start near each other, so a plain stack traversal that visits the nearer child first
 //! is what they need; see BENCHMARKS.md ("Baking") for why this is the project's own and not a crate.
