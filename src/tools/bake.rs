@@ -179,6 +179,25 @@ fn write(options: &BakeOptions, map: &BakedMap) -> Result<()> {
     }
 }
 
+/// "1 ray", "2 rays".
+fn rays(n: usize) -> String {
+    format!("{n} ray{}", if n == 1 { "" } else { "s" })
+}
+
+/// `x` to four significant digits (a default distance is a fraction of the model's radius, whose
+/// last digits say nothing).
+fn significant(x: f32) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return x.to_string();
+    }
+    let decimals = (3 - x.abs().log10().floor() as i32).max(0) as usize;
+    let text = format!("{x:.decimals$}");
+    match text.contains('.') {
+        true => text.trim_end_matches('0').trim_end_matches('.').to_string(),
+        false => text,
+    }
+}
+
 /// A few lines on stdout: the map, what it covers, the rays that missed and what to change.
 fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map: &BakedMap) {
     let stats = &map.stats;
@@ -234,12 +253,12 @@ fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map
             );
         }
         println!(
-            "{} rays ({:.2} %) met nothing within --max-distance {} of the cage (--extrusion {}) \
+            "{} ({:.2} %) met nothing within --max-distance {} of the cage (--extrusion {}) \
              and wrote the flat normal; {}",
-            stats.missed,
+            rays(stats.missed),
             100.0 * stats.missed as f64 / stats.rays.max(1) as f64,
-            settings.max_distance,
-            settings.extrusion,
+            significant(settings.max_distance),
+            significant(settings.extrusion),
             advice.join("; ")
         );
     } else {
@@ -260,8 +279,8 @@ fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map
     }
     if stats.singular > 0 {
         println!(
-            "{} rays fell where LOW's frame has no inverse (T, B and N in one plane): flat normal",
-            stats.singular
+            "{} fell where LOW's frame has no inverse (T, B and N in one plane): flat normal",
+            rays(stats.singular)
         );
     }
     if let Some(skew) = stats.skew {
@@ -282,5 +301,22 @@ fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map
                 }
             );
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Fails if a default distance prints its float noise, or a large or tiny one loses digits.
+    #[test]
+    fn distances_print_to_four_significant_digits() {
+        assert_eq!(significant(0.050_000_05), "0.05");
+        assert_eq!(significant(0.100_000_1), "0.1");
+        assert_eq!(significant(1234.567), "1235");
+        assert_eq!(significant(0.000_123_456), "0.0001235");
+        assert_eq!(significant(0.0), "0");
+        assert_eq!(rays(1), "1 ray");
+        assert_eq!(rays(2), "2 rays");
     }
 }
