@@ -12,8 +12,9 @@ use crate::Result;
 
 use super::tutorial13::TextureSet;
 
-/// One set per material of `model`, each drawing its range. Notices (maps left out, options
-/// ignored) go to the log as information: the model draws, with what they say.
+/// One set per material of `model`, each drawing its range. What the model leaves out (maps not
+/// named, options ignored) goes to the log as information; a named map that cannot be read, as a
+/// warning.
 pub fn model_texture_sets(gl: &Gl, model: &Model) -> Result<Vec<TextureSet>> {
     let mut notices = Vec::new();
     let mut sets = Vec::with_capacity(model.ranges.len());
@@ -32,8 +33,12 @@ pub fn model_texture_sets(gl: &Gl, model: &Model) -> Result<Vec<TextureSet>> {
             triangles: Some(range.triangles.clone()),
         });
     }
-    for notice in model.notices.iter().chain(&notices) {
+    for notice in &model.notices {
         log::info!("{notice}");
+    }
+    // A map the model names that is missing or cannot be read: the learner's files need a look.
+    for notice in &notices {
+        log::warn!("{notice}");
     }
     Ok(sets)
 }
