@@ -433,6 +433,7 @@ fn with_one_uv(text: &str) -> Option<String> {
 
 /// The files' side of a bake: both models read, HIGH moved into LOW's placed space, LOW's frames.
 pub struct BakeFiles {
+    /// HIGH as read, its soup moved to `high_soup`.
     pub high: Model,
     pub low: Model,
     /// HIGH's positions in LOW's placed space.
@@ -454,7 +455,7 @@ impl BakeFiles {
                 .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
             (high, low)
         });
-        let (high, low) = (high?, low?);
+        let (mut high, low) = (high?, low?);
         log::info!(
             "bake: read {} and {} in {:.2} s",
             high_path.display(),
@@ -463,8 +464,9 @@ impl BakeFiles {
         );
         let clock = Instant::now();
         // Each model was placed on the tutorial's cylinder by its own bounding sphere: HIGH goes back
-        // to its file's coordinates, then where LOW's placing puts them.
-        let mut high_soup = high.soup.clone();
+        // to its file's coordinates, then where LOW's placing puts them. The soup is moved out of
+        // the model, not copied: HIGH's millions of corners are only read by the rays from here on.
+        let mut high_soup = std::mem::take(&mut high.soup);
         for p in &mut high_soup.vertices {
             *p = low.placement.to_world(high.placement.to_file(*p));
         }

@@ -220,7 +220,7 @@ fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map
         map.height,
         options.depth,
         options.high.display(),
-        files.high.soup.triangle_count(),
+        files.high_soup.triangle_count(),
         options.low.display(),
         files.low.soup.triangle_count(),
     );
