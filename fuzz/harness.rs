@@ -25,7 +25,7 @@ use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::common::texture::{dxt_level_size, read_bmp_bytes, read_dds_bytes};
 use tutorial13::common::vboindexer::{self, IndexOptions, IndexedMesh};
 use tutorial13::mesh::MeshOptions;
-use tutorial13::model::{load_model_bytes, MapOverrides, Model};
+use tutorial13::model::{load_model_bytes, load_shape_bytes, MapOverrides, Model};
 use tutorial13::normalmap::{decode_image, normal_map, HeightMap, Kernel, NormalMapOptions};
 use tutorial13::photo::{height_from_photo, Photo};
 use tutorial13::photometric::{parse_intensities_file, parse_lights_file};
@@ -381,6 +381,10 @@ fn check(target: Target, input: &[u8]) -> Result<Outcome, String> {
         }
         Target::Gltf => {
             let nothing_beside = |_: &Path| Err(std::io::ErrorKind::NotFound.into());
+            // Read for its shape too (a bake's HIGH: a primitive without UVs is taken).
+            if let Ok(shape) = load_shape_bytes(input, path, nothing_beside) {
+                check_model(&shape)?;
+            }
             match load_model_bytes(input, path, &MapOverrides::default(), nothing_beside) {
                 Err(e) => rejected(e),
                 Ok(model) => {

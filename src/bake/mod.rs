@@ -371,66 +371,6 @@ impl Sampler<'_> {
     }
 }
 
-/// HIGH as `--model` reads it. A sculpt is often exported without a UV layout, and the model reader
-/// asks every corner for one; HIGH's UVs are never used, so an OBJ none of whose faces names a UV
-/// is read again with one UV, (0, 0), given to every corner.
-fn load_high(path: &Path) -> Result<Model> {
-    let error = match load_model(path, &MapOverrides::default()) {
-        Err(error @ Error::Obj { .. }) => error,
-        other => return other,
-    };
-    let Ok(bytes) = crate::files::read(path) else {
-        return Err(error);
-    };
-    let Some(text) = std::str::from_utf8(&bytes).ok().and_then(with_one_uv) else {
-        return Err(error);
-    };
-    log::info!(
-        "{}: no UVs; read with one UV for every corner (HIGH's UVs are not used)",
-        path.display()
-    );
-    crate::model::load_model_bytes(
-        text.as_bytes(),
-        path,
-        &MapOverrides::default(),
-        crate::files::read,
-    )
-}
-
-/// `text` with a `vt 0 0` first and every face corner pointing at it (`v` → `v/1`, `v//n` →
-/// `v/1/n`), if it has faces and none of them names a UV; else `None`.
-fn with_one_uv(text: &str) -> Option<String> {
-    let mut out = String::with_capacity(text.len() + text.len() / 4);
-    out.push_str("vt 0 0\n");
-    let mut faces = 0;
-    for line in text.lines() {
-        let words: Vec<&str> = line.split_whitespace().collect();
-        if words.first() != Some(&"f") {
-            out.push_str(line);
-            out.push('\n');
-            continue;
-        }
-        faces += 1;
-        out.push('f');
-        for corner in &words[1..] {
-            let mut parts = corner.splitn(3, '/');
-            let (v, vt, vn) = (parts.next()?, parts.next(), parts.next());
-            if vt.is_some_and(|vt| !vt.is_empty()) {
-                return None;
-            }
-            out.push(' ');
-            out.push_str(v);
-            out.push_str("/1");
-            if let Some(vn) = vn {
-                out.push('/');
-                out.push_str(vn);
-            }
-        }
-        out.push('\n');
-    }
-    (faces > 0).then_some(out)
-}
-
 /// The files' side of a bake: both models read, HIGH moved into LOW's placed space, LOW's frames.
 pub struct BakeFiles {
     /// HIGH as read, its soup moved to `high_soup`.
@@ -448,7 +388,7 @@ impl BakeFiles {
     pub fn load(high_path: &Path, low_path: &Path, settings: &BakeSettings) -> Result<BakeFiles> {
         let clock = Instant::now();
         let (high, low) = std::thread::scope(|scope| {
-            let high = scope.spawn(|| load_high(high_path));
+            let high = scope.spawn(|| crate::model::load_shape(high_path));
             let low = load_model(low_path, &MapOverrides::default());
             let high = high
                 .join()
@@ -456,6 +396,10 @@ impl BakeFiles {
             (high, low)
         });
         let (mut high, low) = (high?, low?);
+        // HIGH's notices say what was filled in (UVs, normals); LOW's maps do not matter here.
+        for notice in &high.notices {
+            log::info!("{notice}");
+        }
         log::info!(
             "bake: read {} and {} in {:.2} s",
             high_path.display(),
@@ -523,24 +467,6 @@ impl BakeFiles {
             });
         }
         Ok(map)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Fails if a face corner without a UV is not pointed at the one added, if a normal index is
-    /// lost, or if a file with UVs (or with no faces) is rewritten.
-    #[test]
-    fn an_obj_without_uvs_is_given_one() {
-        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\nf 1 2 3\n";
-        assert_eq!(
-            with_one_uv(text).unwrap(),
-            "vt 0 0\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1\nf 1/1 2/1 3/1\n"
-        );
-        assert_eq!(with_one_uv("v 0 0 0\nvt 0 0\nf 1/1 1/1 1/1\n"), None);
-        assert_eq!(with_one_uv("v 0 0 0\n"), None);
     }
 }
 

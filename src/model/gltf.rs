@@ -25,7 +25,7 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 
 use super::{
-    apply_overrides, group_by_material, placement, MapOverrides, MapSource, Material, Model,
+    apply_overrides, group_by_material, placement, MapOverrides, MapSource, Material, Model, Uvs,
 };
 use crate::common::objloader::TriangleSoup;
 use crate::tangents::FileTangents;
@@ -46,16 +46,19 @@ pub fn is_gltf(path: &Path) -> bool {
 }
 
 /// Reads a glTF file (JSON or binary) from its bytes; `read_file` reads the buffers and images it
-/// names beside it.
+/// names beside it. With `uvs` [`Uvs::Optional`], a primitive without its UV set is read with
+/// (0, 0) at every corner.
 pub(super) fn load_gltf(
     bytes: &[u8],
     path: &Path,
     overrides: &MapOverrides,
+    uvs: Uvs,
     read_file: &dyn Fn(&Path) -> std::io::Result<Vec<u8>>,
 ) -> Result<Model> {
     let read = Reader {
         path,
         folder: path.parent().unwrap_or(Path::new("")),
+        uvs,
         read_file,
     };
     read.model(bytes, overrides).map_err(|reason| Error::Gltf {
@@ -68,6 +71,7 @@ pub(super) fn load_gltf(
 struct Reader<'a> {
     path: &'a Path,
     folder: &'a Path,
+    uvs: Uvs,
     read_file: &'a dyn Fn(&Path) -> std::io::Result<Vec<u8>>,
 }
 
@@ -118,7 +122,7 @@ impl Reader<'_> {
         let mut material_order: Vec<Option<usize>> = Vec::new();
         let mut corners: Vec<Corners> = Vec::new();
         let (mut tangents_missing, mut tangents_supplied) = (false, false);
-        let mut normals_missing = false;
+        let (mut normals_missing, mut uvs_filled) = (false, false);
         for (mesh, world) in self.mesh_instances(&document)? {
             for primitive in mesh.primitives() {
                 let at = format!("mesh {} primitive {}", mesh.index(), primitive.index());
@@ -132,6 +136,9 @@ impl Reader<'_> {
                     }
                 };
                 let set = uv_set(&primitive.material());
+                let has_set = primitive.get(&gltf::Semantic::TexCoords(set)).is_some();
+                let set = (has_set || self.uvs == Uvs::Required).then_some(set);
+                uvs_filled |= set.is_none();
                 let read = read_primitive(&primitive, &buffers, world, &at, set)?;
                 normals_missing |= read.normals_computed;
                 let out = &mut corners[m];
@@ -154,6 +161,13 @@ impl Reader<'_> {
         }
         if corners.iter().all(|c| c.vertices.is_empty()) {
             return Err("no triangles: the scene draws no mesh".into());
+        }
+        if uvs_filled {
+            notices.push(format!(
+                "{}: a primitive has no UVs: read with (0, 0) at every corner (its UVs are not \
+                 used here)",
+                self.path.display()
+            ));
         }
         if normals_missing {
             notices.push(format!(
@@ -497,13 +511,14 @@ fn map_uv_sets(material: &gltf::Material) -> (Option<u32>, Option<u32>) {
     )
 }
 
-/// A primitive's corners, in `world`, with UV set `set` (`TEXCOORD_set`).
+/// A primitive's corners, in `world`, with UV set `set` (`TEXCOORD_set`); with `None`, every
+/// corner's UV is (0, 0).
 fn read_primitive(
     primitive: &gltf::Primitive,
     buffers: &[Vec<u8>],
     world: Mat4,
     at: &str,
-    set: u32,
+    set: Option<u32>,
 ) -> Result<Primitive, String> {
     if primitive.mode() != Mode::Triangles {
         return Err(format!(
@@ -518,14 +533,19 @@ fn read_primitive(
         .get(&semantic)
         .ok_or_else(|| format!("{at}: no POSITION"))?;
     let count = check_accessor(&positions, "POSITION", Dimensions::Vec3, float, buffers, at)?;
-    let uvs = primitive
-        .get(&gltf::Semantic::TexCoords(set))
-        .ok_or_else(|| match set {
-            0 => format!("{at}: no TEXCOORD_0: a normal map needs UVs to be laid on the surface"),
-            _ => format!("{at}: no TEXCOORD_{set}, the UV set its material's maps name"),
-        })?;
-    let uv_name = format!("TEXCOORD_{set}");
-    let mut checked = vec![(uvs, uv_name.as_str(), Dimensions::Vec2, unorm)];
+    let mut checked = Vec::new();
+    let uv_name = format!("TEXCOORD_{}", set.unwrap_or(0));
+    if let Some(set) = set {
+        let uvs = primitive
+            .get(&gltf::Semantic::TexCoords(set))
+            .ok_or_else(|| match set {
+                0 => {
+                    format!("{at}: no TEXCOORD_0: a normal map needs UVs to be laid on the surface")
+                }
+                _ => format!("{at}: no TEXCOORD_{set}, the UV set its material's maps name"),
+            })?;
+        checked.push((uvs, uv_name.as_str(), Dimensions::Vec2, unorm));
+    }
     let normals = primitive.get(&gltf::Semantic::Normals);
     if let Some(n) = &normals {
         checked.push((n.clone(), "NORMAL", Dimensions::Vec3, float));
@@ -553,12 +573,15 @@ fn read_primitive(
         .ok_or_else(out_of_range)?
         .map(|p| world.transform_point3(Vec3::from(p)))
         .collect();
-    let uvs: Vec<Vec2> = reader
-        .read_tex_coords(set)
-        .ok_or_else(out_of_range)?
-        .into_f32()
-        .map(|[u, v]| Vec2::new(u, 1.0 - v))
-        .collect();
+    let uvs: Vec<Vec2> = match set {
+        Some(set) => reader
+            .read_tex_coords(set)
+            .ok_or_else(out_of_range)?
+            .into_f32()
+            .map(|[u, v]| Vec2::new(u, 1.0 - v))
+            .collect(),
+        None => vec![Vec2::ZERO; count],
+    };
     let file_normals: Option<Vec<Vec3>> = match normals {
         Some(_) => Some(
             reader

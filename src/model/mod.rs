@@ -1,6 +1,7 @@
 //! A learner's own model (`--model FILE.obj`): an OBJ with the materials of its `.mtl`, or a glTF 2.0
-//! file ([`gltf`]), read for the tutorial's pipeline (`computeTangentBasis`, `indexVBO_TBN`,
-//! `NormalMapping.*`).
+//! file ([`gltf`]), read and placed for the tutorial's shaders (`NormalMapping.*`). An OBJ's frames
+//! come from the tutorial's pipeline (`computeTangentBasis`, `indexVBO_TBN`) by default, a glTF's
+//! from its own TANGENTs; [`load_shape`] reads a bake's HIGH, whose UVs are not used.
 //!
 //! Three things differ from the tutorial's `loadOBJ`, because a model exported by a modelling tool is
 //! not the tutorial's cylinder:
@@ -198,6 +199,82 @@ pub fn load_model(path: &Path, overrides: &MapOverrides) -> Result<Model> {
     load_model_bytes(&bytes, path, overrides, crate::files::read)
 }
 
+/// What a model's UVs are read for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Uvs {
+    /// Its maps are laid with them: a file without is refused.
+    Required,
+    /// Never used (a bake's HIGH): a file without is read with (0, 0) at every corner.
+    Optional,
+}
+
+/// [`load_model`] for a model whose shape alone is used (a bake's HIGH). A sculpt is often
+/// exported without a UV layout: an OBJ none of whose faces names a UV is read again with one UV,
+/// (0, 0), given to every corner, and a glTF primitive without its UV set gets the same.
+pub fn load_shape(path: &Path) -> Result<Model> {
+    let bytes = crate::files::read(path).map_err(|e| Error::io(path, e))?;
+    load_shape_bytes(&bytes, path, crate::files::read)
+}
+
+/// [`load_shape`] on the model's bytes; `read_file` as [`load_model_bytes`]'s.
+pub fn load_shape_bytes(
+    bytes: &[u8],
+    path: &Path,
+    read_file: impl Fn(&Path) -> std::io::Result<Vec<u8>>,
+) -> Result<Model> {
+    let overrides = MapOverrides::default();
+    if gltf::is_gltf(path) {
+        return gltf::load_gltf(bytes, path, &overrides, Uvs::Optional, &read_file);
+    }
+    let error = match load_model_bytes(bytes, path, &overrides, &read_file) {
+        Err(error @ Error::Obj { .. }) => error,
+        other => return other,
+    };
+    let Some(text) = std::str::from_utf8(bytes).ok().and_then(with_one_uv) else {
+        return Err(error);
+    };
+    let mut model = load_model_bytes(text.as_bytes(), path, &overrides, &read_file)?;
+    model.notices.push(format!(
+        "{}: no UVs: read with (0, 0) at every corner (its UVs are not used here)",
+        path.display()
+    ));
+    Ok(model)
+}
+
+/// `text` with a `vt 0 0` first and every face corner pointing at it (`v` → `v/1`, `v//n` →
+/// `v/1/n`), if it has faces and none of them names a UV; else `None`.
+fn with_one_uv(text: &str) -> Option<String> {
+    let mut out = String::with_capacity(text.len() + text.len() / 4);
+    out.push_str("vt 0 0\n");
+    let mut faces = 0;
+    for line in text.lines() {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        if words.first() != Some(&"f") {
+            out.push_str(line);
+            out.push('\n');
+            continue;
+        }
+        faces += 1;
+        out.push('f');
+        for corner in &words[1..] {
+            let mut parts = corner.splitn(3, '/');
+            let (v, vt, vn) = (parts.next()?, parts.next(), parts.next());
+            if vt.is_some_and(|vt| !vt.is_empty()) {
+                return None;
+            }
+            out.push(' ');
+            out.push_str(v);
+            out.push_str("/1");
+            if let Some(vn) = vn {
+                out.push('/');
+                out.push_str(vn);
+            }
+        }
+        out.push('\n');
+    }
+    (faces > 0).then_some(out)
+}
+
 /// [`load_model`] on the model's bytes (an OBJ, or a glTF by `path`'s extension); `read_mtl` reads
 /// a file the model names: an OBJ's `.mtl`, a glTF's buffers and images (the fuzz harness gives its
 /// own).
@@ -208,7 +285,7 @@ pub fn load_model_bytes(
     read_mtl: impl Fn(&Path) -> std::io::Result<Vec<u8>>,
 ) -> Result<Model> {
     if gltf::is_gltf(path) {
-        return gltf::load_gltf(bytes, path, overrides, &read_mtl);
+        return gltf::load_gltf(bytes, path, overrides, Uvs::Required, &read_mtl);
     }
     let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
     let notices = RefCell::new(Vec::new());
@@ -511,6 +588,19 @@ pub fn smooth_normals(vertices: &[Vec3], position_indices: &[u32]) -> Vec<Vec3> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Fails if a face corner without a UV is not pointed at the one added, if a normal index is
+    /// lost, or if a file with UVs (or with no faces) is rewritten.
+    #[test]
+    fn an_obj_without_uvs_is_given_one() {
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\nf 1 2 3\n";
+        assert_eq!(
+            with_one_uv(text).unwrap(),
+            "vt 0 0\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1\nf 1/1 2/1 3/1\n"
+        );
+        assert_eq!(with_one_uv("v 0 0 0\nvt 0 0\nf 1/1 1/1 1/1\n"), None);
+        assert_eq!(with_one_uv("v 0 0 0\n"), None);
+    }
 
     // Fails if the placement does not put the bounding sphere on the tutorial's cylinder's, or
     // loses precision far from the origin.

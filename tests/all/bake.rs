@@ -868,3 +868,169 @@ fn high_without_uvs_bakes_the_same_map() {
     }
     assert!(maps[0] == maps[1], "the maps differ");
 }
+
+/// An OBJ's triangles (`v`, `vt`, `vn` and `f v/vt/vn` lines, as [`sphere`] writes them) as a binary
+/// glTF, corner by corner: the floats the OBJ holds, V turned to glTF's (down the picture), with
+/// TEXCOORD_0 or without, and with `tangents` (one per corner) where given.
+fn obj_as_glb(obj: &Path, uvs: bool, tangents: Option<&[[f32; 4]]>) -> Vec<u8> {
+    let text = std::fs::read_to_string(obj).unwrap();
+    let floats = |prefix: &str| -> Vec<Vec<f32>> {
+        let lines = text.lines().filter_map(|l| l.strip_prefix(prefix));
+        lines
+            .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+            .collect()
+    };
+    let (v, vt, vn) = (floats("v "), floats("vt "), floats("vn "));
+    let (mut positions, mut texcoords, mut normals) = (Vec::new(), Vec::new(), Vec::new());
+    for face in text.lines().filter_map(|l| l.strip_prefix("f ")) {
+        for corner in face.split_whitespace() {
+            let i: Vec<usize> = corner.split('/').map(|i| i.parse().unwrap()).collect();
+            positions.extend(&v[i[0] - 1]);
+            texcoords.extend([vt[i[1] - 1][0], 1.0 - vt[i[1] - 1][1]]);
+            normals.extend(&vn[i[2] - 1]);
+        }
+    }
+    let mut buffers = crate::gltf::Buffers::default();
+    let mut attributes = vec![
+        format!(
+            r#""POSITION":{}"#,
+            buffers.floats(&positions, 3, "VEC3", true)
+        ),
+        format!(r#""NORMAL":{}"#, buffers.floats(&normals, 3, "VEC3", false)),
+    ];
+    if uvs {
+        let accessor = buffers.floats(&texcoords, 2, "VEC2", false);
+        attributes.push(format!(r#""TEXCOORD_0":{accessor}"#));
+    }
+    if let Some(tangents) = tangents {
+        let flat: Vec<f32> = tangents.iter().flatten().copied().collect();
+        let accessor = buffers.floats(&flat, 4, "VEC4", false);
+        attributes.push(format!(r#""TANGENT":{accessor}"#));
+    }
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"attributes":{{{}}}}}]}}],
+"buffers":[{{"byteLength":{}}}],"bufferViews":[{}],"accessors":[{}]}}"#,
+        attributes.join(","),
+        buffers.bin.len(),
+        buffers.views.join(","),
+        buffers.accessors.join(",")
+    );
+    crate::gltf::glb(&json, &buffers.bin)
+}
+
+/// The largest difference of two 16-bit maps' components, in levels of 65535 (their texels are
+/// decoded and normalized again: a stored level is within 0.5 of this).
+fn largest_levels(a: &[Vec3], b: &[Vec3]) -> f32 {
+    let largest = a.iter().zip(b).map(|(a, b)| (*a - *b).abs().max_element());
+    largest.fold(0.0, f32::max) * 32767.5
+}
+
+/// `tutorial13 bake HIGH LOW -o NAME --size 64 ARGS…` in `dir`, the map as 16-bit texels.
+fn bake_in(dir: &Path, high: &Path, low: &Path, name: &str, args: &[&str]) -> Vec<Vec3> {
+    let out = dir.join(name);
+    let mut all = vec![high.to_str().unwrap(), low.to_str().unwrap()];
+    all.extend(["-o", out.to_str().unwrap(), "--size", "64"]);
+    all.extend(args);
+    let output = bake_cli(&all);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    decode(&out).2
+}
+
+// Fails if a glTF HIGH without TEXCOORD_0 (a sculpt exported without a UV layout) is refused or
+// bakes differently from the same glTF with its UVs, or if a glTF HIGH bakes more than one level
+// (of 65535) away from the OBJ it was written from: the glTF holds the OBJ's floats, and only its
+// normals are normalized as they are read.
+#[test]
+fn a_gltf_high_without_uvs_bakes_the_same_map() {
+    let dir = scratch("gltf-high");
+    let high = sphere(&dir, "high.obj", 64, 32, &relief(), false);
+    let low = sphere(&dir, "low.obj", 16, 8, &round, false);
+    let mut maps = Vec::new();
+    for (uvs, name) in [(true, "with.glb"), (false, "without.glb")] {
+        let path = dir.join(name);
+        std::fs::write(&path, obj_as_glb(&high, uvs, None)).unwrap();
+        maps.push(bake_in(
+            &dir,
+            &path,
+            &low,
+            &format!("{name}.png"),
+            &["--depth", "16"],
+        ));
+    }
+    assert!(maps[0] == maps[1], "the maps differ");
+    let obj = bake_in(&dir, &high, &low, "obj.png", &["--depth", "16"]);
+    let levels = largest_levels(&obj, &maps[0]);
+    assert!(
+        levels <= 1.0,
+        "the OBJ's and the glTF's maps differ by {levels} levels"
+    );
+}
+
+// Fails if `--tangents file` does not bake in a glTF LOW's own TANGENTs: with MikkTSpace's
+// tangents written into the file, the map must be `--tangents mikktspace`'s within one level of
+// 65535 (the reader normalizes a file's tangents again, which moves their last bits); with
+// each corner's tangent turned a quarter round its normal (T' = B, so B' = -T), every texel's
+// (x, y) must become (y, -x), within a stated angle (the turned tangents are interpolated across a
+// triangle, which a quarter turn of the interpolated frame is not, exactly).
+#[test]
+fn a_gltf_lows_own_tangents_are_baked_in() {
+    let dir = scratch("file-tangents");
+    let high = sphere(&dir, "high.obj", 128, 64, &relief(), false);
+    let low_obj = sphere(&dir, "low.obj", 16, 8, &round, false);
+    let bare = dir.join("bare.glb");
+    std::fs::write(&bare, obj_as_glb(&low_obj, true, None)).unwrap();
+    let soup = load_model(&bare, &MapOverrides::default()).unwrap().soup;
+    let mikk = tutorial13::tangents::mikktspace_tangents(&soup).unwrap();
+    let turned: Vec<[f32; 4]> = mikk
+        .iter()
+        .zip(&soup.normals)
+        .map(|(t, n)| {
+            let b = t[3] * n.cross(Vec3::from_slice(t));
+            [b.x, b.y, b.z, t[3]]
+        })
+        .collect();
+    let args = ["--depth", "16", "--tangents"];
+    let computed = bake_in(
+        &dir,
+        &high,
+        &bare,
+        "computed.png",
+        &[&args[..], &["mikktspace"]].concat(),
+    );
+    let mut maps = Vec::new();
+    for (tangents, name) in [(&mikk, "mikk.glb"), (&turned, "turned.glb")] {
+        let low = dir.join(name);
+        std::fs::write(&low, obj_as_glb(&low_obj, true, Some(tangents))).unwrap();
+        maps.push(bake_in(
+            &dir,
+            &high,
+            &low,
+            &format!("{name}.png"),
+            &[&args[..], &["file"]].concat(),
+        ));
+    }
+    let levels = largest_levels(&computed, &maps[0]);
+    assert!(
+        levels <= 1.0,
+        "the file's MikkTSpace tangents bake {levels} levels away"
+    );
+    let mut angles: Vec<f64> = computed
+        .iter()
+        .zip(&maps[1])
+        .filter(|(c, _)| (**c - Vec3::Z).length() > 1e-3)
+        .map(|(c, t)| degrees(Vec3::new(c.y, -c.x, c.z), *t))
+        .collect();
+    let tilted = angles.len();
+    let p99 = percentile(&mut angles, 0.99);
+    let largest = angles[tilted - 1];
+    eprintln!("turned tangents: {tilted} tilted texels, p99 {p99:.4}°, largest {largest:.4}°");
+    assert!(
+        tilted > 500,
+        "only {tilted} texels are tilted: the test sees nothing"
+    );
+    assert!(
+        p99 < 0.5,
+        "(x, y) → (y, -x) within {p99:.3}° at the 99th percentile"
+    );
+}

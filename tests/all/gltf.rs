@@ -105,16 +105,16 @@ fn baked_map(orientation: Orientation, size: u32) -> RgbImage {
 
 /// A glTF's binary buffer being written: each array a view and an accessor.
 #[derive(Default)]
-struct Buffers {
-    bin: Vec<u8>,
-    views: Vec<String>,
-    accessors: Vec<String>,
+pub struct Buffers {
+    pub bin: Vec<u8>,
+    pub views: Vec<String>,
+    pub accessors: Vec<String>,
 }
 
 impl Buffers {
     /// Floats, `width` per element (`kind`: "VEC2", "VEC3", "VEC4"); min and max given for
     /// POSITION as the specification asks.
-    fn floats(&mut self, data: &[f32], width: usize, kind: &str, bounds: bool) -> usize {
+    pub fn floats(&mut self, data: &[f32], width: usize, kind: &str, bounds: bool) -> usize {
         self.view(data.iter().flat_map(|v| v.to_le_bytes()));
         let count = data.len() / width;
         let mut extra = String::new();
@@ -587,7 +587,7 @@ fn quad_document_with_uvs(
 }
 
 /// A binary glTF: the 12-byte header, the JSON chunk, the BIN chunk, each padded to 4 bytes.
-fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
+pub fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
     let mut json = json.as_bytes().to_vec();
     while json.len() % 4 != 0 {
         json.push(b' ');
