@@ -1,8 +1,9 @@
 //! The scene host: what every front end drives. It owns the scene, its descriptor, the options it
 //! was built with, the tutorial's camera (`controls.cpp`) and the input that moves it, and the
-//! cursor; every input reaches the scene through it. The window, headless rendering and the tests
-//! differ only in where the frame goes and where their input comes from, so Enter, a dropped file
-//! or R does the same in each.
+//! cursor. Keys, mouse motion, the wheel, clicks and dropped files reach the scene through it; the
+//! panel does not, as it reads and sets the scene's table itself ([`crate::frontends::panel`]).
+//! The window, the browser page, headless rendering and the tests differ only in where the frame
+//! goes and where their input comes from, so Enter, a dropped file or R does the same in each.
 
 use std::any::Any;
 use std::path::Path;

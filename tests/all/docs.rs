@@ -34,6 +34,14 @@
 //!   OpenGL's or GLFW's: it must occur in src/'s text (code or comments).
 //! - A backticked relative path into the repository's own folders (`tests/all/render.rs`,
 //!   `shaders/Sprite.*`) must exist (a trailing `*` matches any file starting with the rest).
+//! - A Rust name tied to a `.rs` file by a link must be defined in that very file. The forms are a
+//!   span followed by ` ([text](file.rs))` or by ` in [text](file.rs)`, and a link whose text is
+//!   the span alone, ``[`name`](file.rs)``; the file is the link's target (without its `#anchor`)
+//!   from the document's folder. A leading module path is dropped (`pipeline::obj_parse::load_obj`
+//!   is `load_obj`); a single name must be an item, field or variant of that file, and
+//!   `Type::member` a method or associated item of an `impl`/`trait` block in that file, or a field
+//!   or variant declared there. Not checked: a name a few words before its link, or a name defined
+//!   in a submodule of the `mod.rs` linked to.
 
 use std::collections::{HashMap, HashSet};
 use std::fs;
@@ -243,6 +251,36 @@ fn named_rust_items_exist() {
     );
 }
 
+// Fails if README.md, BENCHMARKS.md or a docs/*.md page ties a Rust name to a source file by a link
+// (`load_mesh` ([tutorial13.rs](…)), `load_mesh` in [tutorial13.rs](…), or [`load_mesh`](…)) and
+// that file does not define it: the name moved to another file, or the link was wrong from the
+// start.
+#[test]
+fn names_linked_to_a_file_are_defined_there() {
+    let index = Index::read();
+    let mut misplaced = Vec::new();
+    for doc in &markdown_docs() {
+        let folder = Path::new(doc).parent().unwrap();
+        for (span, target) in linked_names(&read(doc)) {
+            let file = normalize(&folder.join(&target));
+            if file.extension().is_none_or(|e| e != "rs") {
+                continue;
+            }
+            let Some(name) = rust_name(span.trim()) else {
+                continue;
+            };
+            if let Err(why) = index.defined_in(&name, &file) {
+                misplaced.push(format!("{doc}: `{span}` linked to {target}: {why}"));
+            }
+        }
+    }
+    assert!(
+        misplaced.is_empty(),
+        "names linked to a source file that does not define them:\n{}",
+        misplaced.join("\n")
+    );
+}
+
 // Fails if a difference that docs/differences.md details (one of its headings) has no line in the
 // README's short list linking to it: the README's list must name every difference, and say it in
 // one line, the details being written once, on that page.
@@ -428,6 +466,46 @@ fn links(text: &str) -> Vec<String> {
     targets
 }
 
+/// The backticked spans that a link ties to a file (see the module documentation), each with the
+/// link's target as written, without its `#anchor`.
+fn linked_names(text: &str) -> Vec<(String, String)> {
+    let mut found = Vec::new();
+    for line in prose(text) {
+        let ticks: Vec<usize> = line.match_indices('`').map(|(i, _)| i).collect();
+        for pair in ticks.chunks_exact(2) {
+            let (open, close) = (pair[0], pair[1]);
+            let after = &line[close + 1..];
+            let target = if line[..open].ends_with('[') {
+                // [`name`](target)
+                after
+                    .strip_prefix("](")
+                    .and_then(|rest| rest.split_once(')'))
+                    .map(|(target, _)| target)
+            } else {
+                // `name` ([text](target))  or  `name` in [text](target)
+                after
+                    .strip_prefix(" (")
+                    .or_else(|| after.strip_prefix(" in "))
+                    .and_then(link_target)
+            };
+            if let Some(target) = target {
+                let file = target.split_once('#').map_or(target, |(file, _)| file);
+                found.push((line[open + 1..close].to_string(), file.trim().to_string()));
+            }
+        }
+    }
+    found
+}
+
+/// The target of the link `[text](target)` that `text` starts with.
+fn link_target(text: &str) -> Option<&str> {
+    let (label, rest) = text.strip_prefix('[')?.split_once("](")?;
+    if label.contains(']') {
+        return None;
+    }
+    rest.split_once(')').map(|(target, _)| target)
+}
+
 /// GitHub's anchors for a file's headings: lower case, punctuation other than `-` and `_` dropped,
 /// spaces turned into `-`.
 fn heading_slugs(text: &str) -> HashSet<String> {
@@ -519,14 +597,23 @@ fn is_screaming(s: &str) -> bool {
             .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
 }
 
+/// Records that `file` defines `key`.
+fn record(map: &mut HashMap<String, Vec<PathBuf>>, key: String, file: &Path) {
+    let files = map.entry(key).or_default();
+    if !files.iter().any(|f| f == file) {
+        files.push(file.to_path_buf());
+    }
+}
+
 /// The names the code defines (see the module documentation).
 struct Index {
     /// Name → the files (relative to the crate) that define it.
     names: HashMap<String, Vec<PathBuf>>,
     /// Struct, enum, union, trait and type-alias names.
     types: HashSet<String>,
-    /// `Owner::member`: methods and associated items of `impl`/`trait` blocks, fields, variants.
-    members: HashSet<String>,
+    /// `Owner::member` (methods and associated items of `impl`/`trait` blocks, fields, variants) →
+    /// the files that define it.
+    members: HashMap<String, Vec<PathBuf>>,
     /// Every word of every shader.
     glsl_words: HashSet<String>,
     /// src/'s text as it is (comments included), for [`OTHER_CRATES`].
@@ -538,7 +625,7 @@ impl Index {
         let mut index = Index {
             names: HashMap::new(),
             types: HashSet::new(),
-            members: HashSet::new(),
+            members: HashMap::new(),
             glsl_words: HashSet::new(),
             src_text: String::new(),
         };
@@ -566,10 +653,12 @@ impl Index {
     }
 
     fn define(&mut self, name: &str, file: &Path) {
-        let files = self.names.entry(name.to_string()).or_default();
-        if !files.iter().any(|f| f == file) {
-            files.push(file.to_path_buf());
-        }
+        record(&mut self.names, name.to_string(), file);
+    }
+
+    /// `owner::name`, defined in `file`.
+    fn define_member(&mut self, owner: &str, name: &str, file: &Path) {
+        record(&mut self.members, format!("{owner}::{name}"), file);
     }
 
     /// Records what one file defines, reading its tokens with a stack of `{ }` scopes.
@@ -614,7 +703,7 @@ impl Index {
                     }
                     if let (Owner::Items(ty), "fn" | "const" | "type") = (&owner, t) {
                         if depth == 0 {
-                            self.members.insert(format!("{ty}::{name}"));
+                            self.define_member(ty, name, file);
                         }
                     }
                     pending = Owner::Other;
@@ -669,14 +758,14 @@ impl Index {
                                 && name != "pub" =>
                         {
                             self.define(name, file);
-                            self.members.insert(format!("{ty}::{name}"));
+                            self.define_member(ty, name, file);
                         }
                         Owner::Enum(ty)
                             if after_separator
                                 && matches!(tok(i + 1), "," | "(" | "{" | "=" | "}") =>
                         {
                             self.define(name, file);
-                            self.members.insert(format!("{ty}::{name}"));
+                            self.define_member(ty, name, file);
                         }
                         _ => {}
                     }
@@ -751,10 +840,43 @@ impl Index {
             [ty, member] if !(self.types.contains(*ty) && here(ty)) => {
                 Err(format!("no type `{ty}` there"))
             }
-            [ty, member] if self.members.contains(&format!("{ty}::{member}")) => Ok(()),
+            [ty, member] if self.members.contains_key(&format!("{ty}::{member}")) => Ok(()),
             [ty, member] => Err(format!("`{ty}` has no method, field or variant `{member}`")),
             _ => Err("a path this check cannot follow".into()),
         }
+    }
+
+    /// Whether the Rust name `name` (as [`rust_name`] gives it) is defined in `file` (relative to
+    /// the crate); the error says where it is defined instead.
+    fn defined_in(&self, name: &str, file: &Path) -> Result<(), String> {
+        let mut segments: Vec<&str> = name.split("::").collect();
+        if matches!(segments[0], "crate" | "tutorial13" | "self") {
+            segments.remove(0);
+        }
+        let modules = segments[..segments.len() - 1]
+            .iter()
+            .take_while(|s| s.starts_with(|c: char| c.is_ascii_lowercase()))
+            .count();
+        let (key, defined) = match &segments[modules..] {
+            [item] => (item.to_string(), &self.names),
+            [ty, member] => (format!("{ty}::{member}"), &self.members),
+            _ => return Err("a path this check cannot follow".into()),
+        };
+        let files = defined.get(&key).map(Vec::as_slice).unwrap_or_default();
+        if files.iter().any(|f| f == file) {
+            return Ok(());
+        }
+        let elsewhere = match files {
+            [] => "nowhere in the code".to_string(),
+            _ => {
+                let files: Vec<String> = files.iter().map(|f| f.display().to_string()).collect();
+                format!("in {}", files.join(", "))
+            }
+        };
+        Err(format!(
+            "{} does not define `{key}`; it is defined {elsewhere}",
+            file.display()
+        ))
     }
 
     /// `Some(result)` when `span` is a relative path into one of the repository's folders.
