@@ -1,12 +1,12 @@
 //! The CPU half of a first frame, against the tool people index meshes with:
 //! `cargo bench -p tutorial13-benches --bench first_frame`. Figures go to BENCHMARKS.md.
 //!
-//! * `indexing`: `index_vbo`, `index_vbo_tbn` and meshoptimizer's remap (`generate_vertex_remap`,
+//! * `indexing`: `index_vbo_hashed`, `index_vbo_tbn_hashed` and meshoptimizer's remap (`generate_vertex_remap`,
 //!   `remap_vertex_buffer`, `remap_index_buffer`, on the same corners interleaved, as meshoptimizer
 //!   reads them) on the same soups. Before timing, all three must give the same vertex count.
 //! * `first-frame-1M`: the split of a 1M-triangle cylinder's first frame: OBJ text to soup (the
 //!   project's parse on every core, and tobj's with the checks beside it), `compute_tangent_basis`,
-//!   `index_vbo_tbn`.
+//!   `index_vbo_tbn_hashed`.
 //!
 //! Criterion runs one benchmark's samples after another, so a neighbour on a shared machine can
 //! land on one of them only. With `TUTORIAL13_ROUNDS=N` in the environment the bench instead times
@@ -24,8 +24,8 @@ use glam::Vec3;
 use tutorial13::common::objloader::{self, TriangleSoup};
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
 use tutorial13::common::vboindexer::IndexOptions;
-use tutorial13::pipeline::indexer::{index_vbo, index_vbo_tbn};
-use tutorial13::pipeline::obj_parse::load_obj_bytes;
+use tutorial13::pipeline::indexer::{index_vbo_hashed, index_vbo_tbn_hashed};
+use tutorial13::pipeline::obj_parse::load_obj_bytes_threaded;
 
 /// One corner as meshoptimizer reads it: the 32 bytes `indexVBO` compares.
 #[repr(C)]
@@ -55,7 +55,7 @@ fn meshopt_remap(corners: &[Corner]) -> (Vec<Corner>, Vec<u32>) {
 }
 
 fn soup_of(text: &str) -> TriangleSoup {
-    load_obj_bytes(text.as_bytes(), Path::new("generated.obj")).unwrap()
+    load_obj_bytes_threaded(text.as_bytes(), Path::new("generated.obj")).unwrap()
 }
 
 /// A soup to index, with its tangents and its corners for meshoptimizer.
@@ -80,8 +80,8 @@ fn cases() -> Vec<Case> {
             let corners = interleave(&soup);
             // The three must agree on the mesh before their times mean anything.
             let vertices = meshopt_remap(&corners).0.len();
-            let plain = index_vbo(&soup).vertices.len();
-            let tbn = index_vbo_tbn(&soup, &basis, IndexOptions::default())
+            let plain = index_vbo_hashed(&soup).vertices.len();
+            let tbn = index_vbo_tbn_hashed(&soup, &basis, IndexOptions::default())
                 .vertices
                 .len();
             assert_eq!((plain, tbn), (vertices, vertices), "{label}");
@@ -110,14 +110,14 @@ fn indexers(case: &Case) -> [Run<'_>; 3] {
             Box::new(|| drop(std::hint::black_box(meshopt_remap(&case.corners)))),
         ),
         (
-            "index_vbo",
-            Box::new(|| drop(std::hint::black_box(index_vbo(&case.soup)))),
+            "index_vbo_hashed",
+            Box::new(|| drop(std::hint::black_box(index_vbo_hashed(&case.soup)))),
         ),
         (
-            "index_vbo_tbn",
+            "index_vbo_tbn_hashed",
             Box::new(|| {
                 let options = IndexOptions::default();
-                drop(std::hint::black_box(index_vbo_tbn(
+                drop(std::hint::black_box(index_vbo_tbn_hashed(
                     &case.soup,
                     &case.basis,
                     options,
@@ -150,8 +150,8 @@ fn first_frame(c: &mut Criterion) {
     group.bench_function("tangents", |b| {
         b.iter(|| compute_tangent_basis(&soup, TangentOptions::default()))
     });
-    group.bench_function("index_vbo_tbn", |b| {
-        b.iter(|| index_vbo_tbn(&soup, &basis, IndexOptions::default()))
+    group.bench_function("index_vbo_tbn_hashed", |b| {
+        b.iter(|| index_vbo_tbn_hashed(&soup, &basis, IndexOptions::default()))
     });
     group.finish();
 }

@@ -17,8 +17,8 @@ use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::common::vboindexer::{self, IndexOptions};
 use tutorial13::mesh::{build_mesh, MeshOptions};
-use tutorial13::pipeline::indexer::index_vbo_tbn;
-use tutorial13::pipeline::obj_parse::load_obj;
+use tutorial13::pipeline::indexer::index_vbo_tbn_hashed;
+use tutorial13::pipeline::obj_parse::load_obj_threaded;
 use tutorial13::tangents::TangentSource;
 
 fn write_obj(name: &str, segments: u32, rings: u32) -> PathBuf {
@@ -39,10 +39,10 @@ fn cylinder_soup(label: &str, segments: u32, rings: u32) -> TriangleSoup {
 }
 
 fn soup_of(path: &Path) -> TriangleSoup {
-    load_obj(path).unwrap()
+    load_obj_threaded(path).unwrap()
 }
 
-/// load_obj + compute_tangent_basis + index_vbo_tbn, from the file on disk.
+/// load_obj_threaded + compute_tangent_basis + index_vbo_tbn_hashed, from the file on disk.
 fn whole_pipeline(c: &mut Criterion) {
     let mut group = ten_samples(c, "pipeline", 1.0);
     for (label, segments, rings) in [("10k", 100, 50), ("100k", 500, 100), ("1M", 1000, 500)] {
@@ -56,12 +56,12 @@ fn whole_pipeline(c: &mut Criterion) {
 
 /// The grid indexer against the tutorial's linear search, on the same soup: the ratio is the figure.
 fn indexers(c: &mut Criterion) {
-    let mut group = ten_samples(c, "index_vbo_tbn", 0.5);
+    let mut group = ten_samples(c, "index_vbo_tbn_hashed", 0.5);
     for (label, segments, rings) in [("20k", 100, 100), ("60k", 300, 100)] {
         let soup = cylinder_soup(label, segments, rings);
         let basis = compute_tangent_basis(&soup, TangentOptions::default());
         group.bench_function(BenchmarkId::new("grid", label), |b| {
-            b.iter(|| index_vbo_tbn(&soup, &basis, IndexOptions::default()))
+            b.iter(|| index_vbo_tbn_hashed(&soup, &basis, IndexOptions::default()))
         });
         group.bench_function(BenchmarkId::new("linear", label), |b| {
             b.iter(|| vboindexer::index_vbo_tbn(&soup, &basis, IndexOptions::default()))
@@ -82,7 +82,7 @@ fn one_cell(c: &mut Criterion) {
         let soup = spread_soup(position);
         let basis = compute_tangent_basis(&soup, TangentOptions::default());
         group.bench_function(label, |b| {
-            b.iter(|| index_vbo_tbn(&soup, &basis, IndexOptions::default()))
+            b.iter(|| index_vbo_tbn_hashed(&soup, &basis, IndexOptions::default()))
         });
     }
     group.finish();

@@ -30,9 +30,9 @@ use tutorial13::normalmap::{decode_image, normal_map, HeightMap, Kernel, NormalM
 use tutorial13::photo::{height_from_photo, Photo};
 use tutorial13::photometric::{parse_intensities_file, parse_lights_file};
 use tutorial13::photometric::{recover, PhotometricOptions};
-use tutorial13::pipeline::indexer::index_vbo_tbn;
+use tutorial13::pipeline::indexer::index_vbo_tbn_hashed;
 use tutorial13::pipeline::mikktspace::mikktspace_tangents_on;
-use tutorial13::pipeline::obj_parse::load_obj_bytes;
+use tutorial13::pipeline::obj_parse::load_obj_bytes_threaded;
 
 use crate::differential::differ_from_tobj;
 use crate::mikktspace_reference::{first_difference, reference_can_take, reference_tangents};
@@ -40,7 +40,7 @@ use crate::mikktspace_reference::{first_difference, reference_can_take, referenc
 /// What is fuzzed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Target {
-    /// `load_obj_bytes`: an error naming the file, or a finite triangle soup.
+    /// `load_obj_bytes_threaded`: an error naming the file, or a finite triangle soup.
     Obj,
     /// `read_dds_bytes`: an error naming the file, or levels of exactly the tutorial's sizes.
     Dds,
@@ -273,11 +273,11 @@ fn check(target: Target, input: &[u8]) -> Result<Outcome, String> {
         Ok(Outcome::Rejected(message_kind(&message)))
     };
     match target {
-        Target::Obj => match load_obj_bytes(input, path) {
+        Target::Obj => match load_obj_bytes_threaded(input, path) {
             Err(e) => rejected(e),
             Ok(soup) => check_soup(&soup).map(|_| Outcome::Loaded),
         },
-        Target::Pipeline => match load_obj_bytes(input, path) {
+        Target::Pipeline => match load_obj_bytes_threaded(input, path) {
             Err(e) => rejected(e),
             Ok(soup) => {
                 check_soup(&soup)?;
@@ -342,7 +342,7 @@ fn check(target: Target, input: &[u8]) -> Result<Outcome, String> {
         Target::ObjTobj => {
             let (obj, mtl) = split_model_input(input);
             differ_from_tobj(&obj, &mtl)?;
-            match load_obj_bytes(&obj, path) {
+            match load_obj_bytes_threaded(&obj, path) {
                 Err(e) => rejected(e),
                 Ok(_) => Ok(Outcome::Loaded),
             }
@@ -1061,7 +1061,7 @@ fn check_pipeline(soup: &TriangleSoup) -> Result<(), String> {
                 ));
             }
         }
-        let mesh = index_vbo_tbn(soup, &basis, options.indexing);
+        let mesh = index_vbo_tbn_hashed(soup, &basis, options.indexing);
         check_indexed(&mesh, corners).map_err(|e| format!("{options:?}: {e}"))?;
         if corners <= LINEAR_REFERENCE_MAX_CORNERS {
             let reference = vboindexer::index_vbo_tbn(soup, &basis, options.indexing);

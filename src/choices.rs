@@ -1,14 +1,8 @@
 //! Switches with named values (`--tangents`, `--space`): clap's `ValueEnum` gives each value its
-//! command-line name, parses it and lists the values; these two give what a key needs on top.
+//! command-line name, parses it and lists the values; these give what a key and the panel need on
+//! top: the names in order, and a value found by its name.
 
 use clap::ValueEnum;
-
-/// The value after `value`, wrapping around (the key that steps through them).
-pub fn next<T: ValueEnum + PartialEq + Clone>(value: &T) -> T {
-    let all = T::value_variants();
-    let i = all.iter().position(|v| v == value).unwrap_or(0);
-    all[(i + 1) % all.len()].clone()
-}
 
 /// `value`'s command-line name, for the title and the log.
 pub fn name<T: ValueEnum>(value: &T) -> String {

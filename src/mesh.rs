@@ -4,7 +4,7 @@
 use crate::common::objloader::TriangleSoup;
 use crate::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use crate::common::vboindexer::{IndexOptions, IndexedMesh};
-use crate::pipeline::indexer::index_vbo_tbn;
+use crate::pipeline::indexer::index_vbo_tbn_hashed;
 
 /// Every switch of the CPU pipeline.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -16,7 +16,7 @@ pub struct MeshOptions {
 /// Soup → tangents → indexed mesh.
 pub fn build_mesh(soup: &TriangleSoup, options: MeshOptions) -> IndexedMesh {
     let basis = compute_tangent_basis(soup, options.tangents);
-    index_vbo_tbn(soup, &basis, options.indexing)
+    index_vbo_tbn_hashed(soup, &basis, options.indexing)
 }
 
 /// OBJ text of an open cylinder around the y axis (sides only, smooth radial normals) of any size:

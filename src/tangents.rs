@@ -28,7 +28,7 @@ use glam::{DMat3, DVec3, Vec3};
 use crate::common::objloader::TriangleSoup;
 use crate::common::vboindexer::{IndexedMesh, Indices};
 use crate::mesh::{build_mesh, MeshOptions};
-use crate::pipeline::indexer::{index_vbo, weld_exact};
+use crate::pipeline::indexer::{index_vbo_hashed, weld_exact};
 use crate::Result;
 
 /// The three sources, in the order the key steps through them.
@@ -44,11 +44,6 @@ pub enum TangentSource {
 }
 
 impl TangentSource {
-    /// The next source, wrapping around (key F).
-    pub fn next(self) -> Self {
-        crate::choices::next(&self)
-    }
-
     /// The indexed mesh this source draws: with summed tangents (tutorial), MikkTSpace's
     /// (mikktspace, and file for a soup without a file's tangents), or none (derivative).
     /// `options` are the tutorial pipeline's switches.
@@ -67,7 +62,7 @@ impl TangentSource {
             (Self::Tutorial, _) => Ok(build_mesh(soup, options)),
             (Self::File, Some(file)) => Ok(welded_mesh(soup, &file.complete(soup)?)),
             (Self::MikkTSpace | Self::File, _) => mikktspace_mesh(soup),
-            (Self::Derivative, _) => Ok(index_vbo(soup)),
+            (Self::Derivative, _) => Ok(index_vbo_hashed(soup)),
         }
     }
 }

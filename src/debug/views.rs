@@ -29,7 +29,8 @@ pub struct ColorView {
 }
 
 impl ColorView {
-    /// Every view the `V` key steps through, in order (components are stepped by `C`).
+    /// Every view the `V` key steps through, in order (the cylinder's table; `C` steps the
+    /// component).
     pub const CYCLE: [(DebugVector, bool); 7] = [
         (DebugVector::Lit, false),
         (DebugVector::Light, false),
@@ -40,20 +41,6 @@ impl ColorView {
         (DebugVector::TextureNormal, true),
     ];
 
-    /// The next vector view, components kept.
-    pub fn next_vector(self) -> Self {
-        let i = Self::CYCLE
-            .iter()
-            .position(|&(v, m)| v == self.vector && (m == self.mapped || v == DebugVector::Lit))
-            .unwrap_or(0);
-        let (vector, mapped) = Self::CYCLE[(i + 1) % Self::CYCLE.len()];
-        ColorView {
-            vector,
-            mapped,
-            ..self
-        }
-    }
-
     /// This view showing `vector` (raw, or (v + 1) / 2 if `mapped`).
     pub fn with_vector(self, vector: DebugVector, mapped: bool) -> Self {
         ColorView {
@@ -61,16 +48,6 @@ impl ColorView {
             mapped,
             ..self
         }
-    }
-
-    /// All → x → y → z → all.
-    pub fn next_component(self) -> Self {
-        let component = match self.component {
-            None => Some(0),
-            Some(c) if c < 2 => Some(c + 1),
-            Some(_) => None,
-        };
-        ColorView { component, ..self }
     }
 }
 

@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 use glam::{DVec3, Vec3};
 
 use crate::common::objloader::{ObjMode, TriangleSoup};
-use crate::pipeline::obj_parse::read_obj;
+use crate::pipeline::obj_parse::read_obj_threaded;
 use crate::tangents::FileTangents;
 use crate::{Error, Result};
 
@@ -317,7 +317,7 @@ pub fn load_model_bytes(
             }
         }
     };
-    let read = read_obj(bytes, path, ObjMode::Model, load_mtl, None)?;
+    let read = read_obj_threaded(bytes, path, ObjMode::Model, load_mtl, None)?;
     let start = Instant::now();
     let mut notices = notices.into_inner();
     let material_files = material_files.into_inner();

@@ -1,8 +1,8 @@
-//! The fast indexers: [`index_vbo_tbn`] and [`index_vbo`] give the meshes of the tutorial's
+//! The fast indexers: [`index_vbo_tbn_hashed`] and [`index_vbo_hashed`] give the meshes of the tutorial's
 //! `indexVBO_TBN` and `indexVBO` ([`crate::common::vboindexer`]) to the bit, in expected linear time.
 //!
-//! [`index_vbo_tbn`] works in two passes. First the corners are numbered by their exact bits, as
-//! [`index_vbo`] (and meshoptimizer's remap) does (`weld.rs`): a corner equal to an earlier one to the
+//! [`index_vbo_tbn_hashed`] works in two passes. First the corners are numbered by their exact bits, as
+//! [`index_vbo_hashed`] (and meshoptimizer's remap) does (`weld.rs`): a corner equal to an earlier one to the
 //! bit gets that corner's vertex, which the search would find again. Then, corner by corner in the
 //! tutorial's order, the search (once per distinct corner), the index and the tangent sums. The
 //! search keeps output vertices in a hash grid keyed on their position (`grid.rs`: each registered in
@@ -43,7 +43,7 @@ fn prefetch<T>(x: &T) {
 }
 
 /// `indexVBO_TBN` with the tutorial's exact semantics, in expected linear time (see the module docs).
-pub fn index_vbo_tbn(
+pub fn index_vbo_tbn_hashed(
     soup: &TriangleSoup,
     basis: &TangentBasis,
     options: IndexOptions,
@@ -54,7 +54,7 @@ pub fn index_vbo_tbn(
 /// How many numbers ahead [`index_with_grid`] starts loading the cells of their first corners.
 const GRID_AHEAD: usize = 8;
 
-/// [`index_vbo_tbn`], also giving how many candidate vertices the searches looked at in all.
+/// [`index_vbo_tbn_hashed`], also giving how many candidate vertices the searches looked at in all.
 ///
 /// In two passes over the corners, each with a small working set: number them by their exact bits
 /// ([`weld`]); then, corner by corner, search the grid at each number's first corner (a corner
@@ -121,7 +121,7 @@ fn index_with_grid(
 
 /// The plain `indexVBO`: corners merge only when position, UV and normal are bit-for-bit equal (the
 /// original compares `PackedVertex` with `memcmp` in a `std::map`). No tangents.
-pub fn index_vbo(soup: &TriangleSoup) -> IndexedMesh {
+pub fn index_vbo_hashed(soup: &TriangleSoup) -> IndexedMesh {
     let n = soup.vertices.len();
     assert!(soup.uvs.len() == n && soup.normals.len() == n);
     let (numbers, first) = weld(soup, false);
@@ -167,7 +167,7 @@ mod tests {
             Vec3::new(0.011, 0.0, 0.0), // not near the first, near the second: new vertex
         ]);
         for mesh in [
-            index_vbo_tbn(&soup, &basis, IndexOptions::default()),
+            index_vbo_tbn_hashed(&soup, &basis, IndexOptions::default()),
             vboindexer::index_vbo_tbn(&soup, &basis, IndexOptions::default()),
         ] {
             assert_eq!(mesh.indices, Indices::U16(vec![0, 0, 1]));
@@ -188,7 +188,7 @@ mod tests {
             Vec3::new(base, 0.0, 0.0),
             Vec3::new(base + 0.0075, 0.0, 0.0),
         ]);
-        let fast = index_vbo_tbn(&soup, &basis, IndexOptions::default());
+        let fast = index_vbo_tbn_hashed(&soup, &basis, IndexOptions::default());
         assert_eq!(fast.indices.to_u32(), vec![0, 1, 0]);
         assert_eq!(
             fast,
@@ -207,7 +207,7 @@ mod tests {
             Vec3::INFINITY,
             Vec3::ZERO,
         ]);
-        let fast = index_vbo_tbn(&soup, &basis, IndexOptions::default());
+        let fast = index_vbo_tbn_hashed(&soup, &basis, IndexOptions::default());
         assert_eq!(fast.indices.to_u32(), vec![0, 1, 2, 3, 4, 2]);
     }
 
@@ -218,7 +218,7 @@ mod tests {
         let options = IndexOptions {
             normalize_before_sum: true,
         };
-        let mesh = index_vbo_tbn(&soup, &basis, options);
+        let mesh = index_vbo_tbn_hashed(&soup, &basis, options);
         let expected =
             Vec3::Y + Vec3::new(1.0, 1.0, 0.0).normalize() + Vec3::new(2.0, 1.0, 0.0).normalize();
         assert!((mesh.tangents[0] - expected).length() < 1e-6);
@@ -229,7 +229,7 @@ mod tests {
     #[test]
     fn index_vbo_merges_exact_duplicates_only() {
         let (soup, _) = soup_of(&[Vec3::ZERO, Vec3::new(0.001, 0.0, 0.0), Vec3::ZERO]);
-        let mesh = index_vbo(&soup);
+        let mesh = index_vbo_hashed(&soup);
         assert_eq!(mesh.indices.to_u32(), vec![0, 1, 0]);
         assert!(mesh.tangents.is_empty());
     }

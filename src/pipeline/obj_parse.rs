@@ -10,7 +10,7 @@
 //!
 //! It reads only what it is sure tobj and `objloader`'s checks would read the same way. Anything
 //! else (a malformed line, an index out of range, a used number that is not finite, no faces) it
-//! refuses, and [`read_obj`] hands the file to the tutorial's reader, whose error is the one the
+//! refuses, and [`read_obj_threaded`] hands the file to the tutorial's reader, whose error is the one the
 //! user sees: one set of error messages, however the file was read.
 
 use crate::clock::Instant;
@@ -28,20 +28,20 @@ use crate::{Error, Result};
 
 /// Reads `path` as the tutorial's `loadOBJ` does ([`crate::common::objloader::load_obj`]), on
 /// every core. Errors name the file and the reason.
-pub fn load_obj(path: &Path) -> Result<TriangleSoup> {
+pub fn load_obj_threaded(path: &Path) -> Result<TriangleSoup> {
     let bytes = crate::files::read(path).map_err(|e| Error::io(path, e))?;
-    load_obj_bytes(&bytes, path)
+    load_obj_bytes_threaded(&bytes, path)
 }
 
-/// [`load_obj`] on bytes already in memory; `path` is only used in error messages.
-pub fn load_obj_bytes(bytes: &[u8], path: &Path) -> Result<TriangleSoup> {
-    Ok(read_obj(bytes, path, ObjMode::Tutorial, no_materials, None)?.soup)
+/// [`load_obj_threaded`] on bytes already in memory; `path` is only used in error messages.
+pub fn load_obj_bytes_threaded(bytes: &[u8], path: &Path) -> Result<TriangleSoup> {
+    Ok(read_obj_threaded(bytes, path, ObjMode::Tutorial, no_materials, None)?.soup)
 }
 
 /// [`crate::common::objloader::read_obj`] on every core: the same result, or the same error. The
 /// text is cut into `pieces` runs of lines (`None`: one per core, fewer for a small file); the
 /// differential tests cut small files too.
-pub fn read_obj(
+pub fn read_obj_threaded(
     bytes: &[u8],
     path: &Path,
     mode: ObjMode,

@@ -410,9 +410,11 @@ fn dds_mortar_lines_up_with_flat_normals() {
 #[test]
 fn bricks_look_raised_with_the_tutorials_tangent_frame() {
     let obj = tutorial_cylinder_obj_text(32);
-    let soup =
-        tutorial13::pipeline::obj_parse::load_obj_bytes(obj.as_bytes(), Path::new("cylinder.obj"))
-            .expect("cylinder loads");
+    let soup = tutorial13::pipeline::obj_parse::load_obj_bytes_threaded(
+        obj.as_bytes(),
+        Path::new("cylinder.obj"),
+    )
+    .expect("cylinder loads");
     let basis = tutorial13::common::tangentspace::compute_tangent_basis(&soup, Default::default());
     let front = (0..soup.vertices.len())
         .max_by(|&a, &b| soup.vertices[a].z.total_cmp(&soup.vertices[b].z))

@@ -37,8 +37,8 @@
 //! - A Rust name tied to a `.rs` file by a link must be defined in that very file. The forms are a
 //!   span followed by ` ([text](file.rs))` or by ` in [text](file.rs)`, and a link whose text is
 //!   the span alone, ``[`name`](file.rs)``; the file is the link's target (without its `#anchor`)
-//!   from the document's folder. A leading module path is dropped (`pipeline::obj_parse::load_obj`
-//!   is `load_obj`); a single name must be an item, field or variant of that file, and
+//!   from the document's folder. A leading module path is dropped (`pipeline::obj_parse::load_obj_threaded`
+//!   is `load_obj_threaded`); a single name must be an item, field or variant of that file, and
 //!   `Type::member` a method or associated item of an `impl`/`trait` block in that file, or a field
 //!   or variant declared there. Not checked: a name a few words before its link, or a name defined
 //!   in a submodule of the `mod.rs` linked to.

@@ -10,7 +10,7 @@ use rustc_hash::FxHashMap;
 use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::vboindexer::{IndexedMesh, Indices};
 use tutorial13::pipeline::mikktspace::{mikktspace_tangents, mikktspace_tangents_on};
-use tutorial13::pipeline::obj_parse::load_obj;
+use tutorial13::pipeline::obj_parse::load_obj_threaded;
 use tutorial13::tangents::{mikktspace_mesh, welded_mesh};
 
 use crate::common::{mesh_bit_difference, own_assets};
@@ -305,7 +305,7 @@ fn named_meshes() -> Vec<(String, TriangleSoup)> {
             ),
         ));
     }
-    let tutorial = load_obj(&own_assets().join("cylinder.obj")).unwrap();
+    let tutorial = load_obj_threaded(&own_assets().join("cylinder.obj")).unwrap();
     meshes.push(("the tutorial's cylinder".into(), tutorial));
     meshes
 }

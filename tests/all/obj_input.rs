@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use tutorial13::common::objloader::TriangleSoup;
-use tutorial13::pipeline::obj_parse::load_obj_bytes;
+use tutorial13::pipeline::obj_parse::load_obj_bytes_threaded;
 
 use crate::differential::differ_from_tobj;
 use tutorial13::mesh::{self, build_mesh, MeshOptions};
@@ -13,7 +13,7 @@ use tutorial13::Result;
 use crate::common;
 
 fn load(text: &str) -> Result<TriangleSoup> {
-    load_obj_bytes(text.as_bytes(), Path::new("mem.obj"))
+    load_obj_bytes_threaded(text.as_bytes(), Path::new("mem.obj"))
 }
 
 const TRIANGLE: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n";

@@ -6,7 +6,7 @@ use proptest::prelude::*;
 use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
 use tutorial13::common::vboindexer::{self, IndexOptions};
-use tutorial13::pipeline::indexer::index_vbo_tbn;
+use tutorial13::pipeline::indexer::index_vbo_tbn_hashed;
 
 use crate::common::{indexers_match_references, mesh_bit_difference};
 
@@ -42,7 +42,7 @@ fn one_position_many_uvs_matches_linear() {
                 .collect(),
         };
         let basis = basis_for(n);
-        let fast = index_vbo_tbn(&soup, &basis, IndexOptions::default());
+        let fast = index_vbo_tbn_hashed(&soup, &basis, IndexOptions::default());
         let reference = vboindexer::index_vbo_tbn(&soup, &basis, IndexOptions::default());
         assert!(fast.vertices.len() > 1000, "{}", fast.vertices.len());
         if let Some(difference) = mesh_bit_difference(&fast, &reference) {

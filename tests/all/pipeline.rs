@@ -1,4 +1,4 @@
-//! The CPU pipeline end to end: load_obj → compute_tangent_basis → index_vbo_tbn, on the tutorial's
+//! The CPU pipeline end to end: load_obj_threaded → compute_tangent_basis → index_vbo_tbn, on the tutorial's
 //! own cylinder, on large generated meshes, and on random soups against the linear-search reference.
 
 use std::path::Path;
@@ -11,8 +11,8 @@ use tutorial13::common::vboindexer::{self, IndexOptions, Indices};
 use tutorial13::mesh::{
     build_mesh, charted_cylinder_obj_text, grid_cylinder_obj_text, MeshOptions,
 };
-use tutorial13::pipeline::indexer::index_vbo;
-use tutorial13::pipeline::obj_parse::{load_obj, load_obj_bytes};
+use tutorial13::pipeline::indexer::index_vbo_hashed;
+use tutorial13::pipeline::obj_parse::{load_obj_bytes_threaded, load_obj_threaded};
 use tutorial13::scenes::cylinder::tutorial13::load_mesh;
 
 use crate::common;
@@ -24,7 +24,7 @@ fn tutorial_cylinder_indexes_to_66_vertices() {
     let Some(original) = common::original_assets("tutorial_cylinder_indexes_to_66_vertices") else {
         return;
     };
-    let soup = load_obj(&original.join("cylinder.obj")).unwrap();
+    let soup = load_obj_threaded(&original.join("cylinder.obj")).unwrap();
     assert_eq!(soup.triangle_count(), 64);
     assert_eq!(soup.vertices.len(), 192);
     // V is negated: the file's V runs from about 0 to 1.
@@ -49,7 +49,7 @@ fn tutorial_cylinder_indexes_to_66_vertices() {
 fn generated_cylinder_is_outward_and_seamed() {
     let (segments, rings) = (32, 4);
     let text = grid_cylinder_obj_text(segments, rings, 1.0, 2.0, 2.3);
-    let soup = load_obj_bytes(text.as_bytes(), Path::new("generated.obj")).unwrap();
+    let soup = load_obj_bytes_threaded(text.as_bytes(), Path::new("generated.obj")).unwrap();
     assert_eq!(soup.triangle_count(), (2 * segments * rings) as usize);
     for tri in 0..soup.triangle_count() {
         let v = &soup.vertices[3 * tri..3 * tri + 3];
@@ -69,7 +69,7 @@ fn more_than_65535_vertices_use_32_bit_indices_and_lose_nothing() {
     // Radius 40 and height 40 keep neighbouring vertices more than 0.01 apart, so none merge.
     let (segments, rings) = (400, 200);
     let text = grid_cylinder_obj_text(segments, rings, 40.0, 40.0, 8.0);
-    let soup = load_obj_bytes(text.as_bytes(), Path::new("big.obj")).unwrap();
+    let soup = load_obj_bytes_threaded(text.as_bytes(), Path::new("big.obj")).unwrap();
     let mesh = build_mesh(&soup, MeshOptions::default());
     let expected_vertices = ((segments + 1) * (rings + 1)) as usize;
     assert!(expected_vertices > 65_535);
@@ -85,7 +85,7 @@ fn more_than_65535_vertices_use_32_bit_indices_and_lose_nothing() {
         assert_eq!(mesh.normals[i], soup.normals[corner]);
     }
     // Corners equal bit for bit, so the plain indexer agrees on every index.
-    assert_eq!(index_vbo(&soup).indices, mesh.indices);
+    assert_eq!(index_vbo_hashed(&soup).indices, mesh.indices);
 }
 
 // Fails if a missing or malformed OBJ panics or returns an error without the file's name.
@@ -122,7 +122,7 @@ fn indexers_equal_references_bit_for_bit() {
         ("charted", charted_cylinder_obj_text(120, 40, 1.2, 2.0, 7)),
     ];
     for (name, text) in meshes {
-        let soup = load_obj_bytes(text.as_bytes(), Path::new(name)).unwrap();
+        let soup = load_obj_bytes_threaded(text.as_bytes(), Path::new(name)).unwrap();
         for options in [
             TangentOptions::default(),
             TangentOptions {
@@ -139,13 +139,13 @@ fn indexers_equal_references_bit_for_bit() {
         }
     }
     let merged = |text: &str| {
-        let soup = load_obj_bytes(text.as_bytes(), Path::new("m")).unwrap();
+        let soup = load_obj_bytes_threaded(text.as_bytes(), Path::new("m")).unwrap();
         build_mesh(&soup, MeshOptions::default()).vertices.len()
     };
     // The dense cylinder really merges within the tolerance (7 × 701 corners' positions otherwise).
     assert!(merged(&grid_cylinder_obj_text(700, 6, 1.0, 0.03, 1.0)) < 7 * 500);
     // Signed zeros: 0.0 and -0.0 are near (one vertex for index_vbo_tbn) but not the same bytes (two
-    // for index_vbo); a sum that starts at -0.0 stays -0.0 only if the first corner is stored, not added.
+    // for index_vbo_hashed); a sum that starts at -0.0 stays -0.0 only if the first corner is stored, not added.
     let z = Vec3::new(0.0, -0.0, 0.0);
     let soup = TriangleSoup {
         vertices: vec![z, Vec3::ZERO, -z, z, -Vec3::ZERO, z],
@@ -175,7 +175,7 @@ fn indexers_equal_references_bit_for_bit() {
 fn charted_cylinder_keeps_a_vertex_per_chart() {
     let (segments, rings, chart) = (50, 16, 7);
     let text = charted_cylinder_obj_text(segments, rings, 1.2, 2.0, chart);
-    let soup = load_obj_bytes(text.as_bytes(), Path::new("charted.obj")).unwrap();
+    let soup = load_obj_bytes_threaded(text.as_bytes(), Path::new("charted.obj")).unwrap();
     assert_eq!(soup.triangle_count(), (2 * segments * rings) as usize);
     let side = |n: u32| (0..n.div_ceil(chart)).map(move |c| chart.min(n - c * chart) + 1);
     let expected: u32 = side(segments)
@@ -183,7 +183,7 @@ fn charted_cylinder_keeps_a_vertex_per_chart() {
         .sum();
     let mesh = build_mesh(&soup, MeshOptions::default());
     assert_eq!(mesh.vertices.len(), expected as usize);
-    assert_eq!(index_vbo(&soup).vertices.len(), expected as usize);
+    assert_eq!(index_vbo_hashed(&soup).vertices.len(), expected as usize);
     assert!(expected > (segments + 1) * (rings + 1));
 }
 

@@ -6,7 +6,7 @@ use crate::common::*;
 use glam::Vec3;
 use tutorial13::debug::lines::LineMode;
 use tutorial13::gl::Profile;
-use tutorial13::pipeline::obj_parse::load_obj;
+use tutorial13::pipeline::obj_parse::load_obj_threaded;
 
 // Fails if the program does not link in a 3.3 core context, any GL error is raised in a frame, the
 // clear colour is not the tutorial's (0, 0, 0.4), or the cylinder is missing.
@@ -39,7 +39,7 @@ fn background_is_exactly_the_clear_colour() {
 #[test]
 fn silhouette_matches_the_projection() {
     let frame = render(&options(own_assets(), Profile::Core));
-    let soup = load_obj(&own_assets().join("cylinder.obj")).unwrap();
+    let soup = load_obj_threaded(&own_assets().join("cylinder.obj")).unwrap();
     // The cylinder is convex: its image is the hull of its projected vertices.
     let xs: Vec<f32> = soup.vertices.iter().map(|&v| project(v).0).collect();
     let left = xs.iter().copied().fold(f32::INFINITY, f32::min);

@@ -7,8 +7,8 @@ use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::TangentBasis;
 use tutorial13::common::vboindexer::{self, IndexOptions};
 use tutorial13::mesh::{build_mesh, MeshOptions};
-use tutorial13::pipeline::indexer::index_vbo_tbn;
-use tutorial13::pipeline::obj_parse::load_obj_bytes;
+use tutorial13::pipeline::indexer::index_vbo_tbn_hashed;
+use tutorial13::pipeline::obj_parse::load_obj_bytes_threaded;
 
 /// Every output tangent and bitangent is finite, not zero, and small enough for the shader's
 /// products and squares.
@@ -28,7 +28,7 @@ fn assert_usable(t: Vec3, b: Vec3) {
 fn huge_mesh_gives_finite_tbn() {
     let obj = "v 0 0 0\nv 3e38 0 0\nv 0 3e38 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n\
                f 1/1/1 2/2/1 3/3/1\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 2/2/1 3/3/1\n";
-    let soup = load_obj_bytes(obj.as_bytes(), Path::new("huge.obj")).unwrap();
+    let soup = load_obj_bytes_threaded(obj.as_bytes(), Path::new("huge.obj")).unwrap();
     for normalize_before_sum in [false, true] {
         let options = MeshOptions {
             indexing: IndexOptions {
@@ -79,7 +79,7 @@ fn scaled_sums_keep_their_direction() {
         ],
         &[Vec3::X; 6],
     );
-    let mesh = index_vbo_tbn(&soup, &basis, IndexOptions::default());
+    let mesh = index_vbo_tbn_hashed(&soup, &basis, IndexOptions::default());
     assert_eq!(
         mesh,
         vboindexer::index_vbo_tbn(&soup, &basis, IndexOptions::default())
@@ -108,7 +108,7 @@ fn ordinary_sums_are_untouched() {
     ];
     let ts = [Vec3::X, Vec3::Y, Vec3::new(0.6, 0.8, 0.0)];
     let (soup, basis) = one_vertex_soup(&bs, &ts);
-    let mesh = index_vbo_tbn(&soup, &basis, IndexOptions::default());
+    let mesh = index_vbo_tbn_hashed(&soup, &basis, IndexOptions::default());
     assert_eq!(mesh.bitangents[0], bs[0] + bs[1] + bs[2]);
     assert_eq!(mesh.tangents[0], ts[0] + ts[1] + ts[2]);
 }

@@ -14,7 +14,7 @@ use image::RgbImage;
 use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::mesh::MeshOptions;
-use tutorial13::pipeline::obj_parse::load_obj;
+use tutorial13::pipeline::obj_parse::load_obj_threaded;
 use tutorial13::tangents::{mikktspace_tangents, TangentSource};
 
 /// The project's textures with `obj` as the mesh.
@@ -219,10 +219,13 @@ fn frame_angles(soup: &TriangleSoup) -> (f32, f32, f32) {
 fn mikktspace_and_the_tutorial_agree_on_the_cylinder_up_to_the_flip() {
     let mut soups = vec![(
         "project's",
-        load_obj(&own_assets().join("cylinder.obj")).unwrap(),
+        load_obj_threaded(&own_assets().join("cylinder.obj")).unwrap(),
     )];
     if let Some(dir) = common::original_assets("tangent frames on the tutorial's cylinder") {
-        soups.push(("tutorial's", load_obj(&dir.join("cylinder.obj")).unwrap()));
+        soups.push((
+            "tutorial's",
+            load_obj_threaded(&dir.join("cylinder.obj")).unwrap(),
+        ));
     }
     for (name, soup) in soups {
         let (t_unfixed, t_fixed, b) = frame_angles(&soup);

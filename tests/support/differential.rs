@@ -9,7 +9,7 @@ use tutorial13::common::objloader::{read_obj, ObjMode, ObjRead};
 use tutorial13::pipeline::obj_parse;
 use tutorial13::Result;
 
-/// Reads `bytes` in both modes with the program's parse (`pipeline::obj_parse::read_obj`:
+/// Reads `bytes` in both modes with the program's parse (`pipeline::obj_parse::read_obj_threaded`:
 /// one piece per core, and cut into 2 and 5 pieces whatever its size) and with the tutorial's reader,
 /// tobj's parse and the checks (`common::objloader::read_obj`), every `mtllib` loaded from
 /// `mtl` by tobj, and names the first difference: in the error, the
@@ -32,7 +32,7 @@ pub fn differ_from_tobj(bytes: &[u8], mtl: &[u8]) -> std::result::Result<(), Str
                 tobj::load_mtl_buf(&mut &mtl[..])
             }
         };
-        let own = obj_parse::read_obj(bytes, path, mode, loader(0), pieces);
+        let own = obj_parse::read_obj_threaded(bytes, path, mode, loader(0), pieces);
         let reference = read_obj(bytes, path, mode, loader(1));
         let (own, reference) = match (own, reference) {
             (Err(a), Err(b)) if a.to_string() == b.to_string() => continue,

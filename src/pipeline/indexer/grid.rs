@@ -1,4 +1,4 @@
-//! The hash grid [`index_vbo_tbn`](super::index_vbo_tbn) searches for the first near vertex.
+//! The hash grid [`index_vbo_tbn_hashed`](super::index_vbo_tbn_hashed) searches for the first near vertex.
 
 use glam::{Vec2, Vec3};
 use rustc_hash::FxHashMap;

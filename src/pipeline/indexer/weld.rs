@@ -152,7 +152,7 @@ impl<'a> Weld<'a> {
 /// Numbers each corner's exact bits (position, UV, normal) in the order they first come: gives the
 /// number of every corner, and for each number the corner where it first came. With
 /// `finite_only`, a corner with a non-finite component gets a number of its own, as
-/// [`index_vbo_tbn`](super::index_vbo_tbn) merges it with nothing.
+/// [`index_vbo_tbn_hashed`](super::index_vbo_tbn_hashed) merges it with nothing.
 pub(crate) fn weld(soup: &TriangleSoup, finite_only: bool) -> (Vec<u32>, Vec<u32>) {
     let n = soup.vertices.len();
     // A closed mesh shares each vertex among about six corners.

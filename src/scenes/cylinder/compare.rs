@@ -71,13 +71,17 @@ impl Cylinder {
         Ok(())
     }
 
-    /// The sources the compare key compares.
+    /// The sources the compare key compares: those compared now, else `--compare`'s, else the
+    /// current one and the next that key F would pick.
     fn sources_to_compare(&self) -> [TangentSource; 2] {
         let current = self.mesh.source;
         let compared = self.comparison.as_ref().map(|(sources, _)| *sources);
-        compared
-            .or(self.compare_sources)
-            .unwrap_or([current, current.next()])
+        compared.or(self.compare_sources).unwrap_or_else(|| {
+            let names = super::controls::tangent_source_names(self);
+            let i = names.iter().position(|n| *n == current.to_string());
+            let next = names[i.map_or(0, |i| (i + 1) % names.len())].as_str();
+            [current, crate::choices::by_name(next).unwrap_or(current)]
+        })
     }
 
     /// Why the compare view would not compare like with like: a colour view on, and a side drawn

@@ -329,7 +329,7 @@ pub(super) const CONTROLS: &[C] = &[
 ];
 
 /// The tangent sources key F steps through: `file` only for a glTF model.
-fn tangent_source_names(cylinder: &Cylinder) -> Vec<String> {
+pub(super) fn tangent_source_names(cylinder: &Cylinder) -> Vec<String> {
     let mut all = crate::choices::names::<TangentSource>();
     if !cylinder.mesh.soup.is_gltf() {
         all.retain(|n| *n != TangentSource::File.to_string());

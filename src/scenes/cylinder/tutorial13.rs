@@ -20,8 +20,8 @@ use crate::gl::buffers::MeshBuffers;
 use crate::gl::{bind_textures, Gl};
 use crate::mesh::MeshOptions;
 use crate::Result;
-use crate::{common::objloader::TriangleSoup, pipeline::obj_parse::load_obj};
-use crate::{common::vboindexer::IndexedMesh, pipeline::indexer::index_vbo_tbn};
+use crate::{common::objloader::TriangleSoup, pipeline::obj_parse::load_obj_threaded};
+use crate::{common::vboindexer::IndexedMesh, pipeline::indexer::index_vbo_tbn_hashed};
 
 /// `glClearColor(0.0f, 0.0f, 0.4f, 0.0f)`: dark blue.
 pub const CLEAR_COLOR: [f32; 4] = [0.0, 0.0, 0.4, 0.0];
@@ -153,7 +153,7 @@ impl Tutorial13 {
         let start = crate::clock::Instant::now();
         let basis = compute_tangent_basis(soup, mesh_options.tangents);
         let tangents = start.elapsed();
-        let mesh = index_vbo_tbn(soup, &basis, mesh_options.indexing);
+        let mesh = index_vbo_tbn_hashed(soup, &basis, mesh_options.indexing);
         let indexing = start.elapsed() - tangents;
         let tutorial = Self::from_mesh(gl, shader_dir, mesh, texture_sets)?;
         let ms = |d: std::time::Duration| d.as_secs_f64() * 1000.0;
@@ -286,7 +286,7 @@ impl Tutorial13 {
 
 /// `loadOBJ`, `computeTangentBasis`, `indexVBO_TBN`, in that order.
 pub fn load_mesh(obj_path: &Path, options: MeshOptions) -> Result<IndexedMesh> {
-    let soup = load_obj(obj_path)?;
+    let soup = load_obj_threaded(obj_path)?;
     let basis = compute_tangent_basis(&soup, options.tangents);
-    Ok(index_vbo_tbn(&soup, &basis, options.indexing))
+    Ok(index_vbo_tbn_hashed(&soup, &basis, options.indexing))
 }

@@ -19,7 +19,7 @@ use tutorial13::common::tangentspace::TangentBasis;
 use tutorial13::common::vboindexer::{self, IndexOptions, IndexedMesh};
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::gl::{ContextInfo, Profile};
-use tutorial13::pipeline::indexer::{index_vbo, index_vbo_tbn};
+use tutorial13::pipeline::indexer::{index_vbo_hashed, index_vbo_tbn_hashed};
 use tutorial13::scenes::cylinder::CylinderOptions;
 use tutorial13::scenes::SceneOptions;
 
@@ -609,8 +609,8 @@ pub fn project(world: Vec3) -> (f32, f32) {
 }
 
 /// The indexers' property, for proptest: on `soup` and `basis`, normalizing the tangents before
-/// summing them or not, `index_vbo_tbn` picks the vertex the linear search picks (ties included) and
-/// sums in the same order, and `index_vbo` merges exactly the corners the tutorial's map merges, so
+/// summing them or not, `index_vbo_tbn_hashed` picks the vertex the linear search picks (ties included) and
+/// sums in the same order, and `index_vbo_hashed` merges exactly the corners the tutorial's map merges, so
 /// indices, vertices and sums are identical to the bit ([`mesh_bit_difference`]).
 pub fn indexers_match_references(
     soup: &TriangleSoup,
@@ -620,16 +620,18 @@ pub fn indexers_match_references(
     let options = IndexOptions {
         normalize_before_sum: normalize,
     };
-    let fast = index_vbo_tbn(soup, basis, options);
+    let fast = index_vbo_tbn_hashed(soup, basis, options);
     let linear = vboindexer::index_vbo_tbn(soup, basis, options);
     if let Some(difference) = mesh_bit_difference(&fast, &linear) {
         return Err(TestCaseError::fail(format!(
-            "index_vbo_tbn against the linear search: {difference}"
+            "index_vbo_tbn_hashed against the linear search: {difference}"
         )));
     }
-    if let Some(difference) = mesh_bit_difference(&index_vbo(soup), &vboindexer::index_vbo(soup)) {
+    if let Some(difference) =
+        mesh_bit_difference(&index_vbo_hashed(soup), &vboindexer::index_vbo(soup))
+    {
         return Err(TestCaseError::fail(format!(
-            "index_vbo against the tutorial's map: {difference}"
+            "index_vbo_hashed against the tutorial's map: {difference}"
         )));
     }
     Ok(())
