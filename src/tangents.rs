@@ -44,6 +44,12 @@ pub enum TangentSource {
 }
 
 impl TangentSource {
+    /// Whether the mesh carries a tangent per vertex (every source but the per-pixel frame, which
+    /// solves one in the fragment shader): what the TBN lines and the per-vertex programs need.
+    pub fn has_vertex_tangents(self) -> bool {
+        self != TangentSource::Derivative
+    }
+
     /// The indexed mesh this source draws: with summed tangents (tutorial), MikkTSpace's
     /// (mikktspace, and file for a soup without a file's tangents), or none (derivative).
     /// `options` are the tutorial pipeline's switches.

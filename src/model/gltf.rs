@@ -39,12 +39,6 @@ pub const METALLIC_ROUGHNESS: &str = "glTF's metallic-roughness material is not 
     lighting model: baseColorTexture is the diffuse map, normalTexture the normal map, specular is \
     the tutorial's constant 0.3; metallic, roughness, occlusion and emission are left out";
 
-/// Whether `path` names a glTF file (`.gltf` or `.glb`) rather than an OBJ.
-pub fn is_gltf(path: &Path) -> bool {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
-}
-
 /// Reads a glTF file (JSON or binary) from its bytes; `read_file` reads the buffers and images it
 /// names beside it. With `uvs` [`Uvs::Optional`], a primitive without its UV set is read with
 /// (0, 0) at every corner.

@@ -199,6 +199,53 @@ pub fn load_model(path: &Path, overrides: &MapOverrides) -> Result<Model> {
     load_model_bytes(&bytes, path, overrides, crate::files::read)
 }
 
+/// The model files the program reads, told apart by their extension: the one place a format is
+/// named (a file of another extension is read as an OBJ where a model is asked for).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Wavefront OBJ with its `.mtl`.
+    Obj,
+    /// glTF 2.0, JSON (`.gltf`) or binary (`.glb`).
+    Gltf,
+}
+
+impl Format {
+    /// Each extension (lower case, without the dot) and its format, in the order they are listed.
+    pub const EXTENSIONS: [(&'static str, Format); 3] = [
+        ("obj", Format::Obj),
+        ("gltf", Format::Gltf),
+        ("glb", Format::Gltf),
+    ];
+
+    /// `path`'s format by its extension, in any case; `None` for any other file.
+    pub fn of(path: &Path) -> Option<Format> {
+        let extension = path.extension()?.to_str()?;
+        let known = Format::EXTENSIONS.iter();
+        known
+            .filter(|(e, _)| e.eq_ignore_ascii_case(extension))
+            .map(|&(_, format)| format)
+            .next()
+    }
+
+    /// Whether `path` names a glTF file.
+    pub fn is_gltf(path: &Path) -> bool {
+        Format::of(path) == Some(Format::Gltf)
+    }
+
+    /// The extensions for a message: "an .obj, .gltf or .glb".
+    pub fn listed() -> String {
+        let names: Vec<String> = Format::EXTENSIONS
+            .iter()
+            .map(|(e, _)| format!(".{e}"))
+            .collect();
+        match names.split_last() {
+            Some((last, [])) => format!("a {last}"),
+            Some((last, rest)) => format!("an {} or {last}", rest.join(", ")),
+            None => String::new(),
+        }
+    }
+}
+
 /// What a model's UVs are read for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Uvs {
@@ -223,7 +270,7 @@ pub fn load_shape_bytes(
     read_file: impl Fn(&Path) -> std::io::Result<Vec<u8>>,
 ) -> Result<Model> {
     let overrides = MapOverrides::default();
-    if gltf::is_gltf(path) {
+    if Format::is_gltf(path) {
         return gltf::load_gltf(bytes, path, &overrides, Uvs::Optional, &read_file);
     }
     let error = match load_model_bytes(bytes, path, &overrides, &read_file) {
@@ -284,7 +331,7 @@ pub fn load_model_bytes(
     overrides: &MapOverrides,
     read_mtl: impl Fn(&Path) -> std::io::Result<Vec<u8>>,
 ) -> Result<Model> {
-    if gltf::is_gltf(path) {
+    if Format::is_gltf(path) {
         return gltf::load_gltf(bytes, path, overrides, Uvs::Required, &read_mtl);
     }
     let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();

@@ -69,7 +69,10 @@ pub fn open_file(
         .find(|scene| (scene.open_file)(path, options))
         .ok_or_else(|| crate::Error::Open {
             path: path.to_path_buf(),
-            reason: "no scene opens this kind of file (drop an .obj, .gltf or .glb model)".into(),
+            reason: format!(
+                "no scene opens this kind of file (drop {} model)",
+                crate::model::Format::listed()
+            ),
         })
 }
 

@@ -194,8 +194,7 @@ impl Page {
         let mut model: Option<PathBuf> = None;
         for (name, bytes) in files {
             let path = folder.join(&name);
-            let lower = name.to_ascii_lowercase();
-            let is_model = [".obj", ".gltf", ".glb"].iter().any(|e| lower.ends_with(e));
+            let is_model = crate::model::Format::of(&path).is_some();
             if is_model || model.is_none() {
                 model = Some(path.clone())
                     .filter(|_| is_model)

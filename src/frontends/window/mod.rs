@@ -528,6 +528,9 @@ impl ApplicationHandler for App {
                 ..
             } => {
                 let pressed = state == ElementState::Pressed;
+                if repeat {
+                    log::debug!("{code:?} repeated (held down)");
+                }
                 // A key held down repeats, and a window gaining focus with a key down gets a
                 // synthetic press: neither is a new press, so neither runs an action again (a
                 // toggle would flip twice, P would save two screenshots). A held arrow key still

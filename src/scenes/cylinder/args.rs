@@ -184,7 +184,7 @@ impl SceneArgs for CylinderArgs {
 
 /// A glTF model's own tangents, as its specification says; the tutorial's otherwise.
 pub fn default_tangents(model: Option<&std::path::Path>) -> TangentSource {
-    match model.is_some_and(crate::model::gltf::is_gltf) {
+    match model.is_some_and(crate::model::Format::is_gltf) {
         true => TangentSource::File,
         false => TangentSource::Tutorial,
     }

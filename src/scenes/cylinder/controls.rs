@@ -20,7 +20,7 @@ use super::{Cylinder, CylinderOptions, SoupSource};
 /// The flags of `options` that the per-pixel frame (`--tangents derivative`, alone) does nothing
 /// with, as they were given.
 pub(super) fn flags_without_effect(options: &CylinderOptions) -> Vec<String> {
-    if options.tangents != TangentSource::Derivative || options.compare.is_some() {
+    if options.tangents.has_vertex_tangents() || options.compare.is_some() {
         return Vec::new();
     }
     let sw = options.switches;
@@ -51,14 +51,14 @@ pub(super) const PER_PIXEL: &str =
 /// Whether the per-pixel frame draws (alone: the compare view draws each side's own).
 pub(super) fn per_pixel(cylinder: &Cylinder) -> Option<&'static str> {
     let alone = cylinder.comparison.is_none();
-    (alone && cylinder.mesh.source == TangentSource::Derivative).then_some(PER_PIXEL)
+    (alone && !cylinder.mesh.source.has_vertex_tangents()).then_some(PER_PIXEL)
 }
 
 /// Why the TBN lines are not drawn, if they cannot be.
 pub(super) fn no_lines(cylinder: &Cylinder) -> Option<&'static str> {
     if cylinder.comparison.is_some() {
         Some("the compare view draws no TBN lines")
-    } else if cylinder.mesh.source == TangentSource::Derivative {
+    } else if !cylinder.mesh.source.has_vertex_tangents() {
         Some("the per-pixel frame (F = derivative) has no vertex tangents to draw lines from")
     } else {
         None

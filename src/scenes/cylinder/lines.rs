@@ -5,7 +5,6 @@
 use glam::Vec3;
 
 use crate::debug::lines::{DebugLines, LineMode};
-use crate::tangents::TangentSource;
 use crate::Result;
 
 use super::Cylinder;
@@ -53,7 +52,7 @@ impl Cylinder {
     /// Shows or hides the TBN lines, building them (from the current mesh) the first time. With the
     /// per-pixel frame there are no vertex tangents to draw: the switch is kept, nothing is drawn.
     pub fn set_show_lines(&mut self, show: bool) -> Result<()> {
-        let has_tangents = self.mesh.source != TangentSource::Derivative;
+        let has_tangents = self.mesh.source.has_vertex_tangents();
         if let (true, true, TbnLines::Wanted(mode)) = (show, has_tangents, &self.lines) {
             let lines = DebugLines::with_legacy(
                 &self.gl,
@@ -68,6 +67,12 @@ impl Cylinder {
         }
         self.show_lines = show;
         Ok(())
+    }
+
+    /// Whether the TBN lines are drawn now: switched on (L), and nothing keeps them from being
+    /// drawn ([`super::controls::no_lines`]: the compare view, the per-pixel frame).
+    pub(super) fn lines_drawn(&self) -> bool {
+        self.show_lines && super::controls::no_lines(self).is_none()
     }
 
     /// The path the lines are drawn with, once they have been shown.

@@ -138,7 +138,7 @@ impl SoupSource {
 
     /// Whether the `file` tangent source applies: a glTF model (its file can supply tangents).
     pub(super) fn is_gltf(&self) -> bool {
-        matches!(self, SoupSource::Model(model) if crate::model::gltf::is_gltf(&model.path))
+        matches!(self, SoupSource::Model(model) if crate::model::Format::is_gltf(&model.path))
     }
 
     /// The mesh `source` draws with `options`.
@@ -218,7 +218,7 @@ impl Cylinder {
             }
             (soup_source, _) => self.tutorial.set_mesh(soup_source.mesh(source, options)?)?,
         }
-        if source == TangentSource::Derivative {
+        if !source.has_vertex_tangents() {
             self.lines.drop_built();
         } else if let Some(lines) = self.lines.built_mut() {
             lines.rebuild(&self.tutorial.mesh)?;

@@ -66,10 +66,7 @@ pub static SCENE: SceneDescriptor = SceneDescriptor {
 /// were, but the tangent source, when it is the default of the model it replaces, becomes the new
 /// model's default).
 fn open_model(path: &Path, options: &mut SceneOptions) -> bool {
-    let is_obj = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("obj"));
-    let opened = is_obj || crate::model::gltf::is_gltf(path);
+    let opened = crate::model::Format::of(path).is_some();
     if opened {
         let cylinder = options.get_mut::<CylinderOptions>();
         if cylinder.tangents == args::default_tangents(cylinder.model.as_deref()) {
@@ -189,7 +186,7 @@ impl SceneType for Cylinder {
                 let parsed = start.elapsed();
                 let sets = model_texture_sets(gl, &model)?;
                 // Once the file and its maps are read: a refused file gets its one line alone.
-                if crate::model::gltf::is_gltf(path) {
+                if crate::model::Format::is_gltf(path) {
                     log::info!(
                         "{}: {}",
                         path.display(),
@@ -333,11 +330,7 @@ impl Scene for Cylinder {
             }
             return;
         }
-        // The per-pixel frame has no vertex tangents to draw lines from.
-        let lines = self
-            .lines
-            .built()
-            .filter(|_| self.show_lines && self.mesh.source != TangentSource::Derivative);
+        let lines = self.lines.built().filter(|_| self.lines_drawn());
         let program = drawer.program(self.mesh.source);
         self.tutorial
             .draw_with(program, frame.projection, frame.view, lines);
@@ -394,10 +387,7 @@ impl Scene for Cylinder {
                 drawing_program(name, files, dir)
             })
             .collect();
-        let lines_drawn = self.show_lines
-            && self.comparison.is_none()
-            && self.mesh.source != TangentSource::Derivative;
-        match self.line_mode().filter(|_| lines_drawn) {
+        match self.line_mode().filter(|_| self.lines_drawn()) {
             Some(LineMode::Legacy) => programs.push(DrawingProgram {
                 name: "TBN lines: immediate mode (glBegin/glEnd, no shader)".into(),
                 shaders: Vec::new(),

@@ -98,7 +98,7 @@ impl SourceDrawer<'_> {
     /// The tutorial's own program unless an experiment, a colour view or a slider asks for the
     /// debug one; the per-pixel frame has a program of its own (without the experiments).
     pub(super) fn drawing(&self, source: TangentSource) -> Drawing {
-        if source == TangentSource::Derivative {
+        if !source.has_vertex_tangents() {
             Drawing::Derivative
         } else if self.switches == ShaderSwitches::default()
             && self.knobs == Knobs::TUTORIAL
