@@ -3,7 +3,6 @@
 //! each test prints the numbers it measured (`cargo test --release -- scene_sprite:: --nocapture`).
 
 use std::path::{Path, PathBuf};
-use std::time::Duration;
 
 use glam::{DVec3, Vec2, Vec3};
 use image::{Rgb, RgbImage};
@@ -598,9 +597,10 @@ fn light_arg(light: Vec3) -> String {
 
 // Fails if the window's frame differs from the headless one (before the mouse moves: the default
 // light, bit for bit), if moving the mouse over the window does not bring the light to the pixel
-// under it (the frame must equal the headless frame with that --light, bit for bit), if the wheel
-// does not raise it by whole notches of 0.01 (the title shows the light), if a click does not put it back
-// at 0.075, or if Y does not flip the green channel as --green down does.
+// under it (the title must say so, and the frame then equal the headless frame with that --light,
+// bit for bit), if the wheel does not raise it by whole notches of 0.01 (the title shows the
+// light), if a click does not put it back at 0.075, or if Y does not flip the green channel as
+// --green down does.
 #[test]
 fn the_window_light_follows_the_mouse() {
     if !common::reference_renderer_here("the_window_light_follows_the_mouse") {
@@ -612,10 +612,9 @@ fn the_window_light_follows_the_mouse() {
     let mut shots = 0;
     let mut shot = || {
         shots += 1;
-        std::thread::sleep(Duration::from_millis(300));
         xvfb.screenshot(&dir, shots)
     };
-    let title = || xvfb.xdotool(&["getwindowname", &window]);
+    let title = || xvfb.title(&window);
 
     let first = shot();
     assert!(
@@ -623,9 +622,22 @@ fn the_window_light_follows_the_mouse() {
         "the window's first frame is not the headless one"
     );
 
+    // The light takes the cursor once it has seen it move between two frames: moved until it does,
+    // then to `pointer`, where the title must show it before the screenshot.
+    xvfb.move_pointer_until(
+        &window,
+        &[(560, 280), (600, 300)],
+        "the light on the mouse",
+        |t| t.contains("on the mouse"),
+    );
     let pointer = Vec2::new(600.0, 300.0);
     xvfb.xdotool(&["mousemove", "--window", &window, "600", "300"]);
     let light = cursor_to_light(pointer, (1024, 768)).extend(DEFAULT_LIGHT_Z);
+    let in_title = format!(
+        "light ({:.3}, {:.3}, {:.3}) on the mouse",
+        light.x, light.y, light.z
+    );
+    xvfb.wait_for_title(&window, &in_title, |t| t.contains(&in_title));
     let moved = shot();
     let expected = headless_shot(&dir, "moved.png", &["--light", &light_arg(light)]);
     let (n, max, _) = pixel_diff(&moved, &expected);
@@ -644,7 +656,7 @@ fn the_window_light_follows_the_mouse() {
         inside.split(", ").nth(2)?.parse().ok()
     };
     xvfb.xdotool(&["click", "4"]);
-    let raised = wait_for("the raised light in the title", || {
+    let raised = wait_for("the title: the light raised", || {
         light_z(&title()).filter(|&z| z > DEFAULT_LIGHT_Z + 0.005)
     });
     let notches = (raised - DEFAULT_LIGHT_Z) / 0.01;
@@ -654,14 +666,14 @@ fn the_window_light_follows_the_mouse() {
         "z {raised} is not 0.075 + whole notches"
     );
     xvfb.xdotool(&["click", "1"]);
-    wait_for("the reset light in the title", || {
-        title().contains(", 0.075) on the mouse").then_some(())
+    xvfb.wait_for_title(&window, "the light back at 0.075", |t| {
+        t.contains(", 0.075) on the mouse")
     });
     assert!(shot() == moved, "a click did not put the light back");
 
     xvfb.xdotool(&["key", "y"]);
-    wait_for("the flip in the title", || {
-        title().contains("green flipped on").then_some(())
+    xvfb.wait_for_title(&window, "green flipped on", |t| {
+        t.contains("green flipped on")
     });
     let flipped = shot();
     let expected = headless_shot(

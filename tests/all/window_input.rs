@@ -4,12 +4,14 @@
 //! headless frame, which equals the window's frame bit for bit at the tutorial's start.
 
 use std::path::Path;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
+use glam::Vec2;
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::frontends::panel::PanelWidget;
+use tutorial13::scenes::sprite::{cursor_to_light, DEFAULT_LIGHT_Z};
 
-use crate::common::xvfb::{wait_exit, wait_for, Xvfb};
+use crate::common::xvfb::{wait_exit, Program, Xvfb};
 
 use crate::common;
 
@@ -20,7 +22,10 @@ fn headless_first_frame(dir: &Path) -> image::RgbImage {
 // Fails if mouse motion does not turn the grabbed camera, if R does not bring the camera back to the
 // tutorial's start (the frame must equal the headless first frame bit for bit), if Tab does not
 // release the cursor (motion must then leave the frame alone), if a click does not grab it again, or
-// if the title loses the scene's status when the ms/frame figure arrives.
+// if the title loses the scene's status when the ms/frame figure arrives. Each screenshot is taken
+// once L pressed twice after the step shows in the title: the step and its motion handled, and a
+// frame drawn since that turned the camera by the motion (a screenshot's own frame drops motion no
+// frame has used yet).
 #[test]
 fn mouse_look_reset_release_and_grab() {
     if !common::reference_renderer_here("mouse_look_reset_release_and_grab") {
@@ -62,16 +67,15 @@ fn mouse_look_reset_release_and_grab() {
     for ((action, then_move, unchanged, failure), n) in steps.into_iter().zip(1..) {
         xvfb.xdotool(action);
         if then_move {
-            std::thread::sleep(Duration::from_millis(300));
             xvfb.xdotool(&["mousemove_relative", "80", "30"]);
-            std::thread::sleep(Duration::from_millis(300));
         }
+        handled_and_drawn(&xvfb, &window);
         let shot = xvfb.screenshot(&dir, n);
         assert!((shot == start_frame) == unchanged, "{failure}");
     }
 
     // The once-a-second figure joins the status in the title instead of replacing it.
-    let title = wait_for_title(&xvfb, &window, "ms/frame", |t| t.contains("ms/frame"));
+    let title = xvfb.wait_for_title(&window, "the ms/frame figure", |t| t.contains("ms/frame"));
     for part in [
         "cylinder: ",
         "view lit",
@@ -88,15 +92,18 @@ fn mouse_look_reset_release_and_grab() {
     xvfb.quit(&mut app);
 }
 
-// Fails if a window destroyed by another program (XDestroyWindow, not a close request) makes the
-// program panic (winit 0.30 raises BadDrawable) instead of exiting with one error line.
+// Fails if a window destroyed by another program (XDestroyWindow, not a close request) while the
+// program runs (it has handled a key and drawn the frame after it) makes the program panic (winit
+// 0.30 raises BadDrawable) instead of exiting with one error line.
 #[test]
 fn a_window_destroyed_from_outside_ends_with_one_line() {
     let dir = common::scratch("destroyed");
     let xvfb = Xvfb::start();
-    let mut app = xvfb.start_program::<&str>(&dir, &[]);
-    let window = xvfb.wait_for_window(&mut app);
-    std::thread::sleep(Duration::from_millis(500));
+    let (mut app, window) = xvfb.open_window::<&str>(&dir, &[]);
+    xvfb.xdotool(&["key", "l"]);
+    xvfb.wait_for_title(&window, "lines on (L, the program past its start)", |t| {
+        t.contains("lines on")
+    });
     xvfb.xdotool(&["windowclose", &window]);
     let (status, stderr) = wait_exit(&mut app);
     assert_eq!(status.code(), Some(1), "{stderr}");
@@ -112,16 +119,21 @@ fn a_window_destroyed_from_outside_ends_with_one_line() {
     );
 }
 
-/// Waits until the window's title satisfies `ok`, and returns it.
-fn wait_for_title(xvfb: &Xvfb, window: &str, what: &str, ok: impl Fn(&str) -> bool) -> String {
-    wait_for(what, || {
-        let title = xvfb.xdotool(&["getwindowname", window]);
-        ok(&title).then_some(title)
-    })
+/// In a cylinder window with the lines off: L, then L again, each waited for in the title ("lines
+/// on", then "lines off"). Events are handled in order, so every input sent before is then handled,
+/// and a frame has been drawn since (the title is set by a frame, and no screenshot was pending, so
+/// not by a screenshot's): a frame that used the motion sent before. The lines are off again.
+fn handled_and_drawn(xvfb: &Xvfb, window: &str) {
+    xvfb.xdotool(&["key", "l"]);
+    xvfb.wait_for_title(window, "lines on (L, sent after the step)", |t| {
+        t.contains("lines on")
+    });
+    xvfb.xdotool(&["key", "l"]);
+    xvfb.wait_for_title(window, "lines off (L again)", |t| t.contains("lines off"));
 }
 
 // Fails if saving a shader file in the --shaders folder does not change what the running window
-// draws, if saving a broken one does not put the error in the title and the driver's log on stderr
+// draws (once the window says "shaders reloaded"), if saving a broken one does not put the error in the title and the driver's log on stderr
 // while the last good shaders keep drawing, or if saving a good version does not clear the error.
 #[test]
 fn saving_a_shader_reloads_it_in_the_window() {
@@ -147,14 +159,18 @@ fn saving_a_shader_reloads_it_in_the_window() {
     let end = good.rfind('}').unwrap();
     let halved = format!("{}    color *= 0.5;\n}}\n", &good[..end]);
     std::fs::write(&fragment, &halved).unwrap();
-    let edited = wait_for("the saved shader reloaded", || {
-        std::thread::sleep(Duration::from_millis(300));
-        Some(shot()).filter(|frame| *frame != start_frame)
-    });
+    // A save while the watcher looks can be read half written (it fails, and the next look reloads
+    // the whole file): the first "shaders reloaded" is the whole edit.
+    app.wait_for_log("shaders reloaded", 1);
+    let edited = shot();
+    assert!(
+        edited != start_frame,
+        "the reloaded shader did not change the frame"
+    );
 
     // A typo, saved: the title says so, the edited shader keeps drawing.
     std::fs::write(&fragment, halved.replace("color *= 0.5;", "color *= 0.5")).unwrap();
-    let title = wait_for_title(&xvfb, &window, "broken shader", |t| {
+    let title = xvfb.wait_for_title(&window, "the broken shader's error", |t| {
         t.contains("shader compilation failed: NormalMapping.fragmentshader")
     });
     assert!(
@@ -165,7 +181,7 @@ fn saving_a_shader_reloads_it_in_the_window() {
 
     // The original, saved back: the error leaves the title and the first frame is back.
     std::fs::write(&fragment, &good).unwrap();
-    wait_for_title(&xvfb, &window, "fixed shader", |t| !t.contains("failed"));
+    xvfb.wait_for_title(&window, "no error once fixed", |t| !t.contains("failed"));
     assert!(
         shot() == start_frame,
         "the original shader does not give the first frame back"
@@ -190,16 +206,49 @@ fn copy_shaders(to: &Path) {
 
 /// Takes the window's screenshots 1, 2, 3, … in turn (P), each as the frame it saved.
 fn numbered_shots<'a>(xvfb: &'a Xvfb, dir: &'a Path) -> impl FnMut() -> image::RgbImage + 'a {
-    let mut shots = 0;
-    move || {
-        shots += 1;
-        xvfb.screenshot(dir, shots)
+    let mut shots = Shots::new(xvfb, dir);
+    move || shots.frame()
+}
+
+/// The window's numbered screenshots, counted: P (the frame alone) or Ctrl+P (the window as shown).
+struct Shots<'a> {
+    xvfb: &'a Xvfb,
+    dir: &'a Path,
+    taken: u32,
+}
+
+impl<'a> Shots<'a> {
+    fn new(xvfb: &'a Xvfb, dir: &'a Path) -> Self {
+        Shots {
+            xvfb,
+            dir,
+            taken: 0,
+        }
+    }
+
+    /// P: the frame alone.
+    fn frame(&mut self) -> image::RgbImage {
+        self.take("p")
+    }
+
+    /// Ctrl+P: the window as shown, the panel laid out (one pass of egui) with every input sent
+    /// before. The file is the acknowledgement that the panel has seen that input: where the
+    /// pointer is (egui takes a press only where its last pass saw the pointer over the panel), a
+    /// button held down (the slider takes its value while it is), a release (a click).
+    fn as_shown(&mut self) -> image::RgbImage {
+        self.take("ctrl+p")
+    }
+
+    fn take(&mut self, keys: &str) -> image::RgbImage {
+        self.taken += 1;
+        self.xvfb.screenshot_with(self.dir, self.taken, keys)
     }
 }
 
 // Fails if F5 does not reload the shaders: an edit the file watcher cannot see (the same length and
-// modification time as the file it replaces) must stay off the screen until F5, and F5 must then draw
-// bit for bit the headless frame of the edited shaders.
+// modification time as the file it replaces) must stay off the screen until F5, also in a frame drawn
+// after the watcher has looked at the edited file, and F5 must then draw bit for bit the headless
+// frame of the edited shaders.
 #[test]
 fn f5_reloads_an_edit_the_watcher_cannot_see() {
     if !common::reference_renderer_here("f5_reloads_an_edit_the_watcher_cannot_see") {
@@ -234,24 +283,35 @@ fn f5_reloads_an_edit_the_watcher_cannot_see() {
         shot() == start_frame,
         "the first frame is not the tutorial's"
     );
+    // Written beside it with the old time, then renamed over it: the watcher never sees the file
+    // half written or with a new time.
     let modified = std::fs::metadata(&fragment).unwrap().modified().unwrap();
-    std::fs::write(&fragment, &edited).unwrap();
-    let file = std::fs::File::options()
-        .write(true)
-        .open(&fragment)
-        .unwrap();
+    let beside = dir.join("edited.fragmentshader");
+    std::fs::write(&beside, &edited).unwrap();
+    let file = std::fs::File::options().write(true).open(&beside).unwrap();
     file.set_modified(modified).unwrap();
     drop(file);
-    // The watcher looks every 250 ms: after three of its looks, the frame is still the first one.
-    std::thread::sleep(Duration::from_millis(800));
+    std::fs::rename(&beside, &fragment).unwrap();
+    // The watcher looks in a frame once 250 ms have passed since its last look: a frame drawn 250 ms
+    // after the edit, or later, has looked at the edited file (in that frame or before).
+    app.wait_for_a_frame_at(Instant::now() + Duration::from_millis(250));
     assert!(
         shot() == start_frame,
         "the watcher saw an edit it should not see"
     );
+    assert!(
+        app.log_lines("shaders reloaded").is_empty(),
+        "shaders reloaded before F5:\n{}",
+        app.stderr()
+    );
     xvfb.xdotool(&["key", "F5"]);
-    wait_for("F5's reload", || {
-        Some(shot()).filter(|f| *f == edited_frame)
-    });
+    app.wait_for_log("shaders reloaded", 1);
+    let reloaded = shot();
+    assert!(
+        reloaded == edited_frame,
+        "{} pixels differ from the edited shaders' headless frame after F5",
+        common::differing_pixels(&reloaded, &edited_frame)
+    );
     xvfb.quit(&mut app);
 }
 
@@ -285,7 +345,9 @@ fn panel_layout() -> PanelLayout {
 // window must then be the headless frame bit for bit), if clicking the L checkbox does not do what
 // L does (title and frame as with --debug-lines), if moving the light slider leaves the frame alone,
 // if "tutorial's values" does not bring the frame back bit for bit, or if any click on the panel
-// turns the camera (every frame compared is at the tutorial's start).
+// turns the camera (every frame compared is at the tutorial's start). Each step of a click waits for
+// a pass of the panel that has seen it (a Ctrl+P screenshot), as a hand's press and release come
+// frames apart.
 #[test]
 fn the_panel_in_the_window() {
     if !common::reference_renderer_here("the_panel_in_the_window") {
@@ -297,21 +359,9 @@ fn the_panel_in_the_window() {
     let layout = panel_layout();
     let xvfb = Xvfb::start();
     let (mut app, window) = xvfb.open_window::<&str>(&dir, &[]);
-    let settle = || std::thread::sleep(Duration::from_millis(400));
-    let click = |at: egui::Pos2| {
-        let (x, y) = (at.x.round().to_string(), at.y.round().to_string());
-        xvfb.xdotool(&["mousemove", "--window", &window, &x, &y]);
-        settle();
-        // Down and up a few frames apart, as a hand clicks: egui's slider takes its value while
-        // the button is down, which a press and release within one frame never is.
-        xvfb.xdotool(&["mousedown", "1"]);
-        settle();
-        xvfb.xdotool(&["mouseup", "1"]);
-        settle();
-    };
-    settle();
+    let mut shots = Shots::new(&xvfb, &dir);
 
-    let shown = xvfb.screenshot_with(&dir, 1, "ctrl+p");
+    let shown = shots.as_shown();
     let (mut inside, mut outside) = (0, 0);
     for (x, y, p) in shown.enumerate_pixels() {
         if start.get_pixel(x, y) != p {
@@ -333,37 +383,64 @@ fn the_panel_in_the_window() {
     );
 
     xvfb.xdotool(&["key", "F1"]);
-    settle();
+    app.wait_for_log("panel hidden", 1);
     assert!(
-        xvfb.screenshot_with(&dir, 2, "ctrl+p") == start,
+        shots.as_shown() == start,
         "with the panel hidden the window is not the headless frame"
     );
     xvfb.xdotool(&["key", "F1"]);
-    settle();
+    app.wait_for_log("panel shown", 1);
 
-    click(layout.lines_checkbox);
-    wait_for_title(&xvfb, &window, "lines on", |t| t.contains("lines on"));
+    click(&xvfb, &window, &mut shots, layout.lines_checkbox);
+    xvfb.wait_for_title(&window, "lines on (the L checkbox clicked)", |t| {
+        t.contains("lines on")
+    });
     assert!(
-        xvfb.screenshot(&dir, 3) == with_lines,
+        shots.frame() == with_lines,
         "the checkbox did not draw L's frame"
     );
 
-    click(layout.light_x_rail);
+    click(&xvfb, &window, &mut shots, layout.light_x_rail);
     assert!(
-        xvfb.screenshot(&dir, 4) != with_lines,
+        shots.frame() != with_lines,
         "the light slider changed nothing"
     );
-    click(layout.start_values);
+    click(&xvfb, &window, &mut shots, layout.start_values);
     assert!(
-        xvfb.screenshot(&dir, 5) == with_lines,
+        shots.frame() == with_lines,
         "the tutorial's values did not bring the frame back"
     );
 
     xvfb.quit(&mut app);
 }
 
+/// Clicks the panel at `at` (window pixels) as a hand does: the pointer there, the button down,
+/// then up, each seen by a pass of the panel before the next ([`Shots::as_shown`]).
+fn click(xvfb: &Xvfb, window: &str, shots: &mut Shots, at: egui::Pos2) {
+    let (x, y) = (at.x.round().to_string(), at.y.round().to_string());
+    xvfb.xdotool(&["mousemove", "--window", window, &x, &y]);
+    shots.as_shown();
+    // egui's slider takes its value while the button is down, which a press and release within
+    // one pass never is.
+    xvfb.xdotool(&["mousedown", "1"]);
+    shots.as_shown();
+    xvfb.xdotool(&["mouseup", "1"]);
+    shots.as_shown();
+}
+
+/// The sprite's light as the title shows it while it follows the cursor at `pointer` (window
+/// pixels) in a 1024×768 window at the start height.
+fn light_on_the_mouse(pointer: Vec2) -> String {
+    let light = cursor_to_light(pointer, (1024, 768)).extend(DEFAULT_LIGHT_Z);
+    format!(
+        "light ({:.3}, {:.3}, {:.3}) on the mouse",
+        light.x, light.y, light.z
+    )
+}
+
 // Fails if the sprite's light follows the cursor onto the panel (moving to the panel to click a
-// switch would drag the light under it): there the light must stay where the cursor left it.
+// switch would drag the light under it): there the light must stay where the cursor left it, in
+// the frame drawn after Y (sent after the move) shows in the title.
 #[test]
 fn over_the_panel_the_sprite_light_stays() {
     let dir = common::scratch("panel-sprite");
@@ -375,23 +452,35 @@ fn over_the_panel_the_sprite_light_stays() {
             .nth(1)
             .map(|t| t.split(')').next().unwrap_or("").to_string())
     };
-    // After the first frames (a cursor that moves before them is not yet the light's).
-    std::thread::sleep(Duration::from_millis(500));
+    // The light takes the cursor once it has seen it move between two frames (a cursor that moves
+    // before the first frames is not yet the light's).
+    xvfb.move_pointer_until(
+        &window,
+        &[(560, 280), (600, 300)],
+        "the light on the mouse",
+        |t| t.contains("on the mouse"),
+    );
     xvfb.xdotool(&["mousemove", "--window", &window, "600", "300"]);
-    let on_frame = wait_for_title(&xvfb, &window, "the light on the mouse", |t| {
-        t.contains("on the mouse")
-    });
+    let at_pointer = light_on_the_mouse(Vec2::new(600.0, 300.0));
+    let on_frame = xvfb.wait_for_title(&window, &at_pointer, |t| t.contains(&at_pointer));
     xvfb.xdotool(&["mousemove", "--window", &window, "100", "400"]);
-    std::thread::sleep(Duration::from_millis(500));
-    let on_panel = xvfb.xdotool(&["getwindowname", &window]);
+    // Y flips the green channel: once its frame shows, the move before it has been handled.
+    xvfb.xdotool(&["key", "y"]);
+    let on_panel = xvfb.wait_for_title(&window, "green flipped on (Y, sent after the move)", |t| {
+        t.contains("green flipped on")
+    });
     let left_at = light(&on_frame).expect("the light's place in the title");
-    assert_eq!(light(&on_panel), Some(left_at), "{on_panel}");
+    assert_eq!(
+        light(&on_panel),
+        Some(left_at),
+        "the light moved with the cursor onto the panel: {on_panel}"
+    );
     xvfb.quit(&mut app);
 }
 
 // Fails if the window's frame does not follow a resize (a size kept from before would leave the
-// viewport and the projection at 1024×768 on an 800×600 window): the frame must then be the
-// headless frame of that size, bit for bit.
+// viewport and the projection at 1024×768 on an 800×600 window): once the window has logged the
+// resize, its frame must be the headless frame of that size, bit for bit.
 #[test]
 fn a_resized_window_draws_the_frame_of_its_new_size() {
     if !common::reference_renderer_here("a_resized_window_draws_the_frame_of_its_new_size") {
@@ -402,7 +491,7 @@ fn a_resized_window_draws_the_frame_of_its_new_size() {
     let xvfb = Xvfb::start();
     let (mut app, window) = xvfb.open_window::<&str>(&dir, &[]);
     xvfb.xdotool(&["windowsize", "--sync", &window, "800", "600"]);
-    std::thread::sleep(Duration::from_millis(400));
+    app.wait_for_log("resized to 800x600", 1);
     let shot = xvfb.screenshot(&dir, 1);
     assert_eq!(shot.dimensions(), (800, 600), "the frame kept its old size");
     assert!(
@@ -422,58 +511,69 @@ fn after_a_grab_the_panel_still_takes_clicks() {
     let layout = panel_layout();
     let xvfb = Xvfb::start();
     let (mut app, window) = xvfb.open_window::<&str>(&dir, &[]);
-    let settle = || std::thread::sleep(Duration::from_millis(400));
+    let mut shots = Shots::new(&xvfb, &dir);
     // A click on the frame, right of the panel: the cursor is grabbed on the press.
     xvfb.xdotool(&["mousemove", "--window", &window, "800", "400"]);
-    settle();
     xvfb.xdotool(&["mousedown", "1"]);
-    settle();
+    app.wait_for_log("cursor grabbed", 1);
     xvfb.xdotool(&["mouseup", "1"]);
-    settle();
     xvfb.xdotool(&["key", "Tab"]);
-    settle();
+    app.wait_for_log("cursor released", 1);
     let (x, y) = (layout.lines_checkbox.x, layout.lines_checkbox.y);
     let (x, y) = (x.round().to_string(), y.round().to_string());
     xvfb.xdotool(&["mousemove", "--window", &window, &x, &y]);
-    settle();
+    shots.as_shown();
     xvfb.xdotool(&["mousedown", "1"]);
-    settle();
+    shots.as_shown();
     xvfb.xdotool(&["mouseup", "1"]);
-    wait_for_title(&xvfb, &window, "lines on after a grab", |t| {
-        t.contains("lines on")
-    });
+    xvfb.wait_for_title(
+        &window,
+        "lines on (the checkbox clicked after a grab)",
+        |t| t.contains("lines on"),
+    );
     xvfb.quit(&mut app);
 }
 
-// Fails if a key held down runs its action again on the X server's auto-repeat: P held for 1.5 s
-// must save one screenshot (the next P the second, with no third), and L held as long must turn the
-// lines on once (an odd number of repeats would leave them off, an even number flicker them).
+/// Holds `key` down until the window has been told of two of the X server's auto-repeats of it
+/// (`code`: its winit key code, as the window's log names it), then lets it go.
+fn hold(xvfb: &Xvfb, app: &mut Program, key: &str, code: &str) {
+    let repeated = format!("{code} repeated");
+    let before = app.log_lines(&repeated).len();
+    xvfb.xdotool(&["keydown", key]);
+    app.wait_for_log(&repeated, before + 2);
+    xvfb.xdotool(&["keyup", key]);
+}
+
+// Fails if a key held down runs its action again on the X server's auto-repeat: P held until the
+// window has had two repeats must save one screenshot (the next P the second, with no third), and L
+// held as long must turn the lines on once (its log's status lines: one, "lines on"; an odd number
+// of repeats would leave them off, an even number flicker them).
 #[test]
 fn a_held_key_acts_once() {
     let dir = common::scratch("held-key");
     let xvfb = Xvfb::start();
     let (mut app, window) = xvfb.open_window::<&str>(&dir, &[]);
-    let hold = |key: &str| {
-        xvfb.xdotool(&["keydown", key]);
-        std::thread::sleep(Duration::from_millis(1500));
-        xvfb.xdotool(&["keyup", key]);
-    };
-    hold("p");
-    wait_for("the held P's screenshot", || {
-        dir.join("tutorial13-1.png").exists().then_some(())
+    hold(&xvfb, &mut app, "p", "KeyP");
+    common::xvfb::wait_until("the held P's screenshot", || {
+        dir.join("tutorial13-1.png").exists()
     });
-    hold("l");
-    let title = wait_for_title(&xvfb, &window, "lines on", |t| t.contains("lines on"));
-    std::thread::sleep(Duration::from_millis(500));
-    let now = xvfb.xdotool(&["getwindowname", &window]);
-    assert!(now.contains("lines on"), "{title:?} then {now:?}");
+    hold(&xvfb, &mut app, "l", "KeyL");
+    let title = xvfb.wait_for_title(&window, "lines on (L held)", |t| t.contains("lines on"));
+    // P, handled after every repeat of L: then every action they ran has been logged.
     xvfb.screenshot(&dir, 2);
+    let lines_status = app.log_lines("TBN debug lines ");
+    assert!(
+        lines_status.len() == 2 && lines_status[1].contains("TBN debug lines on"),
+        "the status the log gave at start and for L held (one press): {lines_status:#?}; the title \
+         {title:?}"
+    );
     xvfb.quit(&mut app);
 }
 
 // Fails if Enter does not do the same in the window as headless: both move the camera first (an
-// arrow key held in the window, the camera's position moved headless), then press Enter twice; each
-// must then draw the cube's first frame, bit for bit, with the camera back at the cube's start.
+// arrow key held in the window over frames drawn while it is, the camera's position moved
+// headless), then press Enter twice; each must then draw the cube's first frame, bit for bit, with
+// the camera back at the cube's start.
 #[test]
 fn enter_does_the_same_in_the_window_and_headless() {
     if !common::reference_renderer_here("enter_does_the_same_in_the_window_and_headless") {
@@ -495,16 +595,17 @@ fn enter_does_the_same_in_the_window_and_headless() {
     let xvfb = Xvfb::start();
     let (mut app, window) = xvfb.open_window::<&str>(&dir, &[]);
     xvfb.xdotool(&["keydown", "Up"]);
-    std::thread::sleep(Duration::from_millis(400));
+    // Frames drawn while it is held move the camera.
+    handled_and_drawn(&xvfb, &window);
     xvfb.xdotool(&["keyup", "Up"]);
     assert!(
         xvfb.screenshot(&dir, 1) != headless_first_frame(&dir),
         "the arrow key did not move the camera"
     );
     xvfb.xdotool(&["key", "Return"]);
-    wait_for_title(&xvfb, &window, "the sprite", |t| t.starts_with("sprite:"));
+    xvfb.wait_for_title(&window, "the sprite", |t| t.starts_with("sprite:"));
     xvfb.xdotool(&["key", "Return"]);
-    wait_for_title(&xvfb, &window, "the cube", |t| t.starts_with("cube:"));
+    xvfb.wait_for_title(&window, "the cube", |t| t.starts_with("cube:"));
     let shot = xvfb.screenshot(&dir, 2);
     assert!(
         shot == headless_cube,

@@ -5,7 +5,8 @@ use std::ffi::OsStr;
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
 use std::process::{Child, Command, ExitStatus, Stdio};
-use std::sync::{mpsc, Mutex, MutexGuard};
+use std::sync::{mpsc, Arc, Mutex, MutexGuard};
+use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 /// How long the server may take to accept a client on two busy cores.
@@ -101,44 +102,184 @@ impl Xvfb {
     }
 }
 
+/// How a window test runs the program: its own log at info, its window's at debug, where the window
+/// acknowledges a resize ("resized to WxH") and a key's auto-repeat ("KeyP repeated").
+const PROGRAM_LOG: &str = "info,tutorial13::frontends::window=debug";
+
+/// The program in a window on an [`Xvfb`], and what it has printed so far: its stdout and stderr are
+/// read on threads as they come, so that a test can wait for a line. Killed when dropped if it is
+/// still running (a test that fails leaves no program behind).
+pub struct Program {
+    child: Child,
+    /// Taken just before the program started, so before its clock started.
+    started: Instant,
+    stdout: Arc<Mutex<String>>,
+    stderr: Arc<Mutex<String>>,
+    readers: Vec<JoinHandle<()>>,
+}
+
+/// Appends what `pipe` gives to `into`, a line at a time, until it closes.
+fn keep_reading(pipe: impl Read + Send + 'static, into: Arc<Mutex<String>>) -> JoinHandle<()> {
+    std::thread::spawn(move || {
+        let mut pipe = BufReader::new(pipe);
+        let mut line = Vec::new();
+        while pipe.read_until(b'\n', &mut line).is_ok_and(|n| n > 0) {
+            into.lock()
+                .unwrap()
+                .push_str(&String::from_utf8_lossy(&line));
+            line.clear();
+        }
+    })
+}
+
+impl Program {
+    /// What it has written to stderr so far: its log and error lines.
+    pub fn stderr(&self) -> String {
+        self.stderr.lock().unwrap().clone()
+    }
+
+    /// What it has written to stdout so far: the key lists and the "ms/frame" figures.
+    pub fn stdout(&self) -> String {
+        self.stdout.lock().unwrap().clone()
+    }
+
+    /// The lines of its log (stderr) that contain `part`, so far.
+    pub fn log_lines(&self, part: &str) -> Vec<String> {
+        let stderr = self.stderr.lock().unwrap();
+        stderr
+            .lines()
+            .filter(|l| l.contains(part))
+            .map(str::to_string)
+            .collect()
+    }
+
+    /// Fails with its stderr if it has exited (so that a wait does not run to its deadline on a
+    /// program that has gone).
+    fn assert_running(&mut self, what: &str) {
+        if self.child.try_wait().unwrap().is_some() {
+            let (status, stderr) = wait_exit(self);
+            panic!("{what}: the program exited ({status}) first; its stderr:\n{stderr}");
+        }
+    }
+
+    /// Waits until its stderr, as a whole, satisfies `ok`; fails (with the stderr) after
+    /// [`STEP_TIMEOUT`] or if it exits first.
+    pub fn wait_for_stderr(&mut self, what: &str, ok: impl Fn(&str) -> bool) {
+        let start = Instant::now();
+        while !ok(&self.stderr()) {
+            self.assert_running(what);
+            assert!(
+                start.elapsed() < STEP_TIMEOUT,
+                "{what}: not seen within {STEP_TIMEOUT:?}; the program's stderr:\n{}",
+                self.stderr()
+            );
+            std::thread::sleep(POLL);
+        }
+    }
+
+    /// Waits until `n` lines of its log contain `part` (the program's acknowledgement of something:
+    /// "shaders reloaded", "resized to 800x600", "panel hidden"), counting from its start.
+    pub fn wait_for_log(&mut self, part: &str, n: usize) {
+        let what = format!("{n} line(s) of the program's log with {part:?}");
+        self.wait_for_stderr(&what, |stderr| {
+            stderr.lines().filter(|l| l.contains(part)).count() >= n
+        });
+    }
+
+    /// Waits for a frame the program draws at `at` or later by its own clock, as its once-a-second
+    /// "ms/frame" figure on stdout shows: the k-th figure comes from a frame at least k seconds after
+    /// its frame timer started, which is after [`Program::started`] (both processes read the same
+    /// monotonic clock). For what the program does by the clock in its frames, not on an input (the
+    /// shader watcher's looks).
+    pub fn wait_for_a_frame_at(&mut self, at: Instant) {
+        let k = at
+            .saturating_duration_since(self.started)
+            .as_secs_f64()
+            .ceil()
+            .max(1.0) as usize;
+        let what = format!(
+            "the program's ms/frame figure number {k} (a frame drawn {:?} after it started)",
+            at - self.started
+        );
+        let start = Instant::now();
+        while self
+            .stdout()
+            .lines()
+            .filter(|l| l.ends_with(" ms/frame"))
+            .count()
+            < k
+        {
+            self.assert_running(&what);
+            assert!(
+                start.elapsed() < STEP_TIMEOUT,
+                "{what}: not seen within {STEP_TIMEOUT:?}; its stdout:\n{}",
+                self.stdout()
+            );
+            std::thread::sleep(POLL);
+        }
+    }
+}
+
+impl Drop for Program {
+    fn drop(&mut self) {
+        if let Ok(None) = self.child.try_wait() {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+}
+
 /// Window tests: the program itself on this server, and what a user sees of it.
 impl Xvfb {
     /// The program in a window on this display, started in `dir` (where P writes tutorial13-N.png),
-    /// with its stderr kept for [`wait_exit`].
-    pub fn start_program<S: AsRef<OsStr>>(&self, dir: &Path, args: &[S]) -> Child {
-        super::tutorial13()
+    /// its output kept ([`Program`]) and its log as [`PROGRAM_LOG`] says.
+    pub fn start_program<S: AsRef<OsStr>>(&self, dir: &Path, args: &[S]) -> Program {
+        let started = Instant::now();
+        let mut child = super::tutorial13()
             .args(args)
             .current_dir(dir)
             .env("DISPLAY", &self.display)
+            .env("RUST_LOG", PROGRAM_LOG)
             .env_remove("WAYLAND_DISPLAY")
-            .stdout(Stdio::null())
+            .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
-            .unwrap()
+            .unwrap();
+        let (stdout, stderr) = (Arc::default(), Arc::default());
+        let readers = vec![
+            keep_reading(child.stdout.take().unwrap(), Arc::clone(&stdout)),
+            keep_reading(child.stderr.take().unwrap(), Arc::clone(&stderr)),
+        ];
+        Program {
+            child,
+            started,
+            stdout,
+            stderr,
+            readers,
+        }
     }
 
     /// The id of the program's window once it has drawn its first frame (the title then names the
     /// scene: input sent before that could reach a window whose scene is still loading); fails with
     /// the program's stderr if it exits first.
-    pub fn wait_for_window(&self, app: &mut Child) -> String {
-        wait_for("the window's first frame", || {
-            if app.try_wait().unwrap().is_some() {
-                let (status, stderr) = wait_exit(app);
-                panic!("the program exited ({status}) before its first frame:\n{stderr}");
-            }
-            let found = self.xdotool(&["search", "--name", "Tutorial 13"]);
-            let window = found.lines().next()?.to_string();
-            let title = self.xdotool(&["getwindowname", &window]);
-            title
-                .trim_end()
-                .ends_with(" | Tutorial 13")
-                .then_some(window)
-        })
+    pub fn wait_for_window(&self, app: &mut Program) -> String {
+        wait_for(
+            "the window's first frame (a title ending in \" | Tutorial 13\")",
+            || {
+                app.assert_running("the window's first frame");
+                let found = self.xdotool(&["search", "--name", "Tutorial 13"]);
+                let window = found.lines().next()?.to_string();
+                self.title(&window)
+                    .trim_end()
+                    .ends_with(" | Tutorial 13")
+                    .then_some(window)
+            },
+        )
     }
 
     /// [`Xvfb::start_program`], then waits for its window and gives it the focus; returns the
     /// program and its window's id.
-    pub fn open_window<S: AsRef<OsStr>>(&self, dir: &Path, args: &[S]) -> (Child, String) {
+    pub fn open_window<S: AsRef<OsStr>>(&self, dir: &Path, args: &[S]) -> (Program, String) {
         let mut app = self.start_program(dir, args);
         let window = self.wait_for_window(&mut app);
         self.xdotool(&["windowfocus", "--sync", &window]);
@@ -146,11 +287,47 @@ impl Xvfb {
     }
 
     /// Presses Esc and checks that the program quits cleanly; returns its stderr.
-    pub fn quit(&self, app: &mut Child) -> String {
+    pub fn quit(&self, app: &mut Program) -> String {
         self.xdotool(&["key", "Escape"]);
         let (status, stderr) = wait_exit(app);
         assert!(status.success(), "{stderr}");
         stderr
+    }
+
+    /// The window's title now.
+    pub fn title(&self, window: &str) -> String {
+        self.xdotool(&["getwindowname", window])
+    }
+
+    /// Waits until the window's title satisfies `ok` (`what` says what the test waits for), and
+    /// returns it. The title is set by a frame: one that satisfies `ok` after an input that made it
+    /// so comes from a frame drawn after every input sent before that one was handled.
+    pub fn wait_for_title(&self, window: &str, what: &str, ok: impl Fn(&str) -> bool) -> String {
+        wait_for(&format!("the title: {what}"), || {
+            let title = self.title(window);
+            ok(&title).then_some(title)
+        })
+    }
+
+    /// Moves the pointer over `window` to each of `spots` (window pixels) in turn, again and again,
+    /// looking at the title after each move, until the title satisfies `ok`; returns it. For what
+    /// takes the cursor only once it has seen it move between two frames (the sprite's light): a
+    /// single move may come before the frame that first sees the cursor.
+    pub fn move_pointer_until(
+        &self,
+        window: &str,
+        spots: &[(u32, u32)],
+        what: &str,
+        ok: impl Fn(&str) -> bool,
+    ) -> String {
+        let mut spots = spots.iter().cycle();
+        wait_for(&format!("the title: {what}"), || {
+            let (x, y) = spots.next().unwrap();
+            let (x, y) = (x.to_string(), y.to_string());
+            self.xdotool(&["mousemove", "--window", window, &x, &y]);
+            let title = self.title(window);
+            ok(&title).then_some(title)
+        })
     }
 
     /// Presses P and waits for the numbered screenshot the window writes into `dir`.
@@ -158,8 +335,8 @@ impl Xvfb {
         self.screenshot_with(dir, n, "p")
     }
 
-    /// Presses `keys` (P, or Ctrl+P: the window with its panel) and waits for the numbered
-    /// screenshot the window writes into `dir`.
+    /// Presses `keys` (P, or Ctrl+P: the window as shown, the panel laid out with every input sent
+    /// before) and waits for the numbered screenshot the window writes into `dir`.
     /// Fails if the window has saved more screenshots than the `n` asked for so far (one press
     /// saving two: every later screenshot read would then be one press late).
     pub fn screenshot_with(&self, dir: &Path, n: u32, keys: &str) -> image::RgbImage {
@@ -185,7 +362,11 @@ pub fn numbered_screenshots(dir: &Path) -> u32 {
         .count() as u32
 }
 
-/// Polls `get` every 100 ms until it gives something, or fails after [`STEP_TIMEOUT`].
+/// How often a wait looks again.
+const POLL: Duration = Duration::from_millis(100);
+
+/// Polls `get` every [`POLL`] until it gives something, or fails after [`STEP_TIMEOUT`] saying
+/// what was not seen: the one way the window tests wait (never a set time).
 pub fn wait_for<T>(what: &str, mut get: impl FnMut() -> Option<T>) -> T {
     let start = Instant::now();
     loop {
@@ -194,30 +375,39 @@ pub fn wait_for<T>(what: &str, mut get: impl FnMut() -> Option<T>) -> T {
         }
         assert!(
             start.elapsed() < STEP_TIMEOUT,
-            "{what}: nothing after {STEP_TIMEOUT:?}"
+            "{what}: not seen within {STEP_TIMEOUT:?}"
         );
-        std::thread::sleep(Duration::from_millis(100));
+        std::thread::sleep(POLL);
     }
 }
 
+/// [`wait_for`] a condition.
+pub fn wait_until(what: &str, mut ok: impl FnMut() -> bool) {
+    wait_for(what, || ok().then_some(()))
+}
+
 /// Waits for the program to exit (killing it after [`STEP_TIMEOUT`]): its status and stderr.
-pub fn wait_exit(app: &mut Child) -> (ExitStatus, String) {
+pub fn wait_exit(app: &mut Program) -> (ExitStatus, String) {
     let start = Instant::now();
     let status = loop {
-        if let Some(status) = app.try_wait().unwrap() {
+        if let Some(status) = app.child.try_wait().unwrap() {
             break status;
         }
         if start.elapsed() > STEP_TIMEOUT {
-            let _ = app.kill();
-            panic!("the program did not exit within {STEP_TIMEOUT:?}");
+            let _ = app.child.kill();
+            let _ = app.child.wait();
+            panic!(
+                "the program did not exit within {STEP_TIMEOUT:?}; its stderr:\n{}",
+                app.stderr()
+            );
         }
         std::thread::sleep(Duration::from_millis(50));
     };
-    let mut stderr = String::new();
-    if let Some(mut pipe) = app.stderr.take() {
-        pipe.read_to_string(&mut stderr).unwrap();
+    // Its pipes close as it exits: the readers end once they have read everything.
+    for reader in app.readers.drain(..) {
+        let _ = reader.join();
     }
-    (status, stderr)
+    (status, app.stderr())
 }
 
 impl Drop for Xvfb {
