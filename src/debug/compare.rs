@@ -5,15 +5,20 @@
 //!
 //! Each side is drawn whole into a target of its own, stored like the window's buffers (so that a
 //! side is exactly the frame its source draws alone), then the columns left of the split are copied
-//! from the first and the rest from the second. The heat map is computed on the CPU from the two
-//! frames read back, which also gives the exact largest difference.
+//! from the first and the rest from the second. The heat map is drawn by the GPU from the two
+//! sides' textures ([`HeatPasses`]): no frame comes back to the CPU, and the two numbers it reports
+//! (pixels that differ, the largest difference) are read a frame later, without waiting.
+
+use std::cell::{Cell, RefCell};
 
 use glow::HasContext;
 
+use crate::common::shader::load_program;
 use crate::gl::extensions::GlExtensions;
+use crate::gl::objects::Owned;
 use crate::gl::offscreen::{ColorBuffer, OffscreenTarget};
 use crate::gl::Gl;
-use crate::Result;
+use crate::{Error, Result};
 
 /// Split (side by side) or the difference as a heat map.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -36,13 +41,15 @@ pub struct CompareView {
     gl: Gl,
     /// To store the targets like a window.
     extensions: GlExtensions,
-    /// The two sides, and the heat map, at the size of the last frame.
-    targets: Option<[OffscreenTarget; 3]>,
+    /// The two sides, at the size of the last frame (textures, which the heat map samples).
+    targets: Option<[OffscreenTarget; 2]>,
+    /// Made the first time the difference is shown.
+    heat: Option<HeatPasses>,
     pub mode: CompareMode,
     /// Where the split is, as a fraction of the width from the left.
     pub split: f32,
-    /// Measured in the last frame in [`CompareMode::Difference`].
-    pub difference: Option<Difference>,
+    /// The last difference read back ([`CompareView::difference`]).
+    measured: Cell<Option<Difference>>,
 }
 
 impl CompareView {
@@ -51,10 +58,25 @@ impl CompareView {
             gl: gl.clone(),
             extensions: extensions.clone(),
             targets: None,
+            heat: None,
             mode,
             split: split.clamp(0.0, 1.0),
-            difference: None,
+            measured: Cell::new(None),
         }
+    }
+
+    /// The difference of the latest heat map whose numbers have come back from the GPU (in the
+    /// difference mode; `None` before the first). Asking never waits: a window shows the frame
+    /// before's until the GPU is done with the last, and a frame read back (headless, a screenshot)
+    /// has waited for its own.
+    pub fn difference(&self) -> Option<Difference> {
+        if self.mode != CompareMode::Difference {
+            return None;
+        }
+        if let Some(d) = self.heat.as_ref().and_then(HeatPasses::poll) {
+            self.measured.set(Some(d));
+        }
+        self.measured.get()
     }
 
     /// The column where the second side starts, for a frame `width` wide.
@@ -84,31 +106,30 @@ impl CompareView {
             gl.bind_framebuffer(glow::FRAMEBUFFER, destination);
             gl.viewport(0, 0, size.0 as i32, size.1 as i32);
         }
+        let targets = self.targets.as_ref().expect("made above");
         match self.mode {
             CompareMode::Split => {
-                let targets = self.targets.as_ref().expect("made above");
                 let column = self.split_column(size.0);
                 targets[0].blit_columns_to(destination, 0, column);
                 targets[1].blit_columns_to(destination, column, size.0);
-                self.difference = None;
+                self.measured.set(None);
                 // The split line, one white column (not where it would hide a whole side).
                 if column > 0 && column < size.0 {
                     draw_column(&gl, column, size.1);
                 }
             }
             CompareMode::Difference => {
-                let targets = self.targets.as_ref().expect("made above");
-                let (a, b) = (targets[0].read_rgba(), targets[1].read_rgba());
-                let (heat, difference) = heat_map(&a, &b);
-                targets[2].upload_rgba(&heat);
-                targets[2].blit_columns_to(destination, 0, size.0);
-                self.difference = Some(difference);
+                if self.heat.is_none() {
+                    self.heat = Some(HeatPasses::new(&gl)?);
+                }
+                let heat = self.heat.as_mut().expect("made above");
+                heat.draw(targets, destination, size)?;
             }
         }
         Ok(())
     }
 
-    fn targets_for(&mut self, (width, height): (u32, u32)) -> Result<&[OffscreenTarget; 3]> {
+    fn targets_for(&mut self, (width, height): (u32, u32)) -> Result<&[OffscreenTarget; 2]> {
         let fits = self
             .targets
             .as_ref()
@@ -119,11 +140,7 @@ impl CompareView {
                 target.set_window_orientation(&self.extensions)?;
                 Ok(target)
             };
-            self.targets = Some([
-                make(ColorBuffer::Renderbuffer)?,
-                make(ColorBuffer::Renderbuffer)?,
-                make(ColorBuffer::Texture)?,
-            ]);
+            self.targets = Some([make(ColorBuffer::Texture)?, make(ColorBuffer::Texture)?]);
         }
         Ok(self.targets.as_ref().expect("made above"))
     }
@@ -144,27 +161,9 @@ fn draw_column(gl: &Gl, x: u32, height: u32) {
     }
 }
 
-/// The per-pixel difference of two frames of the same size as a heat map (black where equal, then
-/// dark red, orange, yellow, white at the largest difference), and how large it is.
-pub fn heat_map(a: &image::RgbaImage, b: &image::RgbaImage) -> (image::RgbaImage, Difference) {
-    assert_eq!(a.dimensions(), b.dimensions(), "frames of different sizes");
-    let deltas: Vec<u8> = a
-        .pixels()
-        .zip(b.pixels())
-        .map(|(p, q)| (0..3).map(|c| p[c].abs_diff(q[c])).max().unwrap_or(0))
-        .collect();
-    let max = deltas.iter().copied().max().unwrap_or(0);
-    let pixels = deltas.iter().filter(|&&d| d > 0).count();
-    let heat = image::RgbaImage::from_fn(a.width(), a.height(), |x, y| {
-        let d = deltas[(y * a.width() + x) as usize];
-        image::Rgba(heat_colour(d, max))
-    });
-    (heat, Difference { pixels, max })
-}
-
 /// Black for 0; otherwise a ramp through red and yellow to white, relative to `max`, starting at a
 /// visible dark red so that a difference of one level still shows.
-fn heat_colour(d: u8, max: u8) -> [u8; 4] {
+pub fn heat_colour(d: u8, max: u8) -> [u8; 4] {
     if d == 0 {
         return [0, 0, 0, 255];
     }
@@ -176,4 +175,371 @@ fn heat_colour(d: u8, max: u8) -> [u8; 4] {
         ramp(0.67, 1.0),
         255,
     ]
+}
+
+/// The heat map's passes, all on the GPU: a reduction by 4 × 4 blocks, from the two sides down to
+/// one texel holding the largest difference and the count of differing pixels (`CompareReduce`),
+/// then each pixel's colour from a ramp indexed by its difference and the largest
+/// (`CompareHeat`). The counts are integers in RG32UI textures, renderable in GL 3.3 and WebGL2
+/// alike; the ramp is [`heat_colour`]'s table, so the picture is the same byte for byte on every
+/// GPU.
+struct HeatPasses {
+    gl: Gl,
+    reduce: ReduceProgram,
+    heat: HeatProgram,
+    /// Bound while drawing the passes' one triangle (a core context draws nothing without one).
+    vao: Owned<glow::VertexArray>,
+    ramp: Owned<glow::Texture>,
+    /// Each level a quarter of the one before, from a quarter of the frame down to 1 × 1.
+    levels: Vec<UintTarget>,
+    /// The frame size `levels` are for.
+    frame_size: (u32, u32),
+    /// The 1 × 1 level's texel, read into this buffer at the end of each frame.
+    readback: Owned<glow::Buffer>,
+    /// Signalled once the GPU has written `readback`.
+    pending: RefCell<Option<glow::Fence>>,
+}
+
+crate::uniforms! {
+    /// `CompareView.vertexshader` + `CompareReduce.fragmentshader`.
+    struct ReduceProgram for Program {
+        first: "First",
+        second: "Second",
+        flip_rows: "FlipRows",
+        level: "Level",
+        from_sides: "FromSides",
+    }
+}
+
+crate::uniforms! {
+    /// `CompareView.vertexshader` + `CompareHeat.fragmentshader`.
+    struct HeatProgram for Program {
+        first: "First",
+        second: "Second",
+        flip_rows: "FlipRows",
+        largest: "Largest",
+        ramp: "Ramp",
+    }
+}
+
+/// The passes' shader files (the crate's own; a `--shaders` folder does not replace them).
+pub const COMPARE_SHADERS: [&str; 3] = [
+    "CompareView.vertexshader",
+    "CompareReduce.fragmentshader",
+    "CompareHeat.fragmentshader",
+];
+
+const PART: &str = "compare view";
+
+impl HeatPasses {
+    fn new(gl: &Gl) -> Result<Self> {
+        let [vertex, reduce, heat] = COMPARE_SHADERS;
+        let ramp: Vec<u8> = (0..=255u8)
+            .flat_map(|largest| (0..=255u8).flat_map(move |d| heat_colour(d, largest)))
+            .collect();
+        let passes = HeatPasses {
+            gl: gl.clone(),
+            reduce: ReduceProgram::new(load_program(gl, vertex, reduce, None)?)?,
+            heat: HeatProgram::new(load_program(gl, vertex, heat, None)?)?,
+            vao: Owned::create(gl, PART)?,
+            ramp: Owned::create(gl, PART)?,
+            levels: Vec::new(),
+            frame_size: (0, 0),
+            readback: Owned::create(gl, PART)?,
+            pending: RefCell::new(None),
+        };
+        // SAFETY: storage for objects `passes` owns, on the current context; bindings restored.
+        unsafe {
+            let previous = crate::gl::bound_texture(gl, glow::TEXTURE_BINDING_2D);
+            gl.bind_texture(glow::TEXTURE_2D, Some(passes.ramp.name()));
+            gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
+            let data = glow::PixelUnpackData::Slice(Some(&ramp));
+            let (rgba, byte) = (glow::RGBA, glow::UNSIGNED_BYTE);
+            gl.tex_image_2d(
+                glow::TEXTURE_2D,
+                0,
+                glow::RGBA8 as i32,
+                256,
+                256,
+                0,
+                rgba,
+                byte,
+                data,
+            );
+            gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 4);
+            nearest_single_level(gl);
+            gl.bind_texture(glow::TEXTURE_2D, previous);
+            let previous = crate::gl::bound_buffer(gl, glow::PIXEL_PACK_BUFFER_BINDING);
+            gl.bind_buffer(glow::PIXEL_PACK_BUFFER, Some(passes.readback.name()));
+            gl.buffer_data_size(glow::PIXEL_PACK_BUFFER, 16, glow::STREAM_READ);
+            gl.bind_buffer(glow::PIXEL_PACK_BUFFER, previous);
+        }
+        crate::gl::check_gl_errors(gl, PART)?;
+        Ok(passes)
+    }
+
+    /// The heat map of `sides` into `destination` (its viewport `size`), and the read of its
+    /// numbers started.
+    fn draw(
+        &mut self,
+        sides: &[OffscreenTarget; 2],
+        destination: Option<glow::Framebuffer>,
+        size: (u32, u32),
+    ) -> Result<()> {
+        if self.frame_size != size {
+            self.levels = level_sizes(size)
+                .into_iter()
+                .map(|size| UintTarget::new(&self.gl, size))
+                .collect::<Result<_>>()?;
+            self.frame_size = size;
+        }
+        let gl = self.gl.clone();
+        let textures = sides.each_ref().map(|side| side.texture());
+        let [Some(first), Some(second)] = textures else {
+            return Err(Error::gl(PART, "a side has no texture to sample"));
+        };
+        // SAFETY: draws on the current context with objects this value and `sides` own; the state
+        // the scenes rely on (bindings, tests, the active unit) is restored below.
+        unsafe {
+            let saved = SavedState::save(&gl);
+            gl.disable(glow::DEPTH_TEST);
+            gl.disable(glow::BLEND);
+            gl.disable(glow::CULL_FACE);
+            gl.disable(glow::SCISSOR_TEST);
+            gl.bind_vertex_array(Some(self.vao.name()));
+
+            let flipped = i32::from(sides[0].flipped_y());
+            gl.use_program(Some(self.reduce.program.id));
+            bind_unit(&gl, 0, Some(first), self.reduce.first.as_ref());
+            bind_unit(&gl, 1, Some(second), self.reduce.second.as_ref());
+            gl.uniform_1_i32(self.reduce.flip_rows.as_ref(), flipped);
+            // Unit 2 holds the level below; nothing for the first pass, which reads the sides (a
+            // texture of the target drawn into may not be bound, in WebGL).
+            let mut below = None;
+            for level in &self.levels {
+                level.bind();
+                bind_unit(&gl, 2, below, self.reduce.level.as_ref());
+                let from_sides = i32::from(below.is_none());
+                gl.uniform_1_i32(self.reduce.from_sides.as_ref(), from_sides);
+                gl.draw_arrays(glow::TRIANGLES, 0, 3);
+                below = Some(level.texture.name());
+            }
+            let largest = self.levels.last().expect("at least one level");
+            // The numbers, into the read-back buffer: the GPU copies them when it gets there.
+            gl.bind_buffer(glow::PIXEL_PACK_BUFFER, Some(self.readback.name()));
+            let (format, kind) = (glow::RGBA_INTEGER, glow::UNSIGNED_INT);
+            gl.read_pixels(
+                0,
+                0,
+                1,
+                1,
+                format,
+                kind,
+                glow::PixelPackData::BufferOffset(0),
+            );
+            gl.bind_buffer(glow::PIXEL_PACK_BUFFER, None);
+            let fence = gl
+                .fence_sync(glow::SYNC_GPU_COMMANDS_COMPLETE, 0)
+                .map_err(|e| Error::gl(PART, e))?;
+            if let Some(old) = self.pending.replace(Some(fence)) {
+                gl.delete_sync(old);
+            }
+
+            gl.bind_framebuffer(glow::FRAMEBUFFER, destination);
+            gl.viewport(0, 0, size.0 as i32, size.1 as i32);
+            gl.use_program(Some(self.heat.program.id));
+            bind_unit(&gl, 0, Some(first), self.heat.first.as_ref());
+            bind_unit(&gl, 1, Some(second), self.heat.second.as_ref());
+            gl.uniform_1_i32(self.heat.flip_rows.as_ref(), flipped);
+            bind_unit(
+                &gl,
+                2,
+                Some(largest.texture.name()),
+                self.heat.largest.as_ref(),
+            );
+            bind_unit(&gl, 3, Some(self.ramp.name()), self.heat.ramp.as_ref());
+            gl.draw_arrays(glow::TRIANGLES, 0, 3);
+            saved.restore(&gl);
+        }
+        crate::gl::check_gl_errors(&gl, PART)
+    }
+
+    /// The numbers of the last heat map, if the GPU has written them (never waits).
+    fn poll(&self) -> Option<Difference> {
+        let gl = &self.gl;
+        let fence = (*self.pending.borrow())?;
+        // SAFETY: a fence and a buffer this value owns, on the current context.
+        unsafe {
+            let status = gl.client_wait_sync(fence, 0, 0);
+            if status != glow::ALREADY_SIGNALED && status != glow::CONDITION_SATISFIED {
+                return None;
+            }
+            gl.delete_sync(fence);
+            self.pending.replace(None);
+            let mut bytes = [0u8; 16];
+            let previous = crate::gl::bound_buffer(gl, glow::PIXEL_PACK_BUFFER_BINDING);
+            gl.bind_buffer(glow::PIXEL_PACK_BUFFER, Some(self.readback.name()));
+            gl.get_buffer_sub_data(glow::PIXEL_PACK_BUFFER, 0, &mut bytes);
+            gl.bind_buffer(glow::PIXEL_PACK_BUFFER, previous);
+            let word = |i: usize| u32::from_ne_bytes(bytes[4 * i..4 * i + 4].try_into().unwrap());
+            Some(Difference {
+                max: u8::try_from(word(0)).unwrap_or(u8::MAX),
+                pixels: word(1) as usize,
+            })
+        }
+    }
+}
+
+impl Drop for HeatPasses {
+    fn drop(&mut self) {
+        if let Some(fence) = self.pending.get_mut().take() {
+            // SAFETY: a fence of this context, deleted once.
+            unsafe { self.gl.delete_sync(fence) };
+        }
+    }
+}
+
+/// The sizes of the reduction's levels: each a quarter of the one before (rounded up), from the
+/// frame's down to 1 × 1.
+fn level_sizes((mut width, mut height): (u32, u32)) -> Vec<(u32, u32)> {
+    let mut sizes = Vec::new();
+    while sizes.is_empty() || (width, height) != (1, 1) {
+        (width, height) = (width.div_ceil(4), height.div_ceil(4));
+        sizes.push((width, height));
+    }
+    sizes
+}
+
+/// A two-word unsigned-integer texture (RG32UI) and the framebuffer that draws into it.
+struct UintTarget {
+    gl: Gl,
+    // Field order is drop order: the framebuffer before its texture.
+    framebuffer: Owned<glow::Framebuffer>,
+    texture: Owned<glow::Texture>,
+    size: (u32, u32),
+}
+
+impl UintTarget {
+    fn new(gl: &Gl, size: (u32, u32)) -> Result<Self> {
+        let target = UintTarget {
+            gl: gl.clone(),
+            framebuffer: Owned::create(gl, PART)?,
+            texture: Owned::create(gl, PART)?,
+            size,
+        };
+        // SAFETY: storage and attachment for objects `target` owns; bindings restored.
+        unsafe {
+            let previous = crate::gl::bound_texture(gl, glow::TEXTURE_BINDING_2D);
+            gl.bind_texture(glow::TEXTURE_2D, Some(target.texture.name()));
+            let (w, h) = (size.0 as i32, size.1 as i32);
+            let (format, kind) = (glow::RG_INTEGER, glow::UNSIGNED_INT);
+            let none = glow::PixelUnpackData::Slice(None);
+            let internal = glow::RG32UI as i32;
+            gl.tex_image_2d(glow::TEXTURE_2D, 0, internal, w, h, 0, format, kind, none);
+            nearest_single_level(gl);
+            gl.bind_texture(glow::TEXTURE_2D, previous);
+            let previous = crate::gl::bound_framebuffer(gl, glow::FRAMEBUFFER_BINDING);
+            gl.bind_framebuffer(glow::FRAMEBUFFER, Some(target.framebuffer.name()));
+            let (point, texture) = (glow::COLOR_ATTACHMENT0, Some(target.texture.name()));
+            gl.framebuffer_texture_2d(glow::FRAMEBUFFER, point, glow::TEXTURE_2D, texture, 0);
+            let status = gl.check_framebuffer_status(glow::FRAMEBUFFER);
+            gl.bind_framebuffer(glow::FRAMEBUFFER, previous);
+            if status != glow::FRAMEBUFFER_COMPLETE {
+                return Err(Error::gl(
+                    PART,
+                    format!("an RG32UI target is incomplete (0x{status:04X})"),
+                ));
+            }
+        }
+        crate::gl::check_gl_errors(gl, PART)?;
+        Ok(target)
+    }
+
+    /// Draws into it next, over the whole of it.
+    fn bind(&self) {
+        // SAFETY: the framebuffer is alive; its size fits in i32.
+        unsafe {
+            let gl = &self.gl;
+            gl.bind_framebuffer(glow::FRAMEBUFFER, Some(self.framebuffer.name()));
+            gl.viewport(0, 0, self.size.0 as i32, self.size.1 as i32);
+        }
+    }
+}
+
+/// The bound 2D texture read texel by texel: nearest, one level.
+///
+/// # Safety
+/// A current context with a texture bound to `TEXTURE_2D`.
+unsafe fn nearest_single_level(gl: &Gl) {
+    let nearest = glow::NEAREST as i32;
+    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, nearest);
+    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAG_FILTER, nearest);
+    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAX_LEVEL, 0);
+}
+
+/// `texture` on unit `unit`, and the sampler uniform set to it.
+///
+/// # Safety
+/// A current context with the program of `sampler` in use.
+unsafe fn bind_unit(
+    gl: &Gl,
+    unit: u32,
+    texture: Option<glow::Texture>,
+    sampler: Option<&glow::UniformLocation>,
+) {
+    gl.active_texture(glow::TEXTURE0 + unit);
+    gl.bind_texture(glow::TEXTURE_2D, texture);
+    gl.uniform_1_i32(sampler, unit as i32);
+}
+
+/// What the passes change that a scene's next draw may not set itself.
+struct SavedState {
+    enabled: [(u32, bool); 4],
+    program: Option<glow::Program>,
+    vao: Option<glow::VertexArray>,
+    textures: [Option<glow::Texture>; 4],
+    active: u32,
+}
+
+impl SavedState {
+    /// # Safety
+    /// A current context.
+    unsafe fn save(gl: &Gl) -> Self {
+        let caps = [
+            glow::DEPTH_TEST,
+            glow::BLEND,
+            glow::CULL_FACE,
+            glow::SCISSOR_TEST,
+        ];
+        let active = gl.get_parameter_i32(glow::ACTIVE_TEXTURE) as u32;
+        let textures = [0u32, 1, 2, 3].map(|unit| {
+            gl.active_texture(glow::TEXTURE0 + unit);
+            crate::gl::bound_texture(gl, glow::TEXTURE_BINDING_2D)
+        });
+        SavedState {
+            enabled: caps.map(|cap| (cap, gl.is_enabled(cap))),
+            program: crate::gl::bound_program(gl, glow::CURRENT_PROGRAM),
+            vao: crate::gl::bound_vertex_array(gl, glow::VERTEX_ARRAY_BINDING),
+            textures,
+            active,
+        }
+    }
+
+    /// # Safety
+    /// The context `save` was given, current.
+    unsafe fn restore(self, gl: &Gl) {
+        for (cap, on) in self.enabled {
+            match on {
+                true => gl.enable(cap),
+                false => gl.disable(cap),
+            }
+        }
+        for (unit, texture) in (0u32..).zip(self.textures) {
+            gl.active_texture(glow::TEXTURE0 + unit);
+            gl.bind_texture(glow::TEXTURE_2D, texture);
+        }
+        gl.active_texture(self.active);
+        gl.use_program(self.program);
+        gl.bind_vertex_array(self.vao);
+    }
 }

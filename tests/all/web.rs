@@ -837,3 +837,32 @@ fn enter_fetches_the_next_scenes_files_and_shows_it() {
         "after Enter: {share:.4} within {TOLERANCE}"
     );
 }
+
+// Fails if K pressed twice on the page (off → side by side → the difference) does not show the
+// native heat map of the same two frames within the scenes' tolerance (the GPU passes' integer
+// targets, the pixel-pack read of their numbers and its fence on WebGL2), or if the page shows a
+// message or logs an error (a pass that WebGL2 refuses).
+#[test]
+fn k_twice_shows_the_native_heat_map() {
+    let Some(base) = page_url("web::k_twice_shows_the_native_heat_map") else {
+        return;
+    };
+    let page = load("heat", &base, "scene=cylinder&panel=off&frames=9&key=k,k");
+    page.check_clean("the difference view");
+    let mut renderer = native_renderer("cylinder");
+    for _ in 0..2 {
+        renderer.host.scene_key('K').expect("K");
+    }
+    let native = frame(&mut renderer);
+    let lit = frame(&mut native_renderer("cylinder"));
+    let share = share_within(&page.shot, &native);
+    let like_lit = share_within(&page.shot, &lit);
+    eprintln!(
+        "web: the difference view: {:.2} % of pixels within {TOLERANCE} levels of the native heat \
+         map ({:.2} % of the lit frame)",
+        share * 100.0,
+        like_lit * 100.0
+    );
+    assert!(share >= WITHIN, "{share:.4} within {TOLERANCE}");
+    assert!(like_lit < WITHIN, "the page shows the lit frame");
+}

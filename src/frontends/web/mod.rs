@@ -65,8 +65,8 @@ struct Page {
     dragging: Option<Vec2>,
     /// Frames drawn so far (the page's `data-frames`, which the tests wait for).
     drawn: u32,
-    /// Each frame's time, drawn to completion (a one-texel read-back), in ms: the page's
-    /// `data-frame-ms` is their median, as `--bench` times the native frames. The last
+    /// With `frames=N`, each frame's time, drawn to completion (a one-texel read-back), in ms: the
+    /// page's `data-frame-ms` is their median, as `--bench` times the native frames. The last
     /// [`FRAME_MS_KEPT`] only: the median is taken every frame, and a page may stay open for hours.
     frame_ms: Vec<f64>,
 }
@@ -106,27 +106,34 @@ impl Page {
             panel.paint(input.size, output);
         }
         self.target.blit_columns_to(None, 0, WIDTH);
-        // Waits for the frame to be drawn, to time it whole: WebGL's finish returns at once, a
-        // read-back cannot.
-        let mut texel = [0u8; 4];
-        // SAFETY: one texel of the bound target, into a buffer of its size.
-        unsafe {
-            self.gl.read_pixels(
-                0,
-                0,
-                1,
-                1,
-                glow::RGBA,
-                glow::UNSIGNED_BYTE,
-                glow::PixelPackData::Slice(Some(&mut texel)),
-            )
-        };
-        if self.frame_ms.len() == FRAME_MS_KEPT {
-            self.frame_ms.remove(0);
+        // `frames=N` (the tests' and web/bench.py's frames) waits for each frame to be drawn, to
+        // time it whole: WebGL's finish returns at once, a read-back cannot. A page that runs
+        // never waits for the GPU: its panel shows the time between frames.
+        if frozen {
+            let mut texel = [0u8; 4];
+            // SAFETY: one texel of the bound target, into a buffer of its size.
+            unsafe {
+                self.gl.read_pixels(
+                    0,
+                    0,
+                    1,
+                    1,
+                    glow::RGBA,
+                    glow::UNSIGNED_BYTE,
+                    glow::PixelPackData::Slice(Some(&mut texel)),
+                )
+            };
+            if self.frame_ms.len() == FRAME_MS_KEPT {
+                self.frame_ms.remove(0);
+            }
+            self.frame_ms.push(start.elapsed().as_secs_f64() * 1000.0);
         }
-        self.frame_ms.push(start.elapsed().as_secs_f64() * 1000.0);
-        if let Err(e) = crate::gl::check_gl_errors(&self.gl, "frame") {
-            show_error(&e.to_string());
+        // Asking for errors waits for the GPU in a browser too: every frame with `frames=N`, else
+        // once every ERROR_CHECK_FRAMES frames (about two seconds).
+        if frozen || self.drawn % ERROR_CHECK_FRAMES == 0 {
+            if let Err(e) = crate::gl::check_gl_errors(&self.gl, "frame") {
+                show_error(&e.to_string());
+            }
         }
         self.drawn += 1;
         if let Some(left) = &mut self.frames_left {
@@ -521,6 +528,9 @@ fn request_animation_frame(callback: &Closure<dyn FnMut()>) {
 /// times 100).
 const FRAME_MS_KEPT: usize = 600;
 
+/// A running page asks for GL errors once in this many frames (a sync point; see [`Page::frame`]).
+const ERROR_CHECK_FRAMES: u32 = 120;
+
 thread_local! {
     /// Whether the page draws `frames=N` (see [`request_animation_frame`]).
     static FROZEN: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
@@ -540,8 +550,10 @@ fn set_frames_drawn(page: &Page) {
             .map_or(f64::NAN, |p| p.now());
         let _ = canvas.set_attribute("data-first-frame-ms", &format!("{now:.0}"));
     }
-    let (_, median) = super::min_median(&page.frame_ms);
-    let _ = canvas.set_attribute("data-frame-ms", &format!("{median:.2}"));
+    if !page.frame_ms.is_empty() {
+        let (_, median) = super::min_median(&page.frame_ms);
+        let _ = canvas.set_attribute("data-frame-ms", &format!("{median:.2}"));
+    }
     // The camera the frame was drawn with, for the input tests (`frames=N` only): position x y z,
     // then the horizontal and vertical angles (radians), each as Rust writes an f32 (read back
     // exactly).

@@ -36,7 +36,7 @@ impl Cylinder {
             return None;
         };
         let [a, b] = sources;
-        Some(match (view.mode, view.difference) {
+        Some(match (view.mode, view.difference()) {
             (CompareMode::Split, _) => {
                 format!("compare {a} | {b} at {:.0} %", view.split * 100.0)
             }

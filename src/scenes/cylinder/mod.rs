@@ -310,7 +310,7 @@ impl Scene for Cylinder {
         );
         if let Some((sources, buffers)) = &self.comparison {
             let view = &mut self.compare_view;
-            let before = view.difference;
+            let before = view.difference();
             let drawn = view.draw(
                 frame.size,
                 || drawer.draw(sources[0], &buffers[0], frame),
@@ -319,7 +319,8 @@ impl Scene for Cylinder {
             if let Err(e) = drawn {
                 log::error!("compare view: {e}");
             }
-            if let Some(d) = view.difference.filter(|&d| Some(d) != before) {
+            // The numbers of a frame before (or of this one where it has been waited for).
+            if let Some(d) = view.difference().filter(|&d| Some(d) != before) {
                 log::info!(
                     "{} vs {}: {} pixels differ, by at most {} levels",
                     sources[0],
