@@ -361,7 +361,7 @@ fn shadows_and_highlights_in_part_of_a_photo_leave_the_rest() {
 }
 
 // Fails if a texel whose kept photos' lights are nearly coplanar is solved anyway (the decision
-// documented in src/photometric.rs: it is left flat and counted, like one with fewer than three),
+// documented in src/photometric/: it is left flat and counted, like one with fewer than three),
 // or if the same texel with every photo kept is not solved. Three lights 4° above the surface (within
 // 5° of its plane) and one overhead, a light grey surface tilted a little (so that the low lights all
 // reach it); texel 1 is black in the overhead photo.
