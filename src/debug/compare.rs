@@ -6,8 +6,8 @@
 //! Each side is drawn whole into a target of its own, stored like the window's buffers (so that a
 //! side is exactly the frame its source draws alone), then the columns left of the split are copied
 //! from the first and the rest from the second. The heat map is drawn by the GPU from the two
-//! sides' textures ([`HeatPasses`]): no frame comes back to the CPU, and the two numbers it reports
-//! (pixels that differ, the largest difference) are read a frame later, without waiting.
+//! sides' textures (`HeatPasses`, below): no frame comes back to the CPU, and the two numbers it
+//! reports (pixels that differ, the largest difference) are read a frame later, without waiting.
 
 use std::cell::{Cell, RefCell};
 

@@ -94,25 +94,6 @@ impl HeadlessRenderer {
         })
     }
 
-    /// Enter: the next scene, as the window's Enter ([`SceneHost::next_scene`]).
-    pub fn next_scene(&mut self) -> Result<()> {
-        let (context, host) = (&self.context, &mut self.host);
-        with_scene_context(context, |c| host.next_scene(c))
-    }
-
-    /// Replaces the scene with `name`'s, built from the same options, the camera at its start
-    /// ([`SceneHost::switch_scene`]); a failure leaves the current one in place.
-    pub fn switch_scene(&mut self, name: &'static SceneDescriptor) -> Result<()> {
-        let (context, host) = (&self.context, &mut self.host);
-        with_scene_context(context, |c| host.switch_scene(c, name))
-    }
-
-    /// What the window does with a dropped file ([`SceneHost::open_file`]).
-    pub fn open_file(&mut self, path: &std::path::Path) -> Result<()> {
-        let (context, host) = (&self.context, &mut self.host);
-        with_scene_context(context, |c| host.open_file(c, path))
-    }
-
     /// The scene as its own type, for tests and tools that reach into it. Panics if the renderer
     /// holds another scene.
     pub fn scene_mut<S: Scene>(&mut self) -> &mut S {

@@ -11,6 +11,8 @@ use std::path::Path;
 use glam::Vec2;
 
 use crate::common::controls::{Controls, Input};
+use crate::gl::extensions::GlExtensions;
+use crate::gl::{ContextInfo, Gl};
 use crate::scenes::{FrameInput, Scene, SceneContext, SceneDescriptor, SceneOptions};
 use crate::Result;
 
@@ -21,6 +23,24 @@ pub enum Arrow {
     Down,
     Left,
     Right,
+}
+
+/// The GL context the host builds its scenes on and draws them with: the front end's, shared.
+#[derive(Clone)]
+struct HostContext {
+    gl: Gl,
+    info: ContextInfo,
+    extensions: GlExtensions,
+}
+
+impl HostContext {
+    fn scene_context(&self) -> SceneContext<'_> {
+        SceneContext {
+            gl: &self.gl,
+            info: &self.info,
+            extensions: &self.extensions,
+        }
+    }
 }
 
 /// The scene being drawn, its camera and its input.
@@ -41,6 +61,8 @@ pub struct SceneHost {
     pub cursor: Option<Vec2>,
     /// The size of the frame the camera's projection is for.
     size: (u32, u32),
+    /// What every scene it builds is built on (Enter, a dropped file).
+    context: HostContext,
 }
 
 impl SceneHost {
@@ -63,6 +85,11 @@ impl SceneHost {
             input: Input::default(),
             cursor: None,
             size,
+            context: HostContext {
+                gl: context.gl.clone(),
+                info: context.info.clone(),
+                extensions: context.extensions.clone(),
+            },
         })
     }
 
@@ -86,39 +113,30 @@ impl SceneHost {
 
     /// Enter: the next scene of [`crate::scenes::SCENES`] with the same options, the camera at its
     /// start. On an error the current scene stays.
-    pub fn next_scene(&mut self, context: &SceneContext) -> Result<()> {
+    pub fn next_scene(&mut self) -> Result<()> {
         let next = crate::scenes::next(self.descriptor);
-        self.switch_scene(context, next)
+        self.switch_scene(next)
     }
 
     /// `next`'s scene with the same options, the camera at its start. On an error the current scene
     /// stays.
-    pub fn switch_scene(
-        &mut self,
-        context: &SceneContext,
-        next: &'static SceneDescriptor,
-    ) -> Result<()> {
+    pub fn switch_scene(&mut self, next: &'static SceneDescriptor) -> Result<()> {
         let options = self.options.clone();
-        self.install(context, next, options)
+        self.install(next, options)
     }
 
     /// A file dropped on the window: the scene that opens it ([`crate::scenes::open_file`]), built
     /// with it, the camera at its start. On an error the current scene stays.
-    pub fn open_file(&mut self, context: &SceneContext, path: &Path) -> Result<()> {
+    pub fn open_file(&mut self, path: &Path) -> Result<()> {
         let mut options = self.options.clone();
         let next = crate::scenes::open_file(path, &mut options)?;
-        self.install(context, next, options)
+        self.install(next, options)
     }
 
     /// Builds `next` with `options` first (so that a failure leaves the current scene), then drops
     /// the old scene's GL objects and puts the camera at the new one's start.
-    fn install(
-        &mut self,
-        context: &SceneContext,
-        next: &'static SceneDescriptor,
-        options: SceneOptions,
-    ) -> Result<()> {
-        self.scene = (next.build)(context, &options)?;
+    fn install(&mut self, next: &'static SceneDescriptor, options: SceneOptions) -> Result<()> {
+        self.scene = (next.build)(&self.context.scene_context(), &options)?;
         self.options = options;
         self.descriptor = next;
         self.reset_camera();
@@ -203,9 +221,11 @@ impl SceneHost {
         }
     }
 
-    /// Draws one frame into the bound framebuffer (whose viewport covers `size`).
+    /// Draws one frame into the bound framebuffer (whose viewport covers `size`), in the scene's
+    /// GL state ([`SceneDescriptor::gl_state`]).
     pub fn draw(&mut self, delta_time: f32, time: f32, frozen: bool) -> FrameInput {
         let input = self.frame_input(delta_time, time, frozen);
+        self.descriptor.gl_state.apply(&self.context.gl);
         self.scene.draw(&input);
         input
     }

@@ -8,6 +8,7 @@ use std::path::Path;
 use super::options::{read_args, SceneArgs, SceneOptions};
 use super::scene::{MouseMode, Scene, SceneContext};
 use super::table::{control_for_key, Control, ControlState, KeyHelp, Kind, SceneControls, SetTo};
+use crate::gl::state::GlState;
 use crate::Result;
 
 /// All the rest of the program knows of a scene: each scene's folder defines one (`SCENE`), and one
@@ -40,6 +41,8 @@ pub struct SceneDescriptor {
     /// A file dropped on the window: puts it into the scene's options and returns `true` if the
     /// scene opens files of its kind (the cylinder opens an `.obj` as `--model`).
     pub open_file: fn(&Path, &mut SceneOptions) -> bool,
+    /// What the host sets before each of the scene's frames ([`SceneType::GL_STATE`]).
+    pub gl_state: GlState,
 }
 
 impl SceneDescriptor {
@@ -63,6 +66,7 @@ impl SceneDescriptor {
             generate_assets: || Ok(Vec::new()),
             asset_files: &[],
             open_file: |_, _| false,
+            gl_state: S::GL_STATE,
         }
     }
 }
@@ -74,6 +78,10 @@ pub trait SceneType: Scene + Sized + 'static {
 
     /// Every switch, choice and slider of the scene, each declared once (see [`Control`]).
     const CONTROLS: &'static [Control<Self>];
+
+    /// The GL state the scene draws in (clear colour, depth test, culling): the host sets it before
+    /// each frame, as another scene may have drawn on the context since this one was built.
+    const GL_STATE: GlState;
 
     /// Loads the scene on the current context: its files from `files` (`--assets`, `--shaders`),
     /// its switches from `options`.

@@ -53,8 +53,6 @@ struct Page {
     /// egui's input since the last frame (pointer and wheel over the panel).
     panel_events: Vec<egui::Event>,
     gl: Gl,
-    info: ContextInfo,
-    extensions: GlExtensions,
     /// Frames still to draw with time frozen (`frames=N`); `None`: run.
     frames_left: Option<u32>,
     started: Instant,
@@ -184,14 +182,9 @@ impl Page {
             return;
         }
         clear_error();
-        let (context, host) = (self.scene_context_parts(), &mut self.host);
-        if let Err(e) = with_context(context, |c| host.switch_scene(c, next)) {
+        if let Err(e) = self.host.switch_scene(next) {
             show_error(&e.to_string());
         }
-    }
-
-    fn scene_context_parts(&self) -> (Gl, ContextInfo, GlExtensions) {
-        (self.gl.clone(), self.info.clone(), self.extensions.clone())
     }
 
     /// Files dropped on the page: kept where the scenes' loaders read them; the model among them
@@ -216,23 +209,10 @@ impl Page {
     /// A dropped file opened as the window opens one (its scene's assets fetched already).
     fn open_file(&mut self, model: &Path) {
         clear_error();
-        let (context, host) = (self.scene_context_parts(), &mut self.host);
-        if let Err(e) = with_context(context, |c| host.open_file(c, model)) {
+        if let Err(e) = self.host.open_file(model) {
             show_error(&e.to_string());
         }
     }
-}
-
-/// `f` with a scene context made of owned parts (the page is borrowed mutably meanwhile).
-fn with_context<T>(
-    (gl, info, extensions): (Gl, ContextInfo, GlExtensions),
-    f: impl FnOnce(&SceneContext) -> T,
-) -> T {
-    f(&SceneContext {
-        gl: &gl,
-        info: &info,
-        extensions: &extensions,
-    })
 }
 
 /// What WebGL2 is, as [`ContextInfo`]: OpenGL ES 3.0 without profiles (read as core: no immediate
@@ -411,8 +391,6 @@ async fn run() -> Result<(), String> {
         panel_shown: contract.panel,
         panel_events: Vec::new(),
         gl,
-        info,
-        extensions,
         frames_left: contract.frames,
         started: now,
         last_time: now,

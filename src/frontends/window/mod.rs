@@ -356,13 +356,13 @@ impl Running {
     /// A file dropped on the window (an .obj: `--model`); an error (an unreadable model, another
     /// kind of file) is logged and the scene stays.
     fn open_file(&mut self, path: &Path) {
-        let opened = self.renderer.open_file(&self.gl_window, path);
+        let opened = self.renderer.open_file(path);
         self.start_scene(opened);
     }
 
     /// Enter: the next scene.
     fn next_scene(&mut self) {
-        let switched = self.renderer.next_scene(&self.gl_window);
+        let switched = self.renderer.next_scene();
         self.start_scene(switched);
     }
 

@@ -64,18 +64,16 @@ impl Renderer {
     }
 
     /// Enter: the next scene ([`SceneHost::next_scene`]), and its keys printed.
-    pub fn next_scene(&mut self, gl_window: &GlWindow) -> Result<()> {
-        let host = &mut self.host;
-        gl_window.with_scene_context(|c| host.next_scene(c))?;
+    pub fn next_scene(&mut self) -> Result<()> {
+        self.host.next_scene()?;
         self.scene_changed();
         Ok(())
     }
 
     /// A file dropped on the window ([`SceneHost::open_file`]). On an error the current scene
     /// stays.
-    pub fn open_file(&mut self, gl_window: &GlWindow, path: &Path) -> Result<()> {
-        let host = &mut self.host;
-        gl_window.with_scene_context(|c| host.open_file(c, path))?;
+    pub fn open_file(&mut self, path: &Path) -> Result<()> {
+        self.host.open_file(path)?;
         self.scene_changed();
         Ok(())
     }

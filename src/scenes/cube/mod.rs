@@ -46,9 +46,6 @@ pub static SCENE: SceneDescriptor = SceneDescriptor {
     )
 };
 
-/// Drawn in the tutorial's state, applied every frame (another scene may have drawn since).
-const GL_STATE: GlState = GlState::TUTORIAL;
-
 /// The scene's switch and sliders, in the order they are listed.
 const CONTROLS: &[C] = &[
     C::toggle(
@@ -233,6 +230,9 @@ pub struct Cube {
 
 impl SceneType for Cube {
     type Args = CubeOptions;
+
+    /// Drawn in the tutorial's state, applied every frame (another scene may have drawn since).
+    const GL_STATE: GlState = GlState::TUTORIAL;
     const CONTROLS: &'static [Control<Self>] = CONTROLS;
 
     /// Loads `cube/diffuse.bmp` and `cube/normal.bmp` from `assets` and the shaders from
@@ -277,7 +277,6 @@ impl Scene for Cube {
         let gl = &self.gl;
         let p = &self.program;
         let light = self.light_position_worldspace;
-        GL_STATE.apply(gl);
         // SAFETY: the program, its uniforms and the textures all belong to this context.
         unsafe {
             gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);

@@ -77,10 +77,6 @@ fn open_model(path: &Path, options: &mut SceneOptions) -> bool {
     opened
 }
 
-/// The tutorial's state (`init_gl_state`), applied at the start of every frame: another scene may
-/// have drawn on this context since the cylinder was built.
-const GL_STATE: GlState = GlState::opaque_3d(CLEAR_COLOR);
-
 /// What the compare view starts with (`--compare A,B`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CompareOptions {
@@ -160,6 +156,10 @@ pub struct Cylinder {
 
 impl SceneType for Cylinder {
     type Args = CylinderArgs;
+
+    /// The tutorial's state (`init_gl_state`), applied at the start of every frame: another scene may
+    /// have drawn on this context since the cylinder was built.
+    const GL_STATE: GlState = GlState::opaque_3d(CLEAR_COLOR);
     const CONTROLS: &'static [Control<Self>] = CONTROLS;
 
     /// Loads the tutorial's four files from `assets` and the shaders from `shader_dir` (or the
@@ -301,7 +301,6 @@ impl SceneType for Cylinder {
 
 impl Scene for Cylinder {
     fn draw(&mut self, frame: &FrameInput) {
-        GL_STATE.apply(&self.gl);
         let drawer = (self.programs).drawer(
             &self.tutorial,
             self.switches,

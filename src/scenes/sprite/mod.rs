@@ -58,10 +58,6 @@ pub static SCENE: SceneDescriptor = SceneDescriptor {
     )
 };
 
-/// A flat sprite needs neither depth nor culling; the background is the tutorial's dark blue, as in
-/// every scene. Applied at the start of every frame.
-const GL_STATE: GlState = GlState::flat([0.0, 0.0, 0.4, 0.0]);
-
 /// The article's `DEFAULT_LIGHT_Z`: the light's height, where a click puts it back.
 pub const DEFAULT_LIGHT_Z: f32 = 0.075;
 /// Light colour (1, 0.8, 0.6), intensity 1 (in w).
@@ -235,6 +231,10 @@ pub struct Sprite {
 
 impl SceneType for Sprite {
     type Args = SpriteArgs;
+
+    /// A flat sprite needs neither depth nor culling; the background is the tutorial's dark blue, as in
+    /// every scene. Applied at the start of every frame.
+    const GL_STATE: GlState = GlState::flat([0.0, 0.0, 0.4, 0.0]);
     const CONTROLS: &'static [Control<Self>] = CONTROLS;
 
     /// Loads `sprite/diffuse.bmp` and `sprite/normal.bmp` from `assets`, and the shaders from
@@ -321,7 +321,6 @@ impl Scene for Sprite {
             * Mat4::from_scale(Vec3::new(side as f32, side as f32, 1.0));
         let mvp = projection * model;
         let pixels_per_unit = TEXELS_PER_UNIT * side as f32 / SPRITE_TEXELS as f32;
-        GL_STATE.apply(gl);
         // SAFETY: the program, uniforms, textures and buffers all belong to this context.
         unsafe {
             gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);

@@ -45,9 +45,6 @@ pub static SCENE: SceneDescriptor = SceneDescriptor {
     )
 };
 
-/// The article's wall in the tutorial's frame: its state, set before each frame.
-const GL_STATE: GlState = GlState::TUTORIAL;
-
 /// The article's light.
 pub const LIGHT_POSITION_WORLDSPACE: Vec3 = Vec3::new(4.0, 0.0, 4.0);
 const LIGHT_COLOR: Vec3 = Vec3::ONE;
@@ -158,6 +155,9 @@ pub struct Wall {
 
 impl SceneType for Wall {
     type Args = WallOptions;
+
+    /// The article's wall in the tutorial's frame: its state, set before each frame.
+    const GL_STATE: GlState = GlState::TUTORIAL;
     const CONTROLS: &'static [Control<Self>] = CONTROLS;
 
     /// Loads the stone wall's two maps from `assets`/wall/ and the three programs.
@@ -231,7 +231,6 @@ impl Scene for Wall {
         let gl = &self.gl;
         let p = &self.programs[self.space as usize];
         let light = self.light_position_worldspace;
-        GL_STATE.apply(gl);
         // SAFETY: the program, uniforms and textures all belong to this context.
         unsafe {
             gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
