@@ -21,32 +21,122 @@ use crate::clock::Instant;
 
 use crate::scenes::{MouseMode, Scene, SceneDescriptor};
 
-/// The window's mouse look and camera keys, listed for scenes with [`MouseMode::Look`] (the
-/// first two before the scene's keys, the rest after them).
-pub const LOOK_KEYS: &[(&str, &str)] = &[
+/// Which front end a key list is for: the browser page lacks the keys a tab cannot honour (a
+/// grabbed cursor, files on disk, quitting).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum FrontEnd {
+    /// The window, and headless rendering, which draws the window's frame.
+    #[default]
+    Window,
+    /// The WebGL2 page.
+    Page,
+}
+
+/// The mouse and the arrow keys, listed before a mouse-look scene's keys (the host's look and arrow
+/// input: not keys of [`HOST_KEYS`]). The page looks around with a drag instead.
+const LOOK_ROWS: [(&str, &str); 2] = [
     ("mouse", "look around (the cursor is grabbed and hidden)"),
     ("arrow keys", "move forward / back, strafe left / right"),
-    ("R", "camera back to the tutorial's start"),
-    (
-        "Tab",
-        "release the cursor (losing focus does too); a click grabs it again",
-    ),
+];
+const PAGE_LOOK_ROWS: [(&str, &str); 2] = [
+    ("drag", "look around"),
+    ("arrow keys", "move forward / back, strafe left / right"),
 ];
 
-/// The window's own keys, whatever the scene (listed after the scene's).
-pub const WINDOW_KEYS: &[(&str, &str)] = &[
-    ("Enter", "next scene (see --scene)"),
-    (
-        "F5",
-        "reload the shaders (saving a shader file does it too)",
-    ),
-    (
-        "P",
-        "save a screenshot (tutorial13-N.png in the current folder); Ctrl+P: with the panel",
-    ),
-    ("F1", "show / hide the panel (keys, switches, sliders)"),
-    ("Esc", "quit (closing the window quits too)"),
+/// What one of the front ends' own keys does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HostAction {
+    ResetCamera,
+    ReleaseCursor,
+    NextScene,
+    ReloadShaders,
+    Screenshot,
+    TogglePanel,
+    Quit,
+}
+
+/// A key of the front ends' own, whatever the scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HostKey {
+    /// As the key lists name it ("Enter", "F5", "R").
+    pub key: &'static str,
+    pub help: &'static str,
+    pub action: HostAction,
+    /// Listed for mouse-look scenes only (a free-cursor scene has no camera to steer).
+    pub look_only: bool,
+    /// The page has it too.
+    pub on_page: bool,
+}
+
+/// The front ends' own keys, in the order they are listed after the scene's: their help rows and
+/// their dispatch both come from here ([`HostKey::find`]).
+pub const HOST_KEYS: &[HostKey] = &[
+    HostKey {
+        key: "R",
+        help: "camera back to the tutorial's start",
+        action: HostAction::ResetCamera,
+        look_only: true,
+        on_page: true,
+    },
+    HostKey {
+        key: "Tab",
+        help: "release the cursor (losing focus does too); a click grabs it again",
+        action: HostAction::ReleaseCursor,
+        look_only: true,
+        on_page: false,
+    },
+    HostKey {
+        key: "Enter",
+        help: "next scene (see --scene)",
+        action: HostAction::NextScene,
+        look_only: false,
+        on_page: true,
+    },
+    HostKey {
+        key: "F5",
+        help: "reload the shaders (saving a shader file does it too)",
+        action: HostAction::ReloadShaders,
+        look_only: false,
+        on_page: false,
+    },
+    HostKey {
+        key: "P",
+        help: "save a screenshot (tutorial13-N.png in the current folder); Ctrl+P: with the panel",
+        action: HostAction::Screenshot,
+        look_only: false,
+        on_page: false,
+    },
+    HostKey {
+        key: "F1",
+        help: "show / hide the panel (keys, switches, sliders)",
+        action: HostAction::TogglePanel,
+        look_only: false,
+        on_page: true,
+    },
+    HostKey {
+        key: "Esc",
+        help: "quit (closing the window quits too)",
+        action: HostAction::Quit,
+        look_only: false,
+        on_page: false,
+    },
 ];
+
+impl HostKey {
+    /// What `key` (as the key lists name it) does in `front_end`, if it is one of its own keys.
+    pub fn find(key: &str, front_end: FrontEnd) -> Option<HostAction> {
+        HOST_KEYS
+            .iter()
+            .find(|k| k.key == key && (front_end == FrontEnd::Window || k.on_page))
+            .map(|k| k.action)
+    }
+
+    /// Whether `front_end` lists this key for `scene`.
+    fn listed(&self, scene: &SceneDescriptor, front_end: FrontEnd) -> bool {
+        let look = scene.mouse_mode == MouseMode::Look;
+        (look || !self.look_only) && (front_end == FrontEnd::Window || self.on_page)
+    }
+}
 
 /// How the user runs this program from where they are, for the commands its messages suggest:
 /// `cargo run --release --` when the binary is the one cargo built in a crate's target folder (a
@@ -78,7 +168,7 @@ pub fn invocation_for(exe: Option<&std::path::Path>) -> String {
 /// the scene's own use of a free cursor), the scene's keys, then the window's.
 pub fn key_list(scene: &'static SceneDescriptor) -> String {
     let mut text = format!("Keys (window, scene {scene}):");
-    for (key, help) in key_rows(scene) {
+    for (key, help) in key_rows(scene, FrontEnd::Window) {
         text.push_str(&format!("\n  {key:<15} {help}"));
     }
     text
@@ -103,28 +193,31 @@ pub fn keys_markdown() -> String {
             scene.name,
             cell(scene.description)
         ));
-        for (key, help) in key_rows(scene) {
+        for (key, help) in key_rows(scene, FrontEnd::Window) {
             text.push_str(&format!("| {} | {} |\n", cell(&key), cell(help)));
         }
     }
     text
 }
 
-/// The rows of a scene's key list, in the order [`key_list`] and [`keys_markdown`] give them.
-pub(crate) fn key_rows(scene: &'static SceneDescriptor) -> Vec<(String, &'static str)> {
-    let (before, after): (&[_], &[_]) = match scene.mouse_mode {
-        MouseMode::Look => LOOK_KEYS.split_at(2),
-        // The camera keys would steer a camera such a scene does not have.
-        MouseMode::Cursor => (scene.mouse_help, &[]),
+/// The rows of a scene's key list in `front_end`, in the order [`key_list`] and [`keys_markdown`]
+/// give them: the mouse's (or the scene's own use of a free cursor), the scene's keys, then the
+/// front end's own ([`HOST_KEYS`]).
+pub(crate) fn key_rows(
+    scene: &'static SceneDescriptor,
+    front_end: FrontEnd,
+) -> Vec<(String, &'static str)> {
+    let before: &[(&str, &'static str)] = match (scene.mouse_mode, front_end) {
+        (MouseMode::Look, FrontEnd::Window) => &LOOK_ROWS,
+        (MouseMode::Look, FrontEnd::Page) => &PAGE_LOOK_ROWS,
+        (MouseMode::Cursor, _) => scene.mouse_help,
     };
-    let own = |keys: &'static [(&str, &'static str)]| {
-        keys.iter().map(|&(key, help)| (key.to_string(), help))
-    };
+    let before = before.iter().map(|&(key, help)| (key.to_string(), help));
     let scene_keys = scene.keys.iter().map(|k| (k.key.to_string(), k.help));
-    own(before)
+    let host = HOST_KEYS.iter().filter(|k| k.listed(scene, front_end));
+    before
         .chain(scene_keys)
-        .chain(own(after))
-        .chain(own(WINDOW_KEYS))
+        .chain(host.map(|k| (k.key.to_string(), k.help)))
         .collect()
 }
 
@@ -271,18 +364,20 @@ mod tests {
         for scene in crate::scenes::SCENES {
             let list = key_list(scene);
             for help in scene.keys {
-                let taken = WINDOW_KEYS
+                let mut taken = HOST_KEYS
                     .iter()
-                    .chain(LOOK_KEYS)
-                    .any(|&(key, _)| key == help.key.to_string());
+                    .map(|k| k.key)
+                    .chain(LOOK_ROWS.map(|(k, _)| k));
+                let taken = taken.any(|key| key == help.key.to_string());
                 assert!(!taken, "{scene}: key {} is the window's", help.key);
                 assert!(list.contains(&format!("\n  {:<15} {}", help.key, help.help)));
             }
-            for &(key, help) in WINDOW_KEYS {
-                assert!(list.contains(&format!("\n  {key:<15} {help}")), "{key}");
-            }
             let look = scene.mouse_mode == MouseMode::Look;
-            for &(key, help) in LOOK_KEYS {
+            for k in HOST_KEYS {
+                let listed = list.contains(&format!("\n  {:<15} {}", k.key, k.help));
+                assert_eq!(listed, look || !k.look_only, "{scene}: {}", k.key);
+            }
+            for (key, help) in LOOK_ROWS {
                 let listed = list.contains(&format!("\n  {key:<15} {help}"));
                 assert_eq!(listed, look, "{scene}: {key}");
             }
@@ -291,6 +386,35 @@ mod tests {
                 list.contains("\n  mouse "),
                 "{scene}: the mouse is not listed"
             );
+        }
+    }
+
+    // Fails if the page's key list names a key the page does nothing with (F5, P, Tab, Esc), or
+    // leaves out one it has, or if a key it lists does not reach the same action as in the window:
+    // the panel shows this list, and the page dispatches through the same table.
+    #[test]
+    fn the_page_lists_the_keys_it_has() {
+        for scene in crate::scenes::SCENES {
+            let rows = key_rows(scene, FrontEnd::Page);
+            for k in HOST_KEYS {
+                let listed = rows.iter().any(|(key, _)| key == k.key);
+                let has = HostKey::find(k.key, FrontEnd::Page);
+                assert_eq!(
+                    listed,
+                    has.is_some() && k.listed(scene, FrontEnd::Window),
+                    "{scene}: {}",
+                    k.key
+                );
+                if let Some(action) = has {
+                    assert_eq!(Some(action), HostKey::find(k.key, FrontEnd::Window));
+                }
+            }
+            for absent in ["F5", "P", "Tab", "Esc"] {
+                assert!(
+                    !rows.iter().any(|(key, _)| key == absent),
+                    "{scene}: {absent}"
+                );
+            }
         }
     }
 }

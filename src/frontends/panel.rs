@@ -9,7 +9,7 @@
 
 use glow::HasContext;
 
-use super::{key_rows, WINDOW_KEYS};
+use super::{key_rows, FrontEnd, HOST_KEYS};
 use crate::gl::extensions::GlExtensions;
 use crate::gl::offscreen::{ColorBuffer, OffscreenTarget};
 use crate::gl::Gl;
@@ -52,6 +52,8 @@ pub struct PanelInfo {
     pub ms_per_frame: Option<f64>,
     /// A shader that failed to reload (the last good one draws).
     pub shader_error: Option<String>,
+    /// Whose keys the key list gives (the page has fewer).
+    pub front_end: FrontEnd,
 }
 
 /// egui's context and its glow painter, on the scene's GL context.
@@ -418,7 +420,7 @@ impl SceneView {
         // The keys and sliders first, at rows that never move (what changes length comes after
         // them), so that a click on one never shifts the next one a learner aims at.
         ui.separator();
-        self.show_keys(ui, record, true);
+        self.show_keys(ui, record, true, info.front_end);
         if self.sliders().next().is_some() {
             ui.separator();
             self.show_sliders(ui, record);
@@ -439,7 +441,7 @@ impl SceneView {
         ui.separator();
         egui::CollapsingHeader::new("mouse and window keys")
             .default_open(false)
-            .show(ui, |ui| self.show_keys(ui, record, false));
+            .show(ui, |ui| self.show_keys(ui, record, false, info.front_end));
         ui.small("F1 hides this panel");
     }
 
@@ -452,12 +454,18 @@ impl SceneView {
     /// The key list (the rows `--help` prints): the scene's own keys, each with its control (a
     /// checkbox, a choice or a button, greyed with the reason as hover text where it does nothing
     /// now), or the mouse's and the window's.
-    fn show_keys(&self, ui: &mut egui::Ui, record: &mut Record, scene_keys: bool) {
+    fn show_keys(
+        &self,
+        ui: &mut egui::Ui,
+        record: &mut Record,
+        scene_keys: bool,
+        front_end: FrontEnd,
+    ) {
         egui::Grid::new(("keys", scene_keys))
             .num_columns(2)
             .striped(true)
             .show(ui, |ui| {
-                let rows = panel_key_rows(self.descriptor).into_iter();
+                let rows = panel_key_rows(self.descriptor, front_end).into_iter();
                 for row in rows.filter(|r| r.scene_key.is_some() == scene_keys) {
                     let control = row
                         .scene_key
@@ -668,11 +676,14 @@ pub struct PanelKeyRow {
     pub scene_key: Option<char>,
 }
 
-/// The panel's key list: the rows `--help` and the window print for the scene, the scene's own keys
-/// marked as such (F1 is the panel's own and comes last).
-pub fn panel_key_rows(descriptor: &'static SceneDescriptor) -> Vec<PanelKeyRow> {
-    let is_window_key = |key: &str| WINDOW_KEYS.iter().any(|&(k, _)| k == key);
-    key_rows(descriptor)
+/// The panel's key list in `front_end`: the rows `--help` and the window print for the scene (the
+/// page's own where it is the page), the scene's own keys marked as such.
+pub fn panel_key_rows(
+    descriptor: &'static SceneDescriptor,
+    front_end: FrontEnd,
+) -> Vec<PanelKeyRow> {
+    let is_window_key = |key: &str| HOST_KEYS.iter().any(|k| k.key == key);
+    key_rows(descriptor, front_end)
         .into_iter()
         .map(|(key, help)| {
             let scene_key = descriptor

@@ -5,6 +5,7 @@
 
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::frontends::panel::{panel_key_rows, PanelWidget};
+use tutorial13::frontends::FrontEnd;
 use tutorial13::scenes::{ControlState, ControlValue, SceneDescriptor, SetTo, SCENES};
 
 use crate::common::{self, frame};
@@ -129,7 +130,7 @@ fn the_panel_changes_only_its_own_rectangle() {
 #[test]
 fn the_panel_lists_the_scene_keys_and_their_switches_follow_them() {
     for scene in SCENES {
-        let rows: Vec<(char, &str)> = panel_key_rows(scene)
+        let rows: Vec<(char, &str)> = panel_key_rows(scene, FrontEnd::Window)
             .into_iter()
             .filter_map(|r| r.scene_key.map(|k| (k, r.help)))
             .collect();

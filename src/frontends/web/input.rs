@@ -11,6 +11,7 @@ use web_sys::{DragEvent, HtmlCanvasElement, KeyboardEvent, MouseEvent, WheelEven
 
 use super::{mouse_mode, show_error, Page};
 use crate::frontends::host::Arrow;
+use crate::frontends::{FrontEnd, HostAction, HostKey};
 use crate::scenes::{MouseMode, SceneOptions};
 
 /// An arrow key by its DOM `key`.
@@ -24,13 +25,25 @@ pub fn arrow(key: &str) -> Option<Arrow> {
     }
 }
 
-/// A scene key by its DOM `key`: a letter, upper-case (as the scenes' lists give them).
+/// A scene key by its DOM `key`: a letter (upper-case, as the scenes' lists give them) or a digit.
 pub fn key_char(key: &str) -> Option<char> {
     let mut chars = key.chars();
     match (chars.next(), chars.next()) {
-        (Some(c), None) if c.is_ascii_alphabetic() => Some(c.to_ascii_uppercase()),
+        (Some(c), None) if c.is_ascii_alphanumeric() => Some(c.to_ascii_uppercase()),
         _ => None,
     }
+}
+
+/// What a DOM `key` does on the page, if it is one of the front ends' own keys the page has
+/// ([`crate::frontends::HOST_KEYS`]).
+pub fn host_action(key: &str) -> Option<HostAction> {
+    let name = match key {
+        "Escape" => "Esc",
+        "r" => "R",
+        "p" => "P",
+        other => other,
+    };
+    HostKey::find(name, FrontEnd::Page)
 }
 
 /// Where a mouse event is, in canvas pixels (x right, y down).
@@ -80,11 +93,12 @@ pub fn listen(
         page,
         move |page, event: KeyboardEvent| {
             let key = event.key();
+            let action = host_action(&key);
             // The page must not scroll or reload on the keys the scenes use.
-            if arrow(&key).is_some() || key == "F1" || key == "Enter" {
+            if arrow(&key).is_some() || action.is_some() {
                 event.prevent_default();
             }
-            if key == "Enter" && !event.repeat() {
+            if action == Some(HostAction::NextScene) && !event.repeat() {
                 // The next scene once its files are in (fetched the first time it opens).
                 let from = page.host.descriptor();
                 let next = crate::scenes::next(from);

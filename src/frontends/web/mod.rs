@@ -25,7 +25,7 @@ use web_sys::{HtmlCanvasElement, WebGl2RenderingContext};
 use super::host::SceneHost;
 use super::page_contract::{PageContract, FROZEN_STEP_S};
 use super::panel::{Panel, PanelInfo};
-use super::FrameTimer;
+use super::{FrameTimer, FrontEnd, HostAction};
 use crate::clock::Instant;
 use crate::common::texture::WEBGL_S3TC_EXTENSION;
 use crate::gl::extensions::GlExtensions;
@@ -97,6 +97,7 @@ impl Page {
             let info = PanelInfo {
                 ms_per_frame: self.ms_per_frame,
                 shader_error: None,
+                front_end: FrontEnd::Page,
             };
             let host = &mut self.host;
             let (output, _) = panel.run(panel_input, host.descriptor(), &mut *host.scene, info);
@@ -156,16 +157,19 @@ impl Page {
         }
         // The last message goes; what this key brings (an error, a notice) replaces it.
         clear_error();
-        let done = match key {
-            "F1" => {
+        let done = match input::host_action(key) {
+            Some(HostAction::TogglePanel) => {
                 self.panel_shown = !self.panel_shown;
                 Ok(())
             }
-            "r" | "R" => {
+            Some(HostAction::ResetCamera) => {
                 self.host.reset_camera();
                 Ok(())
             }
-            _ => match input::key_char(key) {
+            // Enter fetches the next scene's files first (see `input::listen`); the page has none
+            // of the others (`HostKey::on_page`).
+            Some(_) => Ok(()),
+            None => match input::key_char(key) {
                 Some(c) => self.host.scene_key(c).map(|_| ()),
                 None => Ok(()),
             },

@@ -63,6 +63,21 @@ impl CursorGrab {
     }
 }
 
+/// The name the key lists give `code`, where it may be one of the front ends' own keys
+/// ([`crate::frontends::HOST_KEYS`]).
+pub fn host_key_name(code: KeyCode) -> Option<&'static str> {
+    Some(match code {
+        KeyCode::Escape => "Esc",
+        KeyCode::Tab => "Tab",
+        KeyCode::Enter => "Enter",
+        KeyCode::F5 => "F5",
+        KeyCode::F1 => "F1",
+        KeyCode::KeyR => "R",
+        KeyCode::KeyP => "P",
+        _ => return None,
+    })
+}
+
 /// The character a scene's key list names for `code`: letters upper-case, digits.
 pub fn key_char(code: KeyCode) -> Option<char> {
     const LETTERS: [KeyCode; 26] = [

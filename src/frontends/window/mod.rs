@@ -27,8 +27,8 @@ use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::WindowId;
 
-use super::key_list;
 use super::panel::{Panel, PanelFrame};
+use super::{key_list, FrontEnd, HostAction, HostKey};
 use crate::gl::Profile;
 use crate::scenes::{MouseMode, SceneDescriptor, SceneOptions};
 use crate::{Error, Result};
@@ -390,17 +390,18 @@ impl Running {
         if press != KeyPress::New {
             return;
         }
-        match code {
-            KeyCode::Escape => event_loop.exit(),
-            KeyCode::Tab => self.grab_cursor(false),
-            KeyCode::Enter => self.next_scene(),
-            KeyCode::F5 => self.renderer.reload_shaders(),
-            KeyCode::F1 => self.toggle_panel(),
-            KeyCode::KeyR => {
+        let action = input::host_key_name(code).and_then(|k| HostKey::find(k, FrontEnd::Window));
+        match action {
+            Some(HostAction::Quit) => event_loop.exit(),
+            Some(HostAction::ReleaseCursor) => self.grab_cursor(false),
+            Some(HostAction::NextScene) => self.next_scene(),
+            Some(HostAction::ReloadShaders) => self.renderer.reload_shaders(),
+            Some(HostAction::TogglePanel) => self.toggle_panel(),
+            Some(HostAction::ResetCamera) => {
                 self.renderer.host.reset_camera();
                 log::info!("camera back at the start");
             }
-            KeyCode::KeyP => {
+            Some(HostAction::Screenshot) => {
                 // The frame on screen is the front buffer: draw it again and read it back, before
                 // the panel is painted over it (P), or after (Ctrl+P: the window as shown).
                 let saved = self
@@ -410,7 +411,7 @@ impl Running {
                     log::error!("{e}");
                 }
             }
-            _ => {
+            None => {
                 if let Some(key) = key_char(code) {
                     self.renderer.scene_key(key);
                 }

@@ -10,7 +10,7 @@ use super::gl_window::GlWindow;
 use super::TITLE_SHORT;
 use crate::frontends::host::SceneHost;
 use crate::frontends::panel::PanelInfo;
-use crate::frontends::{key_list, FrameTimer, ShaderWatch};
+use crate::frontends::{key_list, FrameTimer, FrontEnd, ShaderWatch};
 use crate::gl::check_gl_errors;
 use crate::gl::image::write_screenshot;
 use crate::scenes::{SceneDescriptor, SceneOptions};
@@ -95,6 +95,7 @@ impl Renderer {
         PanelInfo {
             ms_per_frame: self.ms_per_frame,
             shader_error: self.shader_error.clone(),
+            front_end: FrontEnd::Window,
         }
     }
 
