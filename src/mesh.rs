@@ -201,13 +201,22 @@ pub fn sphere_direction(theta: f64, phi: f64) -> glam::DVec3 {
 /// `mirror_u`, U runs 0 → 1 → 0 around (the two halves share their texels, as a symmetric model's
 /// mirrored UVs do).
 pub fn sphere_obj_text(segments: u32, rings: u32, relief: &Relief, mirror_u: bool) -> String {
-    use std::f64::consts::PI;
     use std::fmt::Write;
     let mut text = String::with_capacity(segments as usize * rings as usize * 120);
     let _ = writeln!(
         text,
         "# tutorial13: UV sphere, {segments} segments, {rings} rings"
     );
+    let last = write_sphere_points(&mut text, segments, rings, relief);
+    write_sphere_uvs(&mut text, segments, rings, mirror_u);
+    write_sphere_faces(&mut text, segments, rings, last);
+    text
+}
+
+/// The sphere's `v` and `vn` lines; gives their count (the bottom pole's number).
+fn write_sphere_points(text: &mut String, segments: u32, rings: u32, relief: &Relief) -> u32 {
+    use std::f64::consts::PI;
+    use std::fmt::Write;
     // Positions and normals: the top pole, rings 1..rings-1, the bottom pole.
     let mut points = vec![(0.0, 0.0)];
     for r in 1..rings {
@@ -222,6 +231,12 @@ pub fn sphere_obj_text(segments: u32, rings: u32, relief: &Relief, mirror_u: boo
         let _ = writeln!(text, "v {:.7} {:.7} {:.7}", p.x, p.y, p.z);
         let _ = writeln!(text, "vn {:.7} {:.7} {:.7}", n.x, n.y, n.z);
     }
+    points.len() as u32
+}
+
+/// The sphere's `vt` lines.
+fn write_sphere_uvs(text: &mut String, segments: u32, rings: u32, mirror_u: bool) {
+    use std::fmt::Write;
     let u = |s: f64| {
         let u = s / segments as f64;
         if mirror_u {
@@ -242,7 +257,11 @@ pub fn sphere_obj_text(segments: u32, rings: u32, relief: &Relief, mirror_u: boo
             let _ = writeln!(text, "vt {:.7} {pole_v:.1}", u(s as f64 + 0.5));
         }
     }
-    let last = points.len() as u32;
+}
+
+/// The sphere's `f` lines, `last` being the bottom pole's vertex number.
+fn write_sphere_faces(text: &mut String, segments: u32, rings: u32, last: u32) {
+    use std::fmt::Write;
     let v = |r: u32, s: u32| match r {
         0 => 1,
         _ if r == rings => last,
@@ -288,5 +307,4 @@ pub fn sphere_obj_text(segments: u32, rings: u32, relief: &Relief, mirror_u: boo
             corner(rings - 1, s + 1, s)
         );
     }
-    text
 }

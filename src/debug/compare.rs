@@ -309,59 +309,93 @@ impl HeatPasses {
             gl.bind_vertex_array(Some(self.vao.name()));
 
             let flipped = i32::from(sides[0].flipped_y());
-            gl.use_program(Some(self.reduce.program.id));
-            bind_unit(&gl, 0, Some(first), self.reduce.first.as_ref());
-            bind_unit(&gl, 1, Some(second), self.reduce.second.as_ref());
-            gl.uniform_1_i32(self.reduce.flip_rows.as_ref(), flipped);
-            // Unit 2 holds the level below; nothing for the first pass, which reads the sides (a
-            // texture of the target drawn into may not be bound, in WebGL).
-            let mut below = None;
-            for level in &self.levels {
-                level.bind();
-                bind_unit(&gl, 2, below, self.reduce.level.as_ref());
-                let from_sides = i32::from(below.is_none());
-                gl.uniform_1_i32(self.reduce.from_sides.as_ref(), from_sides);
-                gl.draw_arrays(glow::TRIANGLES, 0, 3);
-                below = Some(level.texture.name());
-            }
-            let largest = self.levels.last().expect("at least one level");
-            // The numbers, into the read-back buffer: the GPU copies them when it gets there.
-            gl.bind_buffer(glow::PIXEL_PACK_BUFFER, Some(self.readback.name()));
-            let (format, kind) = (glow::RGBA_INTEGER, glow::UNSIGNED_INT);
-            gl.read_pixels(
-                0,
-                0,
-                1,
-                1,
-                format,
-                kind,
-                glow::PixelPackData::BufferOffset(0),
-            );
-            gl.bind_buffer(glow::PIXEL_PACK_BUFFER, None);
-            let fence = gl
-                .fence_sync(glow::SYNC_GPU_COMMANDS_COMPLETE, 0)
-                .map_err(|e| Error::gl(PART, e))?;
-            if let Some(old) = self.pending.replace(Some(fence)) {
-                gl.delete_sync(old);
-            }
-
-            gl.bind_framebuffer(glow::FRAMEBUFFER, destination);
-            gl.viewport(0, 0, size.0 as i32, size.1 as i32);
-            gl.use_program(Some(self.heat.program.id));
-            bind_unit(&gl, 0, Some(first), self.heat.first.as_ref());
-            bind_unit(&gl, 1, Some(second), self.heat.second.as_ref());
-            gl.uniform_1_i32(self.heat.flip_rows.as_ref(), flipped);
-            bind_unit(
-                &gl,
-                2,
-                Some(largest.texture.name()),
-                self.heat.largest.as_ref(),
-            );
-            bind_unit(&gl, 3, Some(self.ramp.name()), self.heat.ramp.as_ref());
-            gl.draw_arrays(glow::TRIANGLES, 0, 3);
+            self.reduce_levels(&gl, [first, second], flipped);
+            let largest = self
+                .levels
+                .last()
+                .expect("at least one level")
+                .texture
+                .name();
+            self.start_read(&gl)?;
+            self.draw_heat(&gl, [first, second], flipped, largest, (destination, size));
             saved.restore(&gl);
         }
         crate::gl::check_gl_errors(&gl, PART)
+    }
+
+    /// The sides' differences summed level by level into `self.levels`, each from the one below
+    /// (the first from the sides, `flipped` if stored top row first).
+    ///
+    /// # Safety
+    /// A current context with the passes' vertex array bound.
+    unsafe fn reduce_levels(&self, gl: &Gl, [first, second]: [glow::Texture; 2], flipped: i32) {
+        gl.use_program(Some(self.reduce.program.id));
+        bind_unit(gl, 0, Some(first), self.reduce.first.as_ref());
+        bind_unit(gl, 1, Some(second), self.reduce.second.as_ref());
+        gl.uniform_1_i32(self.reduce.flip_rows.as_ref(), flipped);
+        // Unit 2 holds the level below; nothing for the first pass, which reads the sides (a
+        // texture of the target drawn into may not be bound, in WebGL).
+        let mut below = None;
+        for level in &self.levels {
+            level.bind();
+            bind_unit(gl, 2, below, self.reduce.level.as_ref());
+            let from_sides = i32::from(below.is_none());
+            gl.uniform_1_i32(self.reduce.from_sides.as_ref(), from_sides);
+            gl.draw_arrays(glow::TRIANGLES, 0, 3);
+            below = Some(level.texture.name());
+        }
+    }
+
+    /// The largest level's numbers copied into the read-back buffer, behind a fence that
+    /// [`HeatPasses::poll`] waits for.
+    ///
+    /// # Safety
+    /// A current context, the largest level drawn.
+    unsafe fn start_read(&self, gl: &Gl) -> Result<()> {
+        // The numbers, into the read-back buffer: the GPU copies them when it gets there.
+        gl.bind_buffer(glow::PIXEL_PACK_BUFFER, Some(self.readback.name()));
+        let (format, kind) = (glow::RGBA_INTEGER, glow::UNSIGNED_INT);
+        gl.read_pixels(
+            0,
+            0,
+            1,
+            1,
+            format,
+            kind,
+            glow::PixelPackData::BufferOffset(0),
+        );
+        gl.bind_buffer(glow::PIXEL_PACK_BUFFER, None);
+        let fence = gl
+            .fence_sync(glow::SYNC_GPU_COMMANDS_COMPLETE, 0)
+            .map_err(|e| Error::gl(PART, e))?;
+        if let Some(old) = self.pending.replace(Some(fence)) {
+            gl.delete_sync(old);
+        }
+        Ok(())
+    }
+
+    /// The heat map of the sides (`largest`: the largest level's texture) drawn into
+    /// `destination`, its viewport `size`.
+    ///
+    /// # Safety
+    /// A current context with the passes' vertex array bound.
+    unsafe fn draw_heat(
+        &self,
+        gl: &Gl,
+        [first, second]: [glow::Texture; 2],
+        flipped: i32,
+        largest: glow::Texture,
+        (destination, size): (Option<glow::Framebuffer>, (u32, u32)),
+    ) {
+        gl.bind_framebuffer(glow::FRAMEBUFFER, destination);
+        gl.viewport(0, 0, size.0 as i32, size.1 as i32);
+        gl.use_program(Some(self.heat.program.id));
+        bind_unit(gl, 0, Some(first), self.heat.first.as_ref());
+        bind_unit(gl, 1, Some(second), self.heat.second.as_ref());
+        gl.uniform_1_i32(self.heat.flip_rows.as_ref(), flipped);
+        bind_unit(gl, 2, Some(largest), self.heat.largest.as_ref());
+        bind_unit(gl, 3, Some(self.ramp.name()), self.heat.ramp.as_ref());
+        gl.draw_arrays(glow::TRIANGLES, 0, 3);
     }
 
     /// The numbers of the last heat map, if the GPU has written them (never waits).

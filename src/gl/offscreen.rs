@@ -124,49 +124,10 @@ impl OffscreenTarget {
         let (framebuffer, depth) = (target.framebuffer.name(), target.depth.name());
         // SAFETY: storage, attachments and binds on the current context for objects `target` owns.
         unsafe {
-            // `samples` ≤ GL_MAX_SAMPLES (checked by the caller), so it fits in i32.
-            let storage = |internal_format: u32| {
-                if samples == 0 {
-                    gl.renderbuffer_storage(glow::RENDERBUFFER, internal_format, w, h);
-                } else {
-                    let n = samples as i32;
-                    let rb = glow::RENDERBUFFER;
-                    gl.renderbuffer_storage_multisample(rb, n, internal_format, w, h);
-                }
-            };
             gl.bind_renderbuffer(glow::RENDERBUFFER, Some(depth));
-            storage(glow::DEPTH_COMPONENT24);
+            renderbuffer_storage(gl, samples, glow::DEPTH_COMPONENT24, (w, h));
             gl.bind_framebuffer(glow::FRAMEBUFFER, Some(framebuffer));
-            match &target.color {
-                Color::Renderbuffer(rb) => {
-                    let rb = rb.name();
-                    gl.bind_renderbuffer(glow::RENDERBUFFER, Some(rb));
-                    storage(glow::RGBA8);
-                    let (point, target) = (glow::COLOR_ATTACHMENT0, glow::RENDERBUFFER);
-                    gl.framebuffer_renderbuffer(glow::FRAMEBUFFER, point, target, Some(rb));
-                }
-                Color::Texture(texture) => {
-                    let texture = texture.name();
-                    let previous = crate::gl::bound_texture(gl, glow::TEXTURE_BINDING_2D);
-                    gl.bind_texture(glow::TEXTURE_2D, Some(texture));
-                    // Mesa stores an unsized RGBA texture in the order of the data it is given.
-                    let (format, order) = match color {
-                        ColorBuffer::WindowOrderTexture => (glow::RGBA, glow::BGRA),
-                        _ => (glow::RGBA8, glow::RGBA),
-                    };
-                    let data = glow::PixelUnpackData::Slice(None);
-                    let (format, byte) = (format as i32, glow::UNSIGNED_BYTE);
-                    gl.tex_image_2d(glow::TEXTURE_2D, 0, format, w, h, 0, order, byte, data);
-                    // One level, sampled 1:1: no mipmaps, nearest texels.
-                    let nearest = glow::NEAREST as i32;
-                    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, nearest);
-                    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAG_FILTER, nearest);
-                    gl.bind_texture(glow::TEXTURE_2D, previous);
-                    let point = glow::COLOR_ATTACHMENT0;
-                    let tex = Some(texture);
-                    gl.framebuffer_texture_2d(glow::FRAMEBUFFER, point, glow::TEXTURE_2D, tex, 0);
-                }
-            }
+            attach_color(gl, &target.color, color, samples, (w, h));
             gl.bind_renderbuffer(glow::RENDERBUFFER, None);
             let point = glow::DEPTH_ATTACHMENT;
             gl.framebuffer_renderbuffer(glow::FRAMEBUFFER, point, glow::RENDERBUFFER, Some(depth));
@@ -384,6 +345,66 @@ impl fmt::Debug for OffscreenTarget {
             .field("flipped_y", &self.flipped_y)
             .field("samples", &self.samples)
             .finish_non_exhaustive()
+    }
+}
+
+/// Storage of `internal_format` for the bound renderbuffer, `samples` per pixel (0: not
+/// multisampled).
+///
+/// # Safety
+/// A current context with a renderbuffer bound.
+unsafe fn renderbuffer_storage(gl: &Gl, samples: u32, internal_format: u32, (w, h): (i32, i32)) {
+    // `samples` ≤ GL_MAX_SAMPLES (checked by the caller), so it fits in i32.
+    if samples == 0 {
+        gl.renderbuffer_storage(glow::RENDERBUFFER, internal_format, w, h);
+    } else {
+        let n = samples as i32;
+        let rb = glow::RENDERBUFFER;
+        gl.renderbuffer_storage_multisample(rb, n, internal_format, w, h);
+    }
+}
+
+/// Storage for `color` (a texture's stored as `kind` says), attached as the bound framebuffer's
+/// colour.
+///
+/// # Safety
+/// A current context with the target's framebuffer bound.
+unsafe fn attach_color(
+    gl: &Gl,
+    color: &Color,
+    kind: ColorBuffer,
+    samples: u32,
+    (w, h): (i32, i32),
+) {
+    match color {
+        Color::Renderbuffer(rb) => {
+            let rb = rb.name();
+            gl.bind_renderbuffer(glow::RENDERBUFFER, Some(rb));
+            renderbuffer_storage(gl, samples, glow::RGBA8, (w, h));
+            let (point, target) = (glow::COLOR_ATTACHMENT0, glow::RENDERBUFFER);
+            gl.framebuffer_renderbuffer(glow::FRAMEBUFFER, point, target, Some(rb));
+        }
+        Color::Texture(texture) => {
+            let texture = texture.name();
+            let previous = crate::gl::bound_texture(gl, glow::TEXTURE_BINDING_2D);
+            gl.bind_texture(glow::TEXTURE_2D, Some(texture));
+            // Mesa stores an unsized RGBA texture in the order of the data it is given.
+            let (format, order) = match kind {
+                ColorBuffer::WindowOrderTexture => (glow::RGBA, glow::BGRA),
+                _ => (glow::RGBA8, glow::RGBA),
+            };
+            let data = glow::PixelUnpackData::Slice(None);
+            let (format, byte) = (format as i32, glow::UNSIGNED_BYTE);
+            gl.tex_image_2d(glow::TEXTURE_2D, 0, format, w, h, 0, order, byte, data);
+            // One level, sampled 1:1: no mipmaps, nearest texels.
+            let nearest = glow::NEAREST as i32;
+            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, nearest);
+            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAG_FILTER, nearest);
+            gl.bind_texture(glow::TEXTURE_2D, previous);
+            let point = glow::COLOR_ATTACHMENT0;
+            let tex = Some(texture);
+            gl.framebuffer_texture_2d(glow::FRAMEBUFFER, point, glow::TEXTURE_2D, tex, 0);
+        }
     }
 }
 

@@ -27,7 +27,7 @@ use std::path::{Path, PathBuf};
 
 use glam::{DVec3, Vec3};
 
-use crate::common::objloader::{ObjMode, TriangleSoup};
+use crate::common::objloader::{ObjMode, ObjRead, TriangleSoup};
 use crate::pipeline::obj_parse::read_obj_threaded;
 use crate::tangents::FileTangents;
 use crate::{Error, Result};
@@ -334,6 +334,60 @@ pub fn load_model_bytes(
     if Format::is_gltf(path) {
         return gltf::load_gltf(bytes, path, overrides, Uvs::Required, &read_mtl);
     }
+    let (read, mut notices, material_files) = read_obj_and_mtls(bytes, path, &read_mtl)?;
+    let start = Instant::now();
+
+    let mut soup = read.soup;
+    if read.normals_missing {
+        soup.normals = smooth_normals(&soup.vertices, &read.position_indices);
+        notices.push(format!(
+            "{}: no vertex normals (vn): smooth normals computed (angle-weighted per position)",
+            path.display()
+        ));
+    }
+
+    let (materials, triangle_materials) = obj_materials(
+        &read.materials,
+        &read.triangle_materials,
+        &material_files,
+        overrides,
+        path,
+        &mut notices,
+    );
+
+    let (soup, ranges) = group_by_material(soup, &triangle_materials);
+    let placement = placement(&soup.vertices).ok_or_else(|| Error::Obj {
+        path: path.to_path_buf(),
+        reason: "every face is at one point: a model needs some size to be framed and lit".into(),
+    })?;
+    let mut soup = soup;
+    for p in &mut soup.vertices {
+        *p = placement.to_world(*p);
+    }
+    log::debug!(
+        "{}: normals, materials, grouping and placement in {:.1} ms",
+        path.display(),
+        start.elapsed().as_secs_f64() * 1e3
+    );
+    Ok(Model {
+        path: path.to_path_buf(),
+        soup,
+        materials,
+        ranges,
+        placement,
+        normals_computed: read.normals_missing,
+        file_tangents: None,
+        notices,
+    })
+}
+
+/// The OBJ's soup and materials, with the notices of `.mtl` files that could not be read and the
+/// `.mtl` file each material comes from.
+fn read_obj_and_mtls(
+    bytes: &[u8],
+    path: &Path,
+    read_mtl: &impl Fn(&Path) -> std::io::Result<Vec<u8>>,
+) -> Result<(ObjRead, Vec<String>, HashMap<String, PathBuf>)> {
     let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
     let notices = RefCell::new(Vec::new());
     // Each material's .mtl file, for the paths its maps give.
@@ -365,28 +419,26 @@ pub fn load_model_bytes(
         }
     };
     let read = read_obj_threaded(bytes, path, ObjMode::Model, load_mtl, None)?;
-    let start = Instant::now();
-    let mut notices = notices.into_inner();
-    let material_files = material_files.into_inner();
+    Ok((read, notices.into_inner(), material_files.into_inner()))
+}
 
-    let mut soup = read.soup;
-    if read.normals_missing {
-        soup.normals = smooth_normals(&soup.vertices, &read.position_indices);
-        notices.push(format!(
-            "{}: no vertex normals (vn): smooth normals computed (angle-weighted per position)",
-            path.display()
-        ));
-    }
-
+/// The OBJ's materials with `overrides` applied, and each triangle's material (an index into them,
+/// from `triangle_materials`, an index into `tobj_materials` or none).
+fn obj_materials(
+    tobj_materials: &[tobj::Material],
+    triangle_materials: &[Option<usize>],
+    material_files: &HashMap<String, PathBuf>,
+    overrides: &MapOverrides,
+    path: &Path,
+    notices: &mut Vec<String>,
+) -> (Vec<Material>, Vec<usize>) {
     // The materials, then a neutral one for triangles without (only if there are such triangles).
-    let mut materials: Vec<Material> = read
-        .materials
+    let mut materials: Vec<Material> = tobj_materials
         .iter()
-        .map(|m| material(m, material_files.get(&m.name), &mut notices))
+        .map(|m| material(m, material_files.get(&m.name), notices))
         .collect();
     let unnamed = materials.len();
-    let triangle_materials: Vec<usize> = read
-        .triangle_materials
+    let triangle_materials: Vec<usize> = triangle_materials
         .iter()
         .map(|m| m.filter(|&i| i < unnamed).unwrap_or(unnamed))
         .collect();
@@ -411,31 +463,7 @@ pub fn load_model_bytes(
     for material in &mut materials {
         apply_overrides(material, overrides);
     }
-
-    let (soup, ranges) = group_by_material(soup, &triangle_materials);
-    let placement = placement(&soup.vertices).ok_or_else(|| Error::Obj {
-        path: path.to_path_buf(),
-        reason: "every face is at one point: a model needs some size to be framed and lit".into(),
-    })?;
-    let mut soup = soup;
-    for p in &mut soup.vertices {
-        *p = placement.to_world(*p);
-    }
-    log::debug!(
-        "{}: normals, materials, grouping and placement in {:.1} ms",
-        path.display(),
-        start.elapsed().as_secs_f64() * 1e3
-    );
-    Ok(Model {
-        path: path.to_path_buf(),
-        soup,
-        materials,
-        ranges,
-        placement,
-        normals_computed: read.normals_missing,
-        file_tangents: None,
-        notices,
-    })
+    (materials, triangle_materials)
 }
 
 /// One tobj material's maps, paths resolved against its `.mtl` file's folder.

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use crate::bake::{BakeFiles, BakeSettings, BakedMap, Space, Tangents};
+use crate::bake::{BakeFiles, BakeSettings, BakeStats, BakedMap, Space, Tangents};
 use crate::clock::Instant;
 use crate::normalmap::{encode_normal, encode_normal16, map_format, Green};
 use crate::normalmap::{write_normal_map, write_normal_map16};
@@ -202,17 +202,7 @@ fn significant(x: f32) -> String {
 fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map: &BakedMap) {
     let stats = &map.stats;
     let texels = map.states.len();
-    let frame = match (settings.space, settings.tangents, settings.normalize_tbn) {
-        (Space::Object, ..) => "object space (the model's axes)".to_string(),
-        (_, Tangents::MikkTSpace, _) => "MikkTSpace's frame (glTF's, Blender's)".to_string(),
-        (_, Tangents::File, _) => "the file's own tangents".to_string(),
-        (_, Tangents::Tutorial, false) => {
-            "the tutorial's frame (summed, as its shader takes it)".to_string()
-        }
-        (_, Tangents::Tutorial, true) => {
-            "the tutorial's frame, normalized (--normalize-tbn)".to_string()
-        }
-    };
+    let frame = frame_name(settings);
     println!(
         "wrote {} ({}x{}, {} bits) from {} ({} triangles) onto {} ({} triangles), for {frame}",
         options.output.display(),
@@ -233,6 +223,27 @@ fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map
         settings.samples,
         stats.margin,
     );
+    report_misses(settings, stats);
+    report_flaws(settings, stats);
+}
+
+/// The frame the map is baked for, in words.
+fn frame_name(settings: &BakeSettings) -> String {
+    match (settings.space, settings.tangents, settings.normalize_tbn) {
+        (Space::Object, ..) => "object space (the model's axes)".to_string(),
+        (_, Tangents::MikkTSpace, _) => "MikkTSpace's frame (glTF's, Blender's)".to_string(),
+        (_, Tangents::File, _) => "the file's own tangents".to_string(),
+        (_, Tangents::Tutorial, false) => {
+            "the tutorial's frame (summed, as its shader takes it)".to_string()
+        }
+        (_, Tangents::Tutorial, true) => {
+            "the tutorial's frame, normalized (--normalize-tbn)".to_string()
+        }
+    }
+}
+
+/// The rays that met nothing, and what to change; or that every ray met HIGH.
+fn report_misses(settings: &BakeSettings, stats: &BakeStats) {
     if stats.missed > 0 {
         let mut advice = Vec::new();
         if stats.missed_outside > 0 {
@@ -264,6 +275,11 @@ fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map
     } else {
         println!("every ray met HIGH");
     }
+}
+
+/// What no setting of the bake mends: overlapping UVs, triangles without UV area, frames without an
+/// inverse or without right angles.
+fn report_flaws(settings: &BakeSettings, stats: &BakeStats) {
     if stats.overlapping > 0 {
         println!(
             "{} texels are claimed by two or more triangles (mirrored or overlapping UV islands): \

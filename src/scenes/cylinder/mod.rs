@@ -172,62 +172,8 @@ impl SceneType for Cylinder {
         let shader_dir = files.shader_dir();
         let gl = context.gl;
         let (mut tutorial, soup_source) = match &cylinder.model {
-            None => {
-                let assets = files.asset_files(crate::assets::ASSET_FILES)?;
-                let mut tutorial = Tutorial13::new(gl, &assets, shader_dir, cylinder.mesh)?;
-                override_tutorial_maps(gl, &mut tutorial.texture_sets[0], &cylinder.maps)?;
-                let [obj, ..] = assets;
-                (tutorial, SoupSource::Tutorial(obj))
-            }
-            Some(path) => {
-                let _progress = Progress::start(format!("loading {}", path.display()));
-                let start = crate::clock::Instant::now();
-                let model = load_model(path, &cylinder.maps)?;
-                let parsed = start.elapsed();
-                let sets = model_texture_sets(gl, &model)?;
-                // Once the file and its maps are read: a refused file gets its one line alone.
-                if crate::model::Format::is_gltf(path) {
-                    log::info!(
-                        "{}: {}",
-                        path.display(),
-                        crate::model::gltf::METALLIC_ROUGHNESS
-                    );
-                }
-                log::debug!(
-                    "{}: read and parsed in {:.1} ms, maps decoded and uploaded in {:.1} ms",
-                    path.display(),
-                    parsed.as_secs_f64() * 1000.0,
-                    (start.elapsed() - parsed).as_secs_f64() * 1000.0
-                );
-                let model = Rc::new(model);
-                let soup_source = SoupSource::Model(Rc::clone(&model));
-                let tutorial = match cylinder.tangents {
-                    TangentSource::Tutorial => {
-                        let tutorial = Tutorial13::from_soup(
-                            gl,
-                            shader_dir,
-                            &model.soup,
-                            cylinder.mesh,
-                            sets,
-                        )?;
-                        say_merged_corners(&model, &tutorial.mesh);
-                        warn_of_far_frame(&model, &tutorial.mesh, cylinder.switches.normalize_tbn);
-                        tutorial
-                    }
-                    // Another source's mesh straight away: the tutorial's would be built for
-                    // nothing (seconds on a large model).
-                    source => {
-                        let start = crate::clock::Instant::now();
-                        let mesh = soup_source.mesh(source, cylinder.mesh)?;
-                        log::debug!(
-                            "{source} tangents and indexing: {:.1} ms",
-                            start.elapsed().as_secs_f64() * 1000.0
-                        );
-                        Tutorial13::from_mesh(gl, shader_dir, mesh, sets)?
-                    }
-                };
-                (tutorial, soup_source)
-            }
+            None => load_tutorial(gl, files, shader_dir, &cylinder)?,
+            Some(path) => load_model_scene(gl, shader_dir, path, &cylinder)?,
         };
         if let Some(light) = cylinder.light {
             tutorial.light_position_worldspace = soup_source.to_world(light);
@@ -280,23 +226,97 @@ impl SceneType for Cylinder {
             legacy: context.extensions.legacy.clone(),
             shader_dir: shader_dir.map(Path::to_path_buf),
         };
-        scene.set_tangent_source(cylinder.tangents)?;
+        scene.start_with(&cylinder)?;
+        Ok(scene)
+    }
+}
+
+impl Cylinder {
+    /// Applies `cylinder`'s starting tangent source, comparison and lines, and warns of the flags
+    /// that change nothing.
+    fn start_with(&mut self, cylinder: &CylinderOptions) -> Result<()> {
+        self.set_tangent_source(cylinder.tangents)?;
         if let Some(compare) = cylinder.compare {
-            scene.start_comparison(compare.sources)?;
+            self.start_comparison(compare.sources)?;
         }
-        scene.set_show_lines(cylinder.debug_lines)?;
-        let flags = flags_without_effect(&cylinder);
+        self.set_show_lines(cylinder.debug_lines)?;
+        let flags = flags_without_effect(cylinder);
         if !flags.is_empty() {
             log::warn!(
                 "--tangents derivative: {PER_PIXEL}: {} change nothing",
                 flags.join(", ")
             );
         }
-        if let Some(reason) = scene.comparison.as_ref().and(scene.unlike_comparison()) {
+        if let Some(reason) = self.comparison.as_ref().and(self.unlike_comparison()) {
             log::warn!("--compare: {reason}");
         }
-        Ok(scene)
+        Ok(())
     }
+}
+
+/// The tutorial's cylinder from its four files (in `files`' assets folder, or the crate's), with
+/// `cylinder`'s maps over the tutorial's.
+fn load_tutorial(
+    gl: &Gl,
+    files: &SceneOptions,
+    shader_dir: Option<&Path>,
+    cylinder: &CylinderOptions,
+) -> Result<(Tutorial13, SoupSource)> {
+    let assets = files.asset_files(crate::assets::ASSET_FILES)?;
+    let mut tutorial = Tutorial13::new(gl, &assets, shader_dir, cylinder.mesh)?;
+    override_tutorial_maps(gl, &mut tutorial.texture_sets[0], &cylinder.maps)?;
+    let [obj, ..] = assets;
+    Ok((tutorial, SoupSource::Tutorial(obj)))
+}
+
+/// The model at `path` with `cylinder`'s maps, its mesh built with `cylinder`'s tangent source.
+fn load_model_scene(
+    gl: &Gl,
+    shader_dir: Option<&Path>,
+    path: &Path,
+    cylinder: &CylinderOptions,
+) -> Result<(Tutorial13, SoupSource)> {
+    let _progress = Progress::start(format!("loading {}", path.display()));
+    let start = crate::clock::Instant::now();
+    let model = load_model(path, &cylinder.maps)?;
+    let parsed = start.elapsed();
+    let sets = model_texture_sets(gl, &model)?;
+    // Once the file and its maps are read: a refused file gets its one line alone.
+    if crate::model::Format::is_gltf(path) {
+        log::info!(
+            "{}: {}",
+            path.display(),
+            crate::model::gltf::METALLIC_ROUGHNESS
+        );
+    }
+    log::debug!(
+        "{}: read and parsed in {:.1} ms, maps decoded and uploaded in {:.1} ms",
+        path.display(),
+        parsed.as_secs_f64() * 1000.0,
+        (start.elapsed() - parsed).as_secs_f64() * 1000.0
+    );
+    let model = Rc::new(model);
+    let soup_source = SoupSource::Model(Rc::clone(&model));
+    let tutorial = match cylinder.tangents {
+        TangentSource::Tutorial => {
+            let tutorial = Tutorial13::from_soup(gl, shader_dir, &model.soup, cylinder.mesh, sets)?;
+            say_merged_corners(&model, &tutorial.mesh);
+            warn_of_far_frame(&model, &tutorial.mesh, cylinder.switches.normalize_tbn);
+            tutorial
+        }
+        // Another source's mesh straight away: the tutorial's would be built for
+        // nothing (seconds on a large model).
+        source => {
+            let start = crate::clock::Instant::now();
+            let mesh = soup_source.mesh(source, cylinder.mesh)?;
+            log::debug!(
+                "{source} tangents and indexing: {:.1} ms",
+                start.elapsed().as_secs_f64() * 1000.0
+            );
+            Tutorial13::from_mesh(gl, shader_dir, mesh, sets)?
+        }
+    };
+    Ok((tutorial, soup_source))
 }
 
 impl Scene for Cylinder {
