@@ -9,7 +9,7 @@
 
 use glow::HasContext;
 
-use super::{key_rows, FrontEnd, HOST_KEYS};
+use super::{panel_key_rows, FrontEnd};
 use crate::gl::extensions::GlExtensions;
 use crate::gl::offscreen::{ColorBuffer, OffscreenTarget};
 use crate::gl::Gl;
@@ -664,39 +664,4 @@ fn files_line(files: &[std::path::PathBuf]) -> String {
                 .join(", ")
         ),
     }
-}
-
-/// One row of the panel's key list.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct PanelKeyRow {
-    /// The key as listed ("L", "arrow keys").
-    pub key: String,
-    pub help: &'static str,
-    /// The scene's key, where the row is one (the panel presses it).
-    pub scene_key: Option<char>,
-}
-
-/// The panel's key list in `front_end`: the rows `--help` and the window print for the scene (the
-/// page's own where it is the page), the scene's own keys marked as such.
-pub fn panel_key_rows(
-    descriptor: &'static SceneDescriptor,
-    front_end: FrontEnd,
-) -> Vec<PanelKeyRow> {
-    let is_window_key = |key: &str| HOST_KEYS.iter().any(|k| k.key == key);
-    key_rows(descriptor, front_end)
-        .into_iter()
-        .map(|(key, help)| {
-            let scene_key = descriptor
-                .keys
-                .iter()
-                .find(|k| k.key.to_string() == key && k.help == help)
-                .map(|k| k.key)
-                .filter(|_| !is_window_key(&key));
-            PanelKeyRow {
-                key,
-                help,
-                scene_key,
-            }
-        })
-        .collect()
 }

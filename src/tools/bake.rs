@@ -3,6 +3,7 @@
 
 use std::path::PathBuf;
 
+use super::Depth;
 use crate::bake::{BakeFiles, BakeSettings, BakeStats, BakedMap, Space, Tangents};
 use crate::clock::Instant;
 use crate::normalmap::{encode_normal, encode_normal16, map_format, Green};
@@ -48,20 +49,11 @@ pub struct BakeOptions {
     #[arg(long, value_enum, default_value_t = Green::Up)]
     pub green: Green,
     /// Bits per channel: 16 needs a .png
-    #[arg(long, value_name = "BITS", default_value_t = 8, value_parser = parse_depth)]
-    pub depth: u8,
+    #[arg(long, value_name = "BITS", value_enum, default_value_t = Depth::Eight)]
+    pub depth: Depth,
     /// A model-space map (the model's own axes) instead of a tangent-space one
     #[arg(long, conflicts_with_all = ["tangents", "normalize_tbn", "green"])]
     pub object_space: bool,
-}
-
-/// 8 or 16.
-fn parse_depth(text: &str) -> std::result::Result<u8, String> {
-    match text {
-        "8" => Ok(8),
-        "16" => Ok(16),
-        _ => Err(format!("{text} bits: 8 or 16")),
-    }
 }
 
 /// `N` or `WxH`, each side 1 to 16384.
@@ -144,7 +136,7 @@ fn distance(flag: &str, value: Option<f32>, default: f32) -> Result<f32> {
 fn check_output(options: &BakeOptions) -> Result<()> {
     let path = &options.output;
     let format = map_format(path)?;
-    if options.depth == 16 && format != image::ImageFormat::Png {
+    if options.depth.sixteen_bit() && format != image::ImageFormat::Png {
         return Err(Error::Write {
             path: path.clone(),
             reason: "--depth 16 is written as PNG only: name it .png".into(),
@@ -170,7 +162,7 @@ fn write(options: &BakeOptions, map: &BakedMap) -> Result<()> {
         let y = if flip { -n.y } else { n.y };
         [n.x, y, n.z]
     });
-    if options.depth == 16 {
+    if options.depth.sixteen_bit() {
         let texels: Vec<[u16; 3]> = vectors.map(encode_normal16).collect();
         write_normal_map16(&options.output, &texels, map.width, map.height)
     } else {
@@ -208,7 +200,7 @@ fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map
         options.output.display(),
         map.width,
         map.height,
-        options.depth,
+        options.depth.bits(),
         options.high.display(),
         files.high_soup.triangle_count(),
         options.low.display(),

@@ -11,3 +11,26 @@ pub mod make_assets;
 pub mod normalmap;
 pub mod photometric;
 pub mod run;
+
+/// `--depth`: the bits per channel of a map a tool writes (16 only as PNG).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Depth {
+    #[default]
+    #[value(name = "8")]
+    Eight,
+    #[value(name = "16")]
+    Sixteen,
+}
+
+impl Depth {
+    pub fn sixteen_bit(self) -> bool {
+        self == Depth::Sixteen
+    }
+
+    pub fn bits(self) -> u8 {
+        match self {
+            Depth::Eight => 8,
+            Depth::Sixteen => 16,
+        }
+    }
+}

@@ -3,6 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
+use super::Depth;
 use crate::combine::{combine_maps, texels16, texels8, Method, NormalMap};
 use crate::normalmap::{
     map_format, normal_map, write_normal_map, write_normal_map16, Green, HeightMap, Kernel,
@@ -79,9 +80,9 @@ pub struct NormalmapOptions {
     )]
     pub detail_scale: f32,
     /// With --combine: bits per channel, 8 or 16 (PNG only)
-    #[arg(long, value_name = "BITS", default_value = "8", value_parser = ["8", "16"],
+    #[arg(long, value_name = "BITS", value_enum, default_value_t = Depth::Eight,
           conflicts_with = "height")]
-    pub depth: String,
+    pub depth: Depth,
 }
 
 /// Reads the height map (or the photo), makes the normal map, writes it and prints its name and size.
@@ -132,7 +133,7 @@ fn combine(options: &NormalmapOptions, base: &Path, detail: &Path) -> Result<()>
             "--detail-scale {scale}: must be a positive number"
         )));
     }
-    let sixteen_bit = options.depth == "16";
+    let sixteen_bit = options.depth.sixteen_bit();
     let output = &options.output;
     if map_format(output)? != image::ImageFormat::Png && sixteen_bit {
         return Err(Error::Write {

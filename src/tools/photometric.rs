@@ -2,6 +2,7 @@
 
 use std::path::PathBuf;
 
+use super::Depth;
 use crate::normalmap::Green;
 use crate::photo::Encoding;
 use crate::photometric::{Job, Solver, DEFAULT_SHADOW};
@@ -53,8 +54,8 @@ pub struct PhotometricOptions {
     pub solver: Option<Solver>,
     /// Bits per channel of the normal map: 8, or 16 (PNG only) so that quantisation does not
     /// bound its accuracy
-    #[arg(long, value_name = "BITS", default_value = "8", value_parser = ["8", "16"])]
-    pub depth: String,
+    #[arg(long, value_name = "BITS", value_enum, default_value_t = Depth::Eight)]
+    pub depth: Depth,
     /// Output normal map: .bmp (24-bit, what the tutorial loads) or .png
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
@@ -85,7 +86,7 @@ pub fn photometric(options: &PhotometricOptions) -> Result<()> {
         mask: options.mask.as_deref(),
         output: &options.output,
         solver: options.solver,
-        sixteen_bit: options.depth == "16",
+        sixteen_bit: options.depth.sixteen_bit(),
         albedo: options.albedo.as_deref(),
         encoding: if options.linear {
             Encoding::Linear

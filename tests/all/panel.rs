@@ -4,8 +4,8 @@
 //! produces), aimed at where the panel drew each widget.
 
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
-use tutorial13::frontends::panel::{panel_key_rows, PanelWidget};
-use tutorial13::frontends::FrontEnd;
+use tutorial13::frontends::panel::PanelWidget;
+use tutorial13::frontends::{panel_key_rows, FrontEnd};
 use tutorial13::scenes::{ControlState, ControlValue, SceneDescriptor, SetTo, SCENES};
 
 use crate::common::{self, frame};

@@ -80,12 +80,13 @@ pub fn listen(
     canvas: &HtmlCanvasElement,
     page: &Rc<RefCell<Page>>,
 ) -> Result<(), String> {
-    let button = |pos: Vec2, pressed: bool| egui::Event::PointerButton {
-        pos: egui::pos2(pos.x, pos.y),
-        button: egui::PointerButton::Primary,
-        pressed,
-        modifiers: egui::Modifiers::default(),
-    };
+    listen_to_keys(window, page)?;
+    listen_to_mouse(canvas, page)?;
+    listen_to_drops(canvas, page)
+}
+
+/// The keys: arrows to the host as held, the page's own keys by the table, the rest to the scene.
+fn listen_to_keys(window: &web_sys::Window, page: &Rc<RefCell<Page>>) -> Result<(), String> {
     let switching = page.clone();
     on(
         window,
@@ -116,7 +117,18 @@ pub fn listen(
     )?;
     on(window, "keyup", page, |page, event: KeyboardEvent| {
         page.key(&event.key(), false);
-    })?;
+    })
+}
+
+/// The mouse and the wheel: the panel's where the pointer is over it, else a drag looks around (or
+/// the scene's free cursor follows) and the wheel goes to the scene.
+fn listen_to_mouse(canvas: &HtmlCanvasElement, page: &Rc<RefCell<Page>>) -> Result<(), String> {
+    let button = |pos: Vec2, pressed: bool| egui::Event::PointerButton {
+        pos: egui::pos2(pos.x, pos.y),
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: egui::Modifiers::default(),
+    };
     on(canvas, "mousedown", page, move |page, event: MouseEvent| {
         let pos = at(&event);
         if page.over_panel(pos) {
@@ -163,7 +175,12 @@ pub fn listen(
             // A notch is about 100 pixels of DOM delta; positive away from the user, as winit's.
             page.host.scroll((-event.delta_y() / 100.0) as f32);
         }
-    })?;
+    })
+}
+
+/// Files dropped on the canvas: read, kept where the loaders find them, and the model among them
+/// opened once the scene that opens it has its files.
+fn listen_to_drops(canvas: &HtmlCanvasElement, page: &Rc<RefCell<Page>>) -> Result<(), String> {
     on(canvas, "dragover", page, |_, event: DragEvent| {
         event.prevent_default();
     })?;
@@ -197,6 +214,5 @@ pub fn listen(
             }
             page.borrow_mut().open_file(&model);
         });
-    })?;
-    Ok(())
+    })
 }

@@ -331,24 +331,7 @@ async fn run() -> Result<(), String> {
         .get_element_by_id("canvas")
         .and_then(|e| e.dyn_into().ok())
         .ok_or("the page has no <canvas id=\"canvas\">")?;
-    canvas.set_width(WIDTH);
-    canvas.set_height(HEIGHT);
-    // No multisampling, as the tutorial's window; the frame is kept after it is shown, for
-    // screenshots of `frames=N`.
-    let attributes = js_sys::Object::new();
-    for (key, value) in [("antialias", false), ("preserveDrawingBuffer", true)] {
-        js_sys::Reflect::set(&attributes, &key.into(), &value.into())
-            .map_err(|_| "cannot set the context's attributes")?;
-    }
-    let webgl2: WebGl2RenderingContext = canvas
-        .get_context_with_context_options("webgl2", &attributes)
-        .ok()
-        .flatten()
-        .and_then(|c| c.dyn_into().ok())
-        .ok_or(
-            "this browser gives no WebGL2 context (the scenes need it): \
-             try another browser, or turn on hardware acceleration",
-        )?;
+    let webgl2 = webgl2_context(&canvas)?;
     let descriptor = contract.scene;
     fetch_assets(descriptor).await?;
 
@@ -356,22 +339,7 @@ async fn run() -> Result<(), String> {
     crate::gl::set_webgl2_context(&webgl2);
     #[allow(clippy::arc_with_non_send_sync)]
     let gl = Gl::new(glow::Context::from_webgl2_context(webgl2));
-    let info = webgl2_info(&gl);
-    log::info!("WebGL2 on {} ({})", info.renderer, info.vendor);
-    let s3tc = info.extensions.iter().any(|e| e == WEBGL_S3TC_EXTENSION);
-    if s3tc && !contract.s3tc {
-        return Err(format!(
-            "s3tc=off: the page's script did not hide {WEBGL_S3TC_EXTENSION} (index.html)"
-        ));
-    }
-    if !s3tc {
-        log::info!("no {WEBGL_S3TC_EXTENSION}: the DXT textures are decoded on the CPU");
-    }
-    let extensions = GlExtensions {
-        renderer: info.renderer.clone(),
-        flip_y: None,
-        legacy: Err(NO_IMMEDIATE_MODE.into()),
-    };
+    let (info, extensions) = webgl2_extensions(&gl, &contract)?;
     let target = OffscreenTarget::new(&gl, WIDTH, HEIGHT).map_err(|e| e.to_string())?;
     target.bind();
     let context = SceneContext {
@@ -410,6 +378,54 @@ async fn run() -> Result<(), String> {
     clear_error();
     animate(page);
     Ok(())
+}
+
+/// The canvas sized for the scenes, and its WebGL2 context.
+fn webgl2_context(canvas: &HtmlCanvasElement) -> Result<WebGl2RenderingContext, String> {
+    canvas.set_width(WIDTH);
+    canvas.set_height(HEIGHT);
+    // No multisampling, as the tutorial's window; the frame is kept after it is shown, for
+    // screenshots of `frames=N`.
+    let attributes = js_sys::Object::new();
+    for (key, value) in [("antialias", false), ("preserveDrawingBuffer", true)] {
+        js_sys::Reflect::set(&attributes, &key.into(), &value.into())
+            .map_err(|_| "cannot set the context's attributes")?;
+    }
+    canvas
+        .get_context_with_context_options("webgl2", &attributes)
+        .ok()
+        .flatten()
+        .and_then(|c| c.dyn_into().ok())
+        .ok_or_else(|| {
+            "this browser gives no WebGL2 context (the scenes need it): \
+             try another browser, or turn on hardware acceleration"
+                .to_string()
+        })
+}
+
+/// What WebGL2 is and has, logged: DXT decoded on the CPU where S3TC is missing (or hidden by
+/// `s3tc=off`, which the page's script must have done), no immediate mode, no flipped targets.
+fn webgl2_extensions(
+    gl: &Gl,
+    contract: &PageContract,
+) -> Result<(ContextInfo, GlExtensions), String> {
+    let info = webgl2_info(gl);
+    log::info!("WebGL2 on {} ({})", info.renderer, info.vendor);
+    let s3tc = info.extensions.iter().any(|e| e == WEBGL_S3TC_EXTENSION);
+    if s3tc && !contract.s3tc {
+        return Err(format!(
+            "s3tc=off: the page's script did not hide {WEBGL_S3TC_EXTENSION} (index.html)"
+        ));
+    }
+    if !s3tc {
+        log::info!("no {WEBGL_S3TC_EXTENSION}: the DXT textures are decoded on the CPU");
+    }
+    let extensions = GlExtensions {
+        renderer: info.renderer.clone(),
+        flip_y: None,
+        legacy: Err(NO_IMMEDIATE_MODE.into()),
+    };
+    Ok((info, extensions))
 }
 
 /// Fetches the files of `scene` (its [`SceneDescriptor::asset_files`]) the page does not hold yet,
