@@ -16,7 +16,7 @@ use glow::HasContext;
 use crate::common::shader::load_program;
 use crate::gl::extensions::GlExtensions;
 use crate::gl::objects::Owned;
-use crate::gl::offscreen::{ColorBuffer, OffscreenTarget};
+use crate::gl::offscreen::{nearest_texels, ColorBuffer, OffscreenTarget};
 use crate::gl::Gl;
 use crate::{Error, Result};
 
@@ -50,6 +50,8 @@ pub struct CompareView {
     pub split: f32,
     /// The last difference read back ([`CompareView::difference`]).
     measured: Cell<Option<Difference>>,
+    /// The last one [`CompareView::new_difference`] gave.
+    announced: Option<Difference>,
 }
 
 impl CompareView {
@@ -62,6 +64,7 @@ impl CompareView {
             mode,
             split: split.clamp(0.0, 1.0),
             measured: Cell::new(None),
+            announced: None,
         }
     }
 
@@ -77,6 +80,16 @@ impl CompareView {
             self.measured.set(Some(d));
         }
         self.measured.get()
+    }
+
+    /// [`CompareView::difference`] when it is not the one this gave last (for the log).
+    pub fn new_difference(&mut self) -> Option<Difference> {
+        let difference = self.difference();
+        if difference == self.announced {
+            return None;
+        }
+        self.announced = difference;
+        difference
     }
 
     /// The column where the second side starts, for a frame `width` wide.
@@ -191,7 +204,7 @@ struct HeatPasses {
     vao: Owned<glow::VertexArray>,
     ramp: Owned<glow::Texture>,
     /// Each level a quarter of the one before, from a quarter of the frame down to 1 × 1.
-    levels: Vec<UintTarget>,
+    levels: Vec<OffscreenTarget>,
     /// The frame size `levels` are for.
     frame_size: (u32, u32),
     /// The 1 × 1 level's texel, read into this buffer at the end of each frame.
@@ -267,7 +280,7 @@ impl HeatPasses {
                 data,
             );
             gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 4);
-            nearest_single_level(gl);
+            nearest_texels(gl);
             gl.bind_texture(glow::TEXTURE_2D, previous);
             let previous = crate::gl::bound_buffer(gl, glow::PIXEL_PACK_BUFFER_BINDING);
             gl.bind_buffer(glow::PIXEL_PACK_BUFFER, Some(passes.readback.name()));
@@ -289,7 +302,7 @@ impl HeatPasses {
         if self.frame_size != size {
             self.levels = level_sizes(size)
                 .into_iter()
-                .map(|size| UintTarget::new(&self.gl, size))
+                .map(|(w, h)| OffscreenTarget::with_color(&self.gl, w, h, ColorBuffer::UintPairs))
                 .collect::<Result<_>>()?;
             self.frame_size = size;
         }
@@ -298,10 +311,10 @@ impl HeatPasses {
         let [Some(first), Some(second)] = textures else {
             return Err(Error::gl(PART, "a side has no texture to sample"));
         };
-        // SAFETY: draws on the current context with objects this value and `sides` own; the state
-        // the scenes rely on (bindings, tests, the active unit) is restored below.
+        // SAFETY: draws on the current context with objects this value and `sides` own. The tests
+        // turned off here are set again by the host before the next frame (the scene's
+        // `GL_STATE`); program, vertex array and texture units are left as the panel leaves them.
         unsafe {
-            let saved = SavedState::save(&gl);
             gl.disable(glow::DEPTH_TEST);
             gl.disable(glow::BLEND);
             gl.disable(glow::CULL_FACE);
@@ -310,15 +323,12 @@ impl HeatPasses {
 
             let flipped = i32::from(sides[0].flipped_y());
             self.reduce_levels(&gl, [first, second], flipped);
-            let largest = self
-                .levels
-                .last()
-                .expect("at least one level")
-                .texture
-                .name();
+            let largest = self.levels.last().and_then(OffscreenTarget::texture);
             self.start_read(&gl)?;
             self.draw_heat(&gl, [first, second], flipped, largest, (destination, size));
-            saved.restore(&gl);
+            gl.bind_vertex_array(None);
+            gl.use_program(None);
+            gl.active_texture(glow::TEXTURE0);
         }
         crate::gl::check_gl_errors(&gl, PART)
     }
@@ -342,7 +352,7 @@ impl HeatPasses {
             let from_sides = i32::from(below.is_none());
             gl.uniform_1_i32(self.reduce.from_sides.as_ref(), from_sides);
             gl.draw_arrays(glow::TRIANGLES, 0, 3);
-            below = Some(level.texture.name());
+            below = level.texture();
         }
     }
 
@@ -384,7 +394,7 @@ impl HeatPasses {
         gl: &Gl,
         [first, second]: [glow::Texture; 2],
         flipped: i32,
-        largest: glow::Texture,
+        largest: Option<glow::Texture>,
         (destination, size): (Option<glow::Framebuffer>, (u32, u32)),
     ) {
         gl.bind_framebuffer(glow::FRAMEBUFFER, destination);
@@ -393,7 +403,7 @@ impl HeatPasses {
         bind_unit(gl, 0, Some(first), self.heat.first.as_ref());
         bind_unit(gl, 1, Some(second), self.heat.second.as_ref());
         gl.uniform_1_i32(self.heat.flip_rows.as_ref(), flipped);
-        bind_unit(gl, 2, Some(largest), self.heat.largest.as_ref());
+        bind_unit(gl, 2, largest, self.heat.largest.as_ref());
         bind_unit(gl, 3, Some(self.ramp.name()), self.heat.ramp.as_ref());
         gl.draw_arrays(glow::TRIANGLES, 0, 3);
     }
@@ -444,73 +454,6 @@ fn level_sizes((mut width, mut height): (u32, u32)) -> Vec<(u32, u32)> {
     sizes
 }
 
-/// A two-word unsigned-integer texture (RG32UI) and the framebuffer that draws into it.
-struct UintTarget {
-    gl: Gl,
-    // Field order is drop order: the framebuffer before its texture.
-    framebuffer: Owned<glow::Framebuffer>,
-    texture: Owned<glow::Texture>,
-    size: (u32, u32),
-}
-
-impl UintTarget {
-    fn new(gl: &Gl, size: (u32, u32)) -> Result<Self> {
-        let target = UintTarget {
-            gl: gl.clone(),
-            framebuffer: Owned::create(gl, PART)?,
-            texture: Owned::create(gl, PART)?,
-            size,
-        };
-        // SAFETY: storage and attachment for objects `target` owns; bindings restored.
-        unsafe {
-            let previous = crate::gl::bound_texture(gl, glow::TEXTURE_BINDING_2D);
-            gl.bind_texture(glow::TEXTURE_2D, Some(target.texture.name()));
-            let (w, h) = (size.0 as i32, size.1 as i32);
-            let (format, kind) = (glow::RG_INTEGER, glow::UNSIGNED_INT);
-            let none = glow::PixelUnpackData::Slice(None);
-            let internal = glow::RG32UI as i32;
-            gl.tex_image_2d(glow::TEXTURE_2D, 0, internal, w, h, 0, format, kind, none);
-            nearest_single_level(gl);
-            gl.bind_texture(glow::TEXTURE_2D, previous);
-            let previous = crate::gl::bound_framebuffer(gl, glow::FRAMEBUFFER_BINDING);
-            gl.bind_framebuffer(glow::FRAMEBUFFER, Some(target.framebuffer.name()));
-            let (point, texture) = (glow::COLOR_ATTACHMENT0, Some(target.texture.name()));
-            gl.framebuffer_texture_2d(glow::FRAMEBUFFER, point, glow::TEXTURE_2D, texture, 0);
-            let status = gl.check_framebuffer_status(glow::FRAMEBUFFER);
-            gl.bind_framebuffer(glow::FRAMEBUFFER, previous);
-            if status != glow::FRAMEBUFFER_COMPLETE {
-                return Err(Error::gl(
-                    PART,
-                    format!("an RG32UI target is incomplete (0x{status:04X})"),
-                ));
-            }
-        }
-        crate::gl::check_gl_errors(gl, PART)?;
-        Ok(target)
-    }
-
-    /// Draws into it next, over the whole of it.
-    fn bind(&self) {
-        // SAFETY: the framebuffer is alive; its size fits in i32.
-        unsafe {
-            let gl = &self.gl;
-            gl.bind_framebuffer(glow::FRAMEBUFFER, Some(self.framebuffer.name()));
-            gl.viewport(0, 0, self.size.0 as i32, self.size.1 as i32);
-        }
-    }
-}
-
-/// The bound 2D texture read texel by texel: nearest, one level.
-///
-/// # Safety
-/// A current context with a texture bound to `TEXTURE_2D`.
-unsafe fn nearest_single_level(gl: &Gl) {
-    let nearest = glow::NEAREST as i32;
-    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, nearest);
-    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAG_FILTER, nearest);
-    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAX_LEVEL, 0);
-}
-
 /// `texture` on unit `unit`, and the sampler uniform set to it.
 ///
 /// # Safety
@@ -524,56 +467,4 @@ unsafe fn bind_unit(
     gl.active_texture(glow::TEXTURE0 + unit);
     gl.bind_texture(glow::TEXTURE_2D, texture);
     gl.uniform_1_i32(sampler, unit as i32);
-}
-
-/// What the passes change that a scene's next draw may not set itself.
-struct SavedState {
-    enabled: [(u32, bool); 4],
-    program: Option<glow::Program>,
-    vao: Option<glow::VertexArray>,
-    textures: [Option<glow::Texture>; 4],
-    active: u32,
-}
-
-impl SavedState {
-    /// # Safety
-    /// A current context.
-    unsafe fn save(gl: &Gl) -> Self {
-        let caps = [
-            glow::DEPTH_TEST,
-            glow::BLEND,
-            glow::CULL_FACE,
-            glow::SCISSOR_TEST,
-        ];
-        let active = gl.get_parameter_i32(glow::ACTIVE_TEXTURE) as u32;
-        let textures = [0u32, 1, 2, 3].map(|unit| {
-            gl.active_texture(glow::TEXTURE0 + unit);
-            crate::gl::bound_texture(gl, glow::TEXTURE_BINDING_2D)
-        });
-        SavedState {
-            enabled: caps.map(|cap| (cap, gl.is_enabled(cap))),
-            program: crate::gl::bound_program(gl, glow::CURRENT_PROGRAM),
-            vao: crate::gl::bound_vertex_array(gl, glow::VERTEX_ARRAY_BINDING),
-            textures,
-            active,
-        }
-    }
-
-    /// # Safety
-    /// The context `save` was given, current.
-    unsafe fn restore(self, gl: &Gl) {
-        for (cap, on) in self.enabled {
-            match on {
-                true => gl.enable(cap),
-                false => gl.disable(cap),
-            }
-        }
-        for (unit, texture) in (0u32..).zip(self.textures) {
-            gl.active_texture(glow::TEXTURE0 + unit);
-            gl.bind_texture(glow::TEXTURE_2D, texture);
-        }
-        gl.active_texture(self.active);
-        gl.use_program(self.program);
-        gl.bind_vertex_array(self.vao);
-    }
 }

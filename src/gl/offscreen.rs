@@ -23,6 +23,9 @@ pub enum ColorBuffer {
     /// copy, where a blit from RGBA into one is a draw (on llvmpipe about 1 ms for the panel's
     /// columns of a 1024×768 window).
     WindowOrderTexture,
+    /// A texture of two 32-bit unsigned integers a texel (RG32UI), renderable in GL 3.3 and
+    /// WebGL2 alike: counts a later pass adds up (the compare view's reduction).
+    UintPairs,
 }
 
 #[derive(Debug)]
@@ -111,7 +114,7 @@ impl OffscreenTarget {
             depth: Owned::create(gl, PART)?,
             color: match color {
                 ColorBuffer::Renderbuffer => Color::Renderbuffer(Owned::create(gl, PART)?),
-                ColorBuffer::Texture | ColorBuffer::WindowOrderTexture => {
+                ColorBuffer::Texture | ColorBuffer::WindowOrderTexture | ColorBuffer::UintPairs => {
                     Color::Texture(Owned::create(gl, PART)?)
                 }
             },
@@ -389,23 +392,31 @@ unsafe fn attach_color(
             let previous = crate::gl::bound_texture(gl, glow::TEXTURE_BINDING_2D);
             gl.bind_texture(glow::TEXTURE_2D, Some(texture));
             // Mesa stores an unsized RGBA texture in the order of the data it is given.
-            let (format, order) = match kind {
-                ColorBuffer::WindowOrderTexture => (glow::RGBA, glow::BGRA),
-                _ => (glow::RGBA8, glow::RGBA),
+            let (format, order, kind) = match kind {
+                ColorBuffer::WindowOrderTexture => (glow::RGBA, glow::BGRA, glow::UNSIGNED_BYTE),
+                ColorBuffer::UintPairs => (glow::RG32UI, glow::RG_INTEGER, glow::UNSIGNED_INT),
+                _ => (glow::RGBA8, glow::RGBA, glow::UNSIGNED_BYTE),
             };
             let data = glow::PixelUnpackData::Slice(None);
-            let (format, byte) = (format as i32, glow::UNSIGNED_BYTE);
-            gl.tex_image_2d(glow::TEXTURE_2D, 0, format, w, h, 0, order, byte, data);
-            // One level, sampled 1:1: no mipmaps, nearest texels.
-            let nearest = glow::NEAREST as i32;
-            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, nearest);
-            gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAG_FILTER, nearest);
+            let format = format as i32;
+            gl.tex_image_2d(glow::TEXTURE_2D, 0, format, w, h, 0, order, kind, data);
+            nearest_texels(gl);
             gl.bind_texture(glow::TEXTURE_2D, previous);
             let point = glow::COLOR_ATTACHMENT0;
             let tex = Some(texture);
             gl.framebuffer_texture_2d(glow::FRAMEBUFFER, point, glow::TEXTURE_2D, tex, 0);
         }
     }
+}
+
+/// The bound 2D texture sampled 1:1: one level, no mipmaps, nearest texels.
+///
+/// # Safety
+/// A current context with a texture bound to `TEXTURE_2D`.
+pub(crate) unsafe fn nearest_texels(gl: &Gl) {
+    let nearest = glow::NEAREST as i32;
+    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MIN_FILTER, nearest);
+    gl.tex_parameter_i32(glow::TEXTURE_2D, glow::TEXTURE_MAG_FILTER, nearest);
 }
 
 fn framebuffer_status_name(status: u32) -> &'static str {

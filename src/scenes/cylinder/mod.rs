@@ -329,7 +329,6 @@ impl Scene for Cylinder {
         );
         if let Some((sources, buffers)) = &self.comparison {
             let view = &mut self.compare_view;
-            let before = view.difference();
             let drawn = view.draw(
                 frame.size,
                 || drawer.draw(sources[0], &buffers[0], frame),
@@ -339,7 +338,7 @@ impl Scene for Cylinder {
                 log::error!("compare view: {e}");
             }
             // The numbers of a frame before (or of this one where it has been waited for).
-            if let Some(d) = view.difference().filter(|&d| Some(d) != before) {
+            if let Some(d) = view.new_difference() {
                 log::info!(
                     "{} vs {}: {} pixels differ, by at most {} levels",
                     sources[0],
