@@ -6,7 +6,7 @@ use std::time::Instant;
 use glow::HasContext;
 
 use super::host::SceneHost;
-use super::panel::{Panel, PanelInfo};
+use super::FrontEnd;
 use crate::gl::context::HeadlessContext;
 use crate::gl::offscreen::OffscreenTarget;
 use crate::gl::{check_gl_errors, Profile};
@@ -43,15 +43,13 @@ impl Default for HeadlessOptions {
 }
 
 /// A ready-to-draw headless set-up: context, target, and the [`SceneHost`] with the scene and its
-/// camera at the start. It derefs to the host, so that tests and tools reach the scene, its camera
-/// and the cursor as the window's own front end does.
+/// camera at the start. It derefs to the host (it has no methods of the host's names), so that
+/// tests and tools reach the scene, its camera, the cursor and the panel as the window's own front
+/// end does.
 pub struct HeadlessRenderer {
     // Field order is drop order: GL objects go before the context that owns them.
     pub host: SceneHost,
     pub target: OffscreenTarget,
-    /// The window's panel, drawn over every frame (`--panel`), and the input it gets next frame.
-    pub panel: Option<Panel>,
-    pub panel_events: Vec<egui::Event>,
     pub context: HeadlessContext,
 }
 
@@ -83,13 +81,17 @@ impl HeadlessRenderer {
         )?;
         let size = (options.width, options.height);
         let host = with_scene_context(&context, |c| {
-            SceneHost::new(c, options.descriptor, &options.scene, size)
+            SceneHost::new(
+                c,
+                options.descriptor,
+                &options.scene,
+                size,
+                FrontEnd::Window,
+            )
         })?;
         Ok(HeadlessRenderer {
             host,
             target,
-            panel: None,
-            panel_events: Vec::new(),
             context,
         })
     }
@@ -111,35 +113,15 @@ impl HeadlessRenderer {
             .unwrap_or_else(|| panic!("the renderer holds scene {name}, not the one asked for"))
     }
 
-    /// Draws the window's panel over every frame from now on (`--panel`).
-    pub fn show_panel(&mut self) -> Result<()> {
-        if self.panel.is_none() {
-            let context = &self.context;
-            self.panel = Some(Panel::new(context.gl(), context.extensions())?);
-        }
-        Ok(())
-    }
-
     /// One frame with time frozen at 0 and no input, as the original's screenshot test; the panel
-    /// over it if it is shown (with [`HeadlessRenderer::panel_events`] as its input).
+    /// over it if it is shown (with the events of [`SceneHost::panel_event`] as its input).
     pub fn render(&mut self) {
         self.target.bind();
         let size = (self.target.width(), self.target.height());
         self.host.set_size(size);
-        let input = self.host.draw(0.0, 0.0, true);
-        if let Some(panel) = &mut self.panel {
-            let mut panel_input = Panel::headless_input(input.size);
-            panel_input.events = std::mem::take(&mut self.panel_events);
-            let (output, _) = panel.run(
-                panel_input,
-                self.host.descriptor(),
-                &mut *self.host.scene,
-                PanelInfo::default(),
-            );
-            // The scene's viewport (the target's size) is the panel's too.
-            self.target.bind();
-            panel.paint(input.size, output);
-        }
+        self.host.draw(0.0, 0.0, true);
+        let panel_input = self.host.panel_input(None);
+        self.host.draw_panel(panel_input);
     }
 
     /// Renders `frames` frames (at least one) and returns the last, top row first. Fails if GL

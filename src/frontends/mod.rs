@@ -256,6 +256,65 @@ pub fn panel_key_rows(
         .collect()
 }
 
+/// A front end's clock: the time since it started and since the last frame (what the camera moves
+/// by), and the tutorial's once-a-second "ms/frame" figure ([`FrameTimer`]).
+pub struct FrameClock {
+    started: Instant,
+    last_time: Instant,
+    timer: FrameTimer,
+    ms_per_frame: Option<f64>,
+}
+
+/// What [`FrameClock::tick`] measured for a frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tick {
+    /// Seconds since the last frame.
+    pub delta_time: f32,
+    /// Seconds since the clock started.
+    pub time: f32,
+    /// A new "ms/frame" figure, once a second.
+    pub ms_per_frame: Option<f64>,
+}
+
+impl FrameClock {
+    pub fn new() -> Self {
+        let now = Instant::now();
+        FrameClock {
+            started: now,
+            last_time: now,
+            timer: FrameTimer::new(),
+            ms_per_frame: None,
+        }
+    }
+
+    /// A frame starts now.
+    pub fn tick(&mut self) -> Tick {
+        let now = Instant::now();
+        let delta_time = (now - self.last_time).as_secs_f32();
+        self.last_time = now;
+        let ms_per_frame = self.timer.tick(now);
+        if ms_per_frame.is_some() {
+            self.ms_per_frame = ms_per_frame;
+        }
+        Tick {
+            delta_time,
+            time: (now - self.started).as_secs_f32(),
+            ms_per_frame,
+        }
+    }
+
+    /// The last "ms/frame" figure (`None` in the first second).
+    pub fn ms_per_frame(&self) -> Option<f64> {
+        self.ms_per_frame
+    }
+}
+
+impl Default for FrameClock {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 /// The tutorial's once-a-second "ms/frame" figure, computed as the tutorial does: 1000 divided by
 /// the frames counted since the last print, and the next second starts exactly one second after the
 /// last (not when the print happened), so a slow frame does not shift every later figure.

@@ -5,10 +5,13 @@
 //! rectangle is the scene's frame as it was. The window shows it (F1 hides it); `--panel` puts it
 //! into headless screenshots. It knows nothing of any one scene: it reads the descriptor's keys, the
 //! scene's table of controls ([`crate::scenes::SceneControls`]), [`Scene::drawing_programs`] and
-//! [`Scene::compare_labels`], and sets a control's value directly through the table.
+//! [`Scene::compare_labels`]; what is clicked on it comes back as [`PanelAction`]s, which the host
+//! does to the scene as its keys and its table's `set` do ([`SceneHost::draw_panel`]).
 
 use glow::HasContext;
 
+#[cfg(doc)]
+use super::host::SceneHost;
 use super::{panel_key_rows, FrontEnd};
 use crate::gl::extensions::GlExtensions;
 use crate::gl::offscreen::{ColorBuffer, OffscreenTarget};
@@ -170,17 +173,18 @@ impl Panel {
             .map(|&(_, rect)| rect)
     }
 
-    /// Lays the panel out for one frame of `input`, then applies what was clicked to `scene`.
-    /// Returns what to paint (see [`Panel::paint`]) and the actions applied. With no input, nothing
-    /// new to show and no animation running, the last layout stands and nothing is laid out.
+    /// Lays the panel out for one frame of `input` over `scene`. Returns what to paint (see
+    /// [`Panel::paint`]) and what was clicked, for the host to do ([`SceneHost::draw_panel`]). With
+    /// no input, nothing new to show and no animation running, the last layout stands and nothing
+    /// is laid out.
     pub fn run(
         &mut self,
         input: egui::RawInput,
         descriptor: &'static SceneDescriptor,
-        scene: &mut dyn Scene,
+        scene: &dyn Scene,
         info: PanelInfo,
     ) -> (PanelFrame, Vec<PanelAction>) {
-        let view = SceneView::of(descriptor, &*scene);
+        let view = SceneView::of(descriptor, scene);
         let screen = input.screen_rect.unwrap_or(egui::Rect::NOTHING);
         let same = self
             .shown
@@ -237,9 +241,6 @@ impl Panel {
             .values()
             .any(|v| v.repaint_delay.is_zero());
         self.shown = Some(shown);
-        for action in &actions {
-            apply(scene, action);
-        }
         (PanelFrame::Laid(Box::new(output)), actions)
     }
 
@@ -349,29 +350,6 @@ impl Panel {
 impl Drop for Panel {
     fn drop(&mut self) {
         self.painter.destroy();
-    }
-}
-
-/// Does to `scene` what the panel's action asks.
-fn apply(scene: &mut dyn Scene, action: &PanelAction) {
-    let done = match action {
-        PanelAction::Key(key) => scene.key(*key).map(|_| ()),
-        PanelAction::Set(index, to) => scene.set_control(*index, to.clone()),
-        PanelAction::StartValues => scene
-            .controls()
-            .into_iter()
-            .try_for_each(|c| match c.value {
-                ControlValue::Slider { start, .. } => {
-                    scene.set_control(c.index, SetTo::Slider(start))
-                }
-                _ => Ok(()),
-            }),
-    };
-    if let Err(e) = done {
-        log::error!("{e}");
-    }
-    if !matches!(action, PanelAction::Set(_, SetTo::Slider(_))) {
-        log::info!("{}", scene.status());
     }
 }
 

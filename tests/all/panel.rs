@@ -25,7 +25,7 @@ fn click(renderer: &mut HeadlessRenderer, widget: PanelWidget) {
 }
 
 fn click_at(renderer: &mut HeadlessRenderer, pos: egui::Pos2) {
-    renderer.panel_events = vec![egui::Event::PointerMoved(pos)];
+    renderer.panel_event(egui::Event::PointerMoved(pos));
     renderer.render();
     let button = |pressed| egui::Event::PointerButton {
         pos,
@@ -34,7 +34,7 @@ fn click_at(renderer: &mut HeadlessRenderer, pos: egui::Pos2) {
         modifiers: Default::default(),
     };
     for pressed in [true, false] {
-        renderer.panel_events = vec![button(pressed)];
+        renderer.panel_event(button(pressed));
         renderer.render();
     }
 }
@@ -56,7 +56,7 @@ fn value_and_start(slider: &ControlState) -> (f32, f32) {
 }
 
 fn panel_rect_of(renderer: &HeadlessRenderer, widget: &PanelWidget) -> egui::Rect {
-    let panel = renderer.panel.as_ref().expect("the panel is shown");
+    let panel = renderer.panel().expect("the panel is shown");
     panel
         .widget_rect(widget)
         .unwrap_or_else(|| panic!("the panel shows no {widget:?}"))
@@ -73,7 +73,7 @@ fn the_panel_changes_only_its_own_rectangle() {
         let plain = frame(&mut renderer);
         renderer.show_panel().unwrap();
         let with_panel = frame(&mut renderer);
-        let rect = renderer.panel.as_ref().unwrap().rect().expect("laid out");
+        let rect = renderer.panel().unwrap().rect().expect("laid out");
         assert!(
             rect.width() > 200.0 && rect.height() >= 767.0,
             "{scene}: {rect:?}"
@@ -101,7 +101,7 @@ fn the_panel_changes_only_its_own_rectangle() {
         // window's byte order, as the window keeps it (a cache stored unflipped would show here).
         for window_order in [false, true] {
             if window_order {
-                renderer.panel.as_mut().unwrap().store_cache_like_a_window();
+                renderer.panel_mut().unwrap().store_cache_like_a_window();
             }
             for n in 2..4 {
                 assert!(
@@ -110,13 +110,13 @@ fn the_panel_changes_only_its_own_rectangle() {
                 );
             }
         }
-        renderer.panel.as_mut().unwrap().paint_every_frame = true;
+        renderer.panel_mut().unwrap().paint_every_frame = true;
         assert!(
             frame(&mut renderer) == with_panel,
             "{scene}: painted again, it differs"
         );
         // Painting the panel leaves no state that changes the next frame of the scene.
-        renderer.panel = None;
+        renderer.set_panel_shown(false);
         assert!(
             frame(&mut renderer) == plain,
             "{scene}: the frame after the panel differs"
@@ -196,7 +196,7 @@ fn clicking_a_checkbox_does_what_its_key_does() {
     frame(&mut clicked);
     click(&mut clicked, PanelWidget::Key('L'));
     assert_eq!(clicked.scene.status(), pressed.scene.status());
-    clicked.panel = None;
+    clicked.set_panel_shown(false);
     let after = frame(&mut clicked);
     assert!(after == expected, "the click did not draw the key's frame");
     assert!(after != start, "the lines did not appear");
@@ -262,19 +262,19 @@ fn a_slider_moves_the_light_and_the_tutorials_values_bring_the_first_frame_back(
         click_at(&mut renderer, slider.left_center() + egui::vec2(12.0, 0.0));
         let (value, start) = value_and_start(&renderer.scene.controls()[index]);
         assert_ne!(value, start, "{scene}: the {name} slider did not move");
-        let panel = renderer.panel.take();
+        renderer.set_panel_shown(false);
         assert!(
             frame(&mut renderer) != first,
             "{scene}: moving {name} changed nothing"
         );
-        renderer.panel = panel;
+        renderer.set_panel_shown(true);
         frame(&mut renderer);
         click(&mut renderer, PanelWidget::StartValues);
         for slider in sliders(&renderer) {
             let (value, start) = value_and_start(&slider);
             assert_eq!(value, start, "{scene}: {}", slider.label);
         }
-        renderer.panel = None;
+        renderer.set_panel_shown(false);
         assert!(
             frame(&mut renderer) == first,
             "{scene}: not the first frame again"

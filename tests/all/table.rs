@@ -136,20 +136,20 @@ fn choosing_a_tangent_frame_on_the_panel_builds_only_its_mesh() {
 
 /// A left click at the centre of `widget` over three frames (move, press, release).
 fn click(renderer: &mut tutorial13::frontends::headless::HeadlessRenderer, widget: PanelWidget) {
-    let panel = renderer.panel.as_ref().expect("the panel is shown");
+    let panel = renderer.panel().expect("the panel is shown");
     let pos = panel
         .widget_rect(&widget)
         .unwrap_or_else(|| panic!("the panel shows no {widget:?}"))
         .center();
-    renderer.panel_events = vec![egui::Event::PointerMoved(pos)];
+    renderer.panel_event(egui::Event::PointerMoved(pos));
     renderer.render_frames(1).unwrap();
     for pressed in [true, false] {
-        renderer.panel_events = vec![egui::Event::PointerButton {
+        renderer.panel_event(egui::Event::PointerButton {
             pos,
             button: egui::PointerButton::Primary,
             pressed,
             modifiers: Default::default(),
-        }];
+        });
         renderer.render_frames(1).unwrap();
     }
 }
@@ -373,15 +373,15 @@ fn hovered_and_plain(
     renderer: &mut tutorial13::frontends::headless::HeadlessRenderer,
     pos: egui::Pos2,
 ) -> (image::RgbImage, image::RgbImage) {
-    let panel = renderer.panel.as_ref().unwrap();
+    let panel = renderer.panel().unwrap();
     panel
         .context()
         .global_style_mut(|style| style.interaction.tooltip_delay = 0.0);
     let plain = frame(renderer);
-    renderer.panel_events = vec![egui::Event::PointerMoved(pos)];
+    renderer.panel_event(egui::Event::PointerMoved(pos));
     renderer.render();
     let hovered = frame(renderer);
-    renderer.panel_events = vec![egui::Event::PointerGone];
+    renderer.panel_event(egui::Event::PointerGone);
     (hovered, plain)
 }
 
@@ -438,8 +438,7 @@ fn greyed_controls_look_greyed_and_say_why_on_hover() {
         r.show_panel().unwrap();
         frame(&mut r);
         let rect = r
-            .panel
-            .as_ref()
+            .panel()
             .unwrap()
             .widget_rect(&PanelWidget::Key('L'))
             .unwrap();
@@ -452,7 +451,7 @@ fn greyed_controls_look_greyed_and_say_why_on_hover() {
             .into_iter()
             .find(|c| c.key == Some('L'))
             .unwrap();
-        let panel = r.panel.as_ref().unwrap();
+        let panel = r.panel().unwrap();
         let style = panel.context().global_style();
         let font = egui::TextStyle::Body.resolve(&style);
         // The reason laid out as the tooltip lays it out: wrapped at its width inside its margin.

@@ -250,7 +250,7 @@ fn a_click_on_a_switch_does_what_its_key_does() {
     let mut renderer = native_renderer("cylinder");
     renderer.show_panel().expect("the panel");
     frame(&mut renderer);
-    let panel = renderer.panel.as_ref().expect("the panel");
+    let panel = renderer.panel().expect("the panel");
     let at = panel
         .widget_rect(&PanelWidget::Key('L'))
         .expect("the L switch")

@@ -328,7 +328,7 @@ fn panel_layout() -> PanelLayout {
     let mut layout = HeadlessRenderer::new(&HeadlessOptions::default()).unwrap();
     layout.show_panel().unwrap();
     layout.render_frames(1).unwrap();
-    let panel = layout.panel.as_ref().unwrap();
+    let panel = layout.panel().unwrap();
     let at = |w: PanelWidget| panel.widget_rect(&w).unwrap();
     let light_x = layout.scene.control_index("light x").unwrap();
     PanelLayout {

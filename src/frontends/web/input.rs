@@ -131,8 +131,8 @@ fn listen_to_mouse(canvas: &HtmlCanvasElement, page: &Rc<RefCell<Page>>) -> Resu
     };
     on(canvas, "mousedown", page, move |page, event: MouseEvent| {
         let pos = at(&event);
-        if page.over_panel(pos) {
-            page.panel_events.push(button(pos, true));
+        if page.host.over_panel(pos) {
+            page.host.panel_event(button(pos, true));
             return;
         }
         match mouse_mode(page) {
@@ -142,29 +142,28 @@ fn listen_to_mouse(canvas: &HtmlCanvasElement, page: &Rc<RefCell<Page>>) -> Resu
     })?;
     on(canvas, "mouseup", page, move |page, event: MouseEvent| {
         page.dragging = None;
-        page.panel_events.push(button(at(&event), false));
+        page.host.panel_event(button(at(&event), false));
     })?;
     on(canvas, "mousemove", page, |page, event: MouseEvent| {
         let pos = at(&event);
-        page.panel_events
-            .push(egui::Event::PointerMoved(egui::pos2(pos.x, pos.y)));
+        (page.host).panel_event(egui::Event::PointerMoved(egui::pos2(pos.x, pos.y)));
         if let Some(from) = page.dragging {
             page.dragging = Some(pos);
             let moved = pos - from;
             page.host.look((f64::from(moved.x), f64::from(moved.y)));
         }
-        page.host.cursor = (!page.over_panel(pos)).then_some(pos);
+        page.host.cursor = (!page.host.over_panel(pos)).then_some(pos);
     })?;
     on(canvas, "mouseleave", page, |page, _: MouseEvent| {
         page.dragging = None;
         page.host.cursor = None;
-        page.panel_events.push(egui::Event::PointerGone);
+        page.host.panel_event(egui::Event::PointerGone);
     })?;
     on(canvas, "wheel", page, |page, event: WheelEvent| {
         event.prevent_default();
         let pos = Vec2::new(event.offset_x() as f32, event.offset_y() as f32);
-        if page.over_panel(pos) {
-            page.panel_events.push(egui::Event::MouseWheel {
+        if page.host.over_panel(pos) {
+            page.host.panel_event(egui::Event::MouseWheel {
                 unit: egui::MouseWheelUnit::Point,
                 delta: egui::vec2(-event.delta_x() as f32, -event.delta_y() as f32),
                 modifiers: egui::Modifiers::default(),

@@ -24,8 +24,7 @@ use web_sys::{HtmlCanvasElement, WebGl2RenderingContext};
 
 use super::host::SceneHost;
 use super::page_contract::{PageContract, FROZEN_STEP_S};
-use super::panel::{Panel, PanelInfo};
-use super::{FrameTimer, FrontEnd, HostAction};
+use super::{FrontEnd, HostAction};
 use crate::clock::Instant;
 use crate::common::texture::WEBGL_S3TC_EXTENSION;
 use crate::gl::extensions::GlExtensions;
@@ -48,17 +47,9 @@ struct Page {
     /// canvas's own framebuffer back as a binding (it panics on WebGL's null framebuffer), and the
     /// panel and the compare view ask which framebuffer is bound.
     target: OffscreenTarget,
-    panel: Option<Panel>,
-    panel_shown: bool,
-    /// egui's input since the last frame (pointer and wheel over the panel).
-    panel_events: Vec<egui::Event>,
     gl: Gl,
     /// Frames still to draw with time frozen (`frames=N`); `None`: run.
     frames_left: Option<u32>,
-    started: Instant,
-    last_time: Instant,
-    timer: FrameTimer,
-    ms_per_frame: Option<f64>,
     /// The pointer, in canvas pixels, while the left button drags the camera.
     dragging: Option<Vec2>,
     /// Frames drawn so far (the page's `data-frames`, which the tests wait for).
@@ -72,38 +63,22 @@ struct Page {
 impl Page {
     /// One frame on the canvas, the panel over it if shown.
     fn frame(&mut self) {
-        let now = Instant::now();
-        let start = now;
-        let delta_time = (now - self.last_time).as_secs_f32();
-        self.last_time = now;
-        if let Some(ms) = self.timer.tick(now) {
-            self.ms_per_frame = Some(ms);
-        }
+        let start = Instant::now();
+        let tick = self.host.clock.tick();
         let frozen = self.frames_left.is_some();
-        let time = (now - self.started).as_secs_f32();
         self.target.bind();
         // `frames=N`: time stays at 0, but input still moves the camera (unlike `--frames N`, which
         // has none), each frame a step of FROZEN_STEP_S, so that a test's drag or arrow key gives
         // a frame the host predicts.
-        let input = if frozen {
-            self.host.draw(FROZEN_STEP_S, 0.0, false)
+        let time = if frozen {
+            self.host.draw(FROZEN_STEP_S, 0.0, false);
+            0.0
         } else {
-            self.host.draw(delta_time, time, false)
+            self.host.draw(tick.delta_time, tick.time, false);
+            tick.time
         };
-        if let Some(panel) = self.panel.as_mut().filter(|_| self.panel_shown) {
-            let mut panel_input = Panel::headless_input(input.size);
-            panel_input.events = std::mem::take(&mut self.panel_events);
-            panel_input.time = Some(if frozen { 0.0 } else { f64::from(time) });
-            let info = PanelInfo {
-                ms_per_frame: self.ms_per_frame,
-                shader_error: None,
-                front_end: FrontEnd::Page,
-            };
-            let host = &mut self.host;
-            let (output, _) = panel.run(panel_input, host.descriptor(), &mut *host.scene, info);
-            self.target.bind();
-            panel.paint(input.size, output);
-        }
+        let panel_input = self.host.panel_input(Some(f64::from(time)));
+        self.host.draw_panel(panel_input);
         self.target.blit_columns_to(None, 0, WIDTH);
         // `frames=N` (the tests' and web/bench.py's frames) waits for each frame to be drawn, to
         // time it whole: WebGL's finish returns at once, a read-back cannot. A page that runs
@@ -140,13 +115,6 @@ impl Page {
         }
     }
 
-    /// Whether a point of the canvas is on the panel as last drawn.
-    fn over_panel(&self, at: Vec2) -> bool {
-        let rect = self.panel.as_ref().filter(|_| self.panel_shown);
-        rect.and_then(Panel::rect)
-            .is_some_and(|r| r.contains(egui::pos2(at.x, at.y)))
-    }
-
     /// A key went down (`pressed`) or up: the window's keys, through the host.
     fn key(&mut self, key: &str, pressed: bool) {
         if let Some(arrow) = input::arrow(key) {
@@ -159,7 +127,7 @@ impl Page {
         clear_error();
         let done = match input::host_action(key) {
             Some(HostAction::TogglePanel) => {
-                self.panel_shown = !self.panel_shown;
+                self.host.toggle_panel();
                 Ok(())
             }
             Some(HostAction::ResetCamera) => {
@@ -347,27 +315,21 @@ async fn run() -> Result<(), String> {
         info: &info,
         extensions: &extensions,
     };
-    let host = SceneHost::new(
+    let mut host = SceneHost::new(
         &context,
         descriptor,
         &SceneOptions::default(),
         (WIDTH, HEIGHT),
+        FrontEnd::Page,
     )
     .map_err(|e| e.to_string())?;
-    let panel = Panel::new(&gl, &extensions).map_err(|e| e.to_string())?;
-    let now = Instant::now();
+    host.show_panel().map_err(|e| e.to_string())?;
+    host.set_panel_shown(contract.panel);
     let page = Rc::new(RefCell::new(Page {
         host,
         target,
-        panel: Some(panel),
-        panel_shown: contract.panel,
-        panel_events: Vec::new(),
         gl,
         frames_left: contract.frames,
-        started: now,
-        last_time: now,
-        timer: FrameTimer::new(),
-        ms_per_frame: None,
         dragging: None,
         drawn: 0,
         frame_ms: Vec::new(),

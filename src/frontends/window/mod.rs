@@ -27,7 +27,6 @@ use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::WindowId;
 
-use super::panel::{Panel, PanelFrame};
 use super::{key_list, FrontEnd, HostAction, HostKey};
 use crate::gl::Profile;
 use crate::scenes::{MouseMode, SceneDescriptor, SceneOptions};
@@ -186,11 +185,9 @@ struct Running {
     renderer: Renderer,
     /// Whether the cursor is grabbed for mouse look.
     grab: CursorGrab,
-    /// The panel (`None` if its painter could not be built: the window runs without it) and
-    /// egui's winit glue, which turns the window's events into the panel's input.
-    panel: Option<(Panel, egui_winit::State)>,
-    /// F1 hides and shows the panel.
-    panel_shown: bool,
+    /// egui's winit glue, which turns the window's events into the panel's input (`None` if the
+    /// panel's painter could not be built: the window runs without it).
+    panel_glue: Option<egui_winit::State>,
     /// Ctrl is held (Ctrl+P saves the window as shown, the panel with it).
     ctrl_held: bool,
     /// When the window opened: the panel's clock (egui's animations and double clicks).
@@ -222,20 +219,19 @@ fn take_panel_input(
 impl Running {
     fn new(event_loop: &ActiveEventLoop, options: &WindowOptions) -> Result<Self> {
         let gl_window = GlWindow::open(event_loop, options.size, options.profile, options.msaa)?;
-        let renderer = Renderer::new(&gl_window, options.descriptor, &options.scene)?;
-        let panel = match gl_window.with_scene_context(|c| Panel::new(c.gl, c.extensions)) {
-            Ok(mut panel) => {
+        let mut renderer = Renderer::new(&gl_window, options.descriptor, &options.scene)?;
+        let panel_glue = match renderer.host.show_panel() {
+            Ok(panel) => {
                 panel.store_cache_like_a_window();
                 let window = &gl_window.window;
-                let state = egui_winit::State::new(
+                Some(egui_winit::State::new(
                     panel.context().clone(),
                     egui::ViewportId::ROOT,
                     window,
                     Some(window.scale_factor() as f32),
                     None,
                     None,
-                );
-                Some((panel, state))
+                ))
             }
             Err(e) => {
                 log::error!("{e} (the window runs without its panel)");
@@ -245,15 +241,14 @@ impl Running {
         let mut running = Running {
             renderer,
             grab: CursorGrab::default(),
-            panel_shown: panel.is_some(),
-            panel,
+            panel_glue,
             ctrl_held: false,
             started: Instant::now(),
             gl_window,
         };
         // With the panel shown the cursor starts free, so that the panel can be clicked; a click on
         // the frame grabs it for mouse look, as it does after Tab.
-        if options.frames.is_none() && !running.panel_shown {
+        if options.frames.is_none() && !running.renderer.host.panel_shown() {
             running.grab_cursor(true);
         } else if options.frames.is_none()
             && running.renderer.host.descriptor().mouse_mode == MouseMode::Look
@@ -265,30 +260,25 @@ impl Running {
 
     /// Lays out and paints the panel over the frame just drawn (before the swap), if it is shown.
     fn paint_panel(&mut self) {
-        let Some((panel, state)) = self.panel.as_mut().filter(|_| self.panel_shown) else {
+        let host = &mut self.renderer.host;
+        let Some(state) = self.panel_glue.as_mut().filter(|_| host.panel_shown()) else {
             return;
         };
         let window = &self.gl_window.window;
-        let size = self.renderer.frame_size();
-        let input = take_panel_input(state, window, size, self.started);
-        let info = self.renderer.panel_info();
-        let host = &mut self.renderer.host;
-        let (output, actions) = panel.run(input, host.descriptor(), &mut *host.scene, info);
-        if !actions.is_empty() {
-            log::debug!("panel: {actions:?}");
-        }
+        let input = take_panel_input(state, window, host.size(), self.started);
+        let platform = host.draw_panel(input);
         // The cursor's shape is egui's only while it is free (a grabbed cursor stays hidden).
-        if let (PanelFrame::Laid(output), false) = (&output, self.grab.grabbed()) {
-            state.handle_platform_output(window, output.platform_output.clone());
+        if let (Some(platform), false) = (platform, self.grab.grabbed()) {
+            state.handle_platform_output(window, platform);
         }
-        panel.paint(size, output);
     }
 
     /// Whether the panel takes this event (a click or a wheel over it), so that the frame does not.
     fn panel_takes(&mut self, event: &WindowEvent) -> bool {
-        let Some((_, state)) = self.panel.as_mut() else {
+        let Some(state) = self.panel_glue.as_mut() else {
             return false;
         };
+        let panel_shown = self.renderer.host.panel_shown();
         // Every button release reaches egui, also one that comes while the cursor is grabbed or
         // the panel hidden: the click that grabs the cursor went down before the grab, and egui,
         // never told of its release, would hold the button down and ignore every later click.
@@ -301,35 +291,16 @@ impl Running {
             let consumed = state
                 .on_window_event(&self.gl_window.window, event)
                 .consumed;
-            return consumed && self.panel_shown && !self.grab.grabbed();
+            return consumed && panel_shown && !self.grab.grabbed();
         }
         // Keys stay the scene's and the window's; a grabbed cursor is mouse look, not a pointer.
         let keys = matches!(event, WindowEvent::KeyboardInput { .. });
-        if !self.panel_shown || keys || self.grab.grabbed() {
+        if !panel_shown || keys || self.grab.grabbed() {
             return false;
         }
         state
             .on_window_event(&self.gl_window.window, event)
             .consumed
-    }
-
-    /// Whether `at` (window pixels) is on the panel as it was last drawn.
-    fn over_panel(&self, at: Vec2) -> bool {
-        let rect = self.panel.as_ref().filter(|_| self.panel_shown);
-        rect.and_then(|(panel, _)| panel.rect())
-            .is_some_and(|r| r.contains(egui::pos2(at.x, at.y)))
-    }
-
-    /// F1: the panel on or off.
-    fn toggle_panel(&mut self) {
-        if self.panel.is_none() {
-            return log::warn!("no panel in this window (see the error above)");
-        }
-        self.panel_shown = !self.panel_shown;
-        log::info!(
-            "panel {}",
-            if self.panel_shown { "shown" } else { "hidden" }
-        );
     }
 
     fn grab_cursor(&mut self, grab: bool) {
@@ -374,7 +345,7 @@ impl Running {
                 self.grab_cursor(false);
                 // As at the start: while the panel shows the cursor stays free for it, and a
                 // click on the frame grabs it.
-                if !self.panel_shown {
+                if !self.renderer.host.panel_shown() {
                     self.grab_cursor(true);
                 }
             }
@@ -396,7 +367,7 @@ impl Running {
             Some(HostAction::ReleaseCursor) => self.grab_cursor(false),
             Some(HostAction::NextScene) => self.next_scene(),
             Some(HostAction::ReloadShaders) => self.renderer.reload_shaders(),
-            Some(HostAction::TogglePanel) => self.toggle_panel(),
+            Some(HostAction::TogglePanel) => self.renderer.host.toggle_panel(),
             Some(HostAction::ResetCamera) => {
                 self.renderer.host.reset_camera();
                 log::info!("camera back at the start");
@@ -445,13 +416,13 @@ impl App {
             return;
         };
         if let Some(bench) = self.bench.as_mut() {
-            if running.panel.is_none() {
+            if running.renderer.host.panel().is_none() {
                 let reason =
                     "--bench-panel: the window has no panel to measure (see the error above)";
                 return self.fail(event_loop, Error::Window(reason.into()));
             }
-            match bench.next_frame(Instant::now(), running.panel_shown) {
-                Next::Draw { panel_shown } => running.panel_shown = panel_shown,
+            match bench.next_frame(Instant::now(), running.renderer.host.panel_shown()) {
+                Next::Draw { panel_shown } => running.renderer.host.set_panel_shown(panel_shown),
                 Next::Done => {
                     println!("{}", bench.report());
                     return event_loop.exit();
@@ -547,7 +518,8 @@ impl ApplicationHandler for App {
                 let at = Vec2::new(position.x as f32, position.y as f32);
                 // Over the panel the cursor is the panel's: to the scene it has left the frame (a
                 // light that follows it stays where it was).
-                running.renderer.host.cursor = Some(at).filter(|&at| !running.over_panel(at));
+                let host = &mut running.renderer.host;
+                host.cursor = Some(at).filter(|&at| !host.over_panel(at));
             }
             WindowEvent::CursorLeft { .. } => running.renderer.host.cursor = None,
             WindowEvent::Focused(false) => running.grab_cursor(false),

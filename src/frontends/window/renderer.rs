@@ -3,38 +3,27 @@
 //! given the window's GL and input; it opens nothing itself.
 
 use std::path::{Path, PathBuf};
-
 use std::time::Instant;
 
 use super::gl_window::GlWindow;
 use super::TITLE_SHORT;
 use crate::frontends::host::SceneHost;
-use crate::frontends::panel::PanelInfo;
-use crate::frontends::{key_list, FrameTimer, FrontEnd, ShaderWatch};
+use crate::frontends::{key_list, FrontEnd, ShaderWatch};
 use crate::gl::check_gl_errors;
 use crate::gl::image::write_screenshot;
 use crate::scenes::{SceneDescriptor, SceneOptions};
-use crate::{Error, Result};
+use crate::Result;
 
 /// The scene's host and what the window keeps about its frames.
 pub struct Renderer {
-    /// The scene, its camera and input: every input reaches the scene through it.
+    /// The scene, its camera, input, clock and panel: every input reaches the scene through it.
     pub host: SceneHost,
-    start: Instant,
-    last_time: Instant,
     pub frames_drawn: u32,
-    timer: FrameTimer,
-    /// The last "ms/frame" figure, kept for the title.
-    ms_per_frame: Option<f64>,
-    /// The size the last frame was drawn at (asked of the window once a frame).
-    frame_size: (u32, u32),
     /// The title the window has now (set again only when it changes).
     shown_title: String,
     screenshots_taken: u32,
     /// Saving a shader file reloads the scene's programs.
     shader_watch: ShaderWatch,
-    /// The last reload's error, for the title, until a good version is saved.
-    shader_error: Option<String>,
 }
 
 impl Renderer {
@@ -45,21 +34,15 @@ impl Renderer {
         scene_options: &SceneOptions,
     ) -> Result<Self> {
         let size = gl_window.size();
-        let host =
-            gl_window.with_scene_context(|c| SceneHost::new(c, descriptor, scene_options, size))?;
-        let now = Instant::now();
+        let host = gl_window.with_scene_context(|c| {
+            SceneHost::new(c, descriptor, scene_options, size, FrontEnd::Window)
+        })?;
         Ok(Renderer {
             shader_watch: ShaderWatch::new(&*host.scene),
             host,
-            start: now,
-            last_time: now,
             frames_drawn: 0,
-            timer: FrameTimer::new(),
-            ms_per_frame: None,
-            frame_size: size,
             shown_title: String::new(),
             screenshots_taken: 0,
-            shader_error: None,
         })
     }
 
@@ -81,22 +64,7 @@ impl Renderer {
     /// Another scene draws: its shader files are watched, and its keys printed.
     fn scene_changed(&mut self) {
         self.shader_watch = ShaderWatch::new(&*self.host.scene);
-        self.shader_error = None;
         println!("{}", key_list(self.host.descriptor()));
-    }
-
-    /// The size the last frame was drawn at.
-    pub fn frame_size(&self) -> (u32, u32) {
-        self.frame_size
-    }
-
-    /// What the panel shows of the window's own figures.
-    pub fn panel_info(&self) -> PanelInfo {
-        PanelInfo {
-            ms_per_frame: self.ms_per_frame,
-            shader_error: self.shader_error.clone(),
-            front_end: FrontEnd::Window,
-        }
     }
 
     /// A key of the scene's list (an error is logged: the scene stays as it was).
@@ -108,14 +76,11 @@ impl Renderer {
 
     /// One frame into the back buffer (not yet swapped), with time frozen at 0 if `frozen`.
     pub fn frame(&mut self, gl_window: &GlWindow, frozen: bool) -> Result<()> {
-        let now = Instant::now();
-        let delta_time = (now - self.last_time).as_secs_f32();
-        self.last_time = now;
-        if self.shader_watch.changed(&*self.host.scene, now) {
+        let tick = self.host.clock.tick();
+        if self.shader_watch.changed(&*self.host.scene, Instant::now()) {
             self.reload_shaders();
         }
         let size = gl_window.size();
-        self.frame_size = size;
         // The viewport and the projection's aspect follow the window (1024×768 is the tutorial's 4:3).
         self.host.set_size(size);
         // SAFETY: a viewport of the window's size on the current context.
@@ -123,13 +88,11 @@ impl Renderer {
             use glow::HasContext;
             gl_window.gl.viewport(0, 0, size.0 as i32, size.1 as i32)
         };
-        let time = (now - self.start).as_secs_f32();
-        self.host.draw(delta_time, time, frozen);
+        self.host.draw(tick.delta_time, tick.time, frozen);
         check_gl_errors(&gl_window.gl, "frame")?;
         self.frames_drawn += 1;
-        if let Some(ms) = self.timer.tick(now) {
+        if let Some(ms) = tick.ms_per_frame {
             println!("{ms:.3} ms/frame");
-            self.ms_per_frame = Some(ms);
         }
         self.update_title(gl_window);
         Ok(())
@@ -141,13 +104,9 @@ impl Renderer {
     /// Called after every frame, so that whatever changed the scene (a key, the panel, the mouse
     /// moving a light, the wheel) shows at once; the window is told only of a change.
     fn update_title(&mut self, gl_window: &GlWindow) {
-        let ms = self
-            .ms_per_frame
+        let ms = (self.host.clock.ms_per_frame())
             .map_or(String::new(), |ms| format!(" | {ms:.1} ms/frame"));
-        let error = self
-            .shader_error
-            .as_ref()
-            .map_or(String::new(), |e| format!("{e} | "));
+        let error = (self.host.shader_error()).map_or(String::new(), |e| format!("{e} | "));
         let title = format!(
             "{error}{}: {}{ms} | {TITLE_SHORT}",
             self.host.descriptor().name,
@@ -164,14 +123,8 @@ impl Renderer {
     /// title until a good version is saved.
     pub fn reload_shaders(&mut self) {
         match self.host.reload_shaders() {
-            Ok(()) => {
-                log::info!("shaders reloaded");
-                self.shader_error = None;
-            }
-            Err(e) => {
-                eprintln!("tutorial13: {e}");
-                self.shader_error = Some(shader_error_title(&e));
-            }
+            Ok(()) => log::info!("shaders reloaded"),
+            Err(e) => eprintln!("tutorial13: {e}"),
         }
     }
 
@@ -193,18 +146,4 @@ pub fn save(gl_window: &GlWindow, path: &Path) -> Result<()> {
     write_screenshot(path, &gl_window.read_frame()?)?;
     log::info!("wrote {}", path.display());
     Ok(())
-}
-
-/// One short line for the title: which file failed and how (the log itself is on stderr).
-fn shader_error_title(error: &Error) -> String {
-    match error {
-        Error::Shader { path, stage, .. } => {
-            let file = path.file_name().unwrap_or(path.as_os_str());
-            format!(
-                "shader {stage} failed: {} (log on the terminal; the last good shaders draw)",
-                file.to_string_lossy()
-            )
-        }
-        other => format!("shader reload failed: {other}"),
-    }
 }
