@@ -28,7 +28,7 @@ pub use options::{
     read_args, OwnOptions, PerScene, SceneArgs, SceneOption, SceneOptions, SharedArgs,
 };
 pub use scene::{
-    drawing_program, CompareLabels, DrawingProgram, FrameInput, MouseMode, Scene, SceneContext,
+    CompareLabels, DrawingProgram, FrameInput, MouseMode, Scene, SceneContext, ShaderSet,
 };
 pub use table::{
     control_for_key, key_count, key_help, Control, ControlState, ControlValue, KeyHelp, Kind,

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use glam::{Mat4, Vec2};
 
 use super::table::SceneControls;
+use crate::common::shader::{load_program, Program};
 use crate::gl::extensions::GlExtensions;
 use crate::gl::{ContextInfo, Gl};
 use crate::Result;
@@ -133,13 +134,55 @@ pub trait Scene: Any + SceneControls {
     fn click(&mut self) {}
 }
 
-/// The program of `names` (vertex and fragment shader, read from `dir` as the scene reads them) as
-/// the panel names it.
-pub fn drawing_program(name: &str, names: [&'static str; 2], dir: Option<&Path>) -> DrawingProgram {
-    DrawingProgram {
-        name: name.into(),
-        shaders: names.to_vec(),
-        dir: dir.map(Path::to_path_buf),
+/// The shaders a scene reads and the folder they are read from (`--shaders DIR` first, else the
+/// copies built into the binary), said once: the files the window watches
+/// ([`Scene::shader_files`]), the programs the panel names ([`Scene::drawing_programs`]) and a
+/// reload ([`Scene::reload_shaders`]) all read this one set, so they cannot disagree.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct ShaderSet {
+    /// `--shaders DIR`, if given.
+    dir: Option<PathBuf>,
+    /// Every shader any of the scene's programs reads, program by program (vertex, fragment).
+    names: Vec<&'static str>,
+}
+
+impl ShaderSet {
+    /// The shaders of `programs` (each its vertex and fragment shader), looked for in `dir` first.
+    pub fn new(dir: Option<&Path>, programs: impl IntoIterator<Item = [&'static str; 2]>) -> Self {
+        ShaderSet {
+            dir: dir.map(Path::to_path_buf),
+            names: programs.into_iter().flatten().collect(),
+        }
+    }
+
+    /// `--shaders DIR`, for what loads its shaders itself (the tutorial's set-up, the TBN lines).
+    pub fn dir(&self) -> Option<&Path> {
+        self.dir.as_deref()
+    }
+
+    /// The files the shaders are read from, in the set's order (empty where the copies built into
+    /// the binary are used): what [`Scene::shader_files`] answers.
+    pub fn files(&self) -> Vec<PathBuf> {
+        crate::common::shader::shader_paths(self.names.iter().copied(), self.dir())
+    }
+
+    /// Reads, compiles and links the program of `shaders` (vertex, fragment) from this set's folder.
+    pub fn load(&self, gl: &Gl, shaders: [&'static str; 2]) -> Result<Program> {
+        let [vertex, fragment] = shaders;
+        load_program(gl, vertex, fragment, self.dir())
+    }
+
+    /// The program of `shaders` as the panel names it (`name`), read from this set's folder.
+    pub fn program(&self, name: &str, shaders: [&'static str; 2]) -> DrawingProgram {
+        debug_assert!(
+            shaders.iter().all(|s| self.names.contains(s)),
+            "{shaders:?} are not in the scene's shader set, so the window would not watch them"
+        );
+        DrawingProgram {
+            name: name.into(),
+            shaders: shaders.to_vec(),
+            dir: self.dir.clone(),
+        }
     }
 }
 

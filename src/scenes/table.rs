@@ -4,6 +4,7 @@
 //! panel's rows, the title's short status and the log's status line are all read from this one
 //! table.
 
+use super::options::LightFlags;
 use crate::Result;
 
 /// One control of scene type `S` (see the module's doc).
@@ -350,13 +351,69 @@ pub trait PointLight {
     fn light_start(&self) -> (glam::Vec3, f32);
     /// Moves the light and sets its power.
     fn set_light(&mut self, position: glam::Vec3, power: f32) -> Result<()>;
-    /// The box the position's sliders move it in (lowest and highest corner): 10 either way
+    /// The box the position's sliders move it in (lowest and highest corner): [`LIGHT_RANGE`]
     /// unless the scene says otherwise.
     fn light_range(&self) -> (glam::Vec3, glam::Vec3) {
-        (glam::Vec3::splat(-10.0), glam::Vec3::splat(10.0))
+        LIGHT_RANGE
     }
     /// The power slider's highest value.
     const POWER_MAX: f32;
+}
+
+/// The box a light's sliders move it in unless its scene says otherwise: 10 either way of the
+/// origin, room around every scene's object (the tutorial's light is 4 away).
+pub const LIGHT_RANGE: (glam::Vec3, glam::Vec3) =
+    (glam::Vec3::splat(-10.0), glam::Vec3::splat(10.0));
+
+/// A point light in world space as a scene's shader takes it (`LightPosition_worldspace` and a
+/// power), so that a scene holds its light as one value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Light {
+    pub position_worldspace: glam::Vec3,
+    /// The light's power or intensity, as the scene's shader reads it.
+    pub power: f32,
+}
+
+impl Light {
+    /// This light with `--light` and `--light-power` over it where they are given.
+    pub fn with_flags(self, flags: LightFlags) -> Light {
+        Light {
+            position_worldspace: flags.position.unwrap_or(self.position_worldspace),
+            power: flags.power.unwrap_or(self.power),
+        }
+    }
+}
+
+/// A scene whose point light is one [`Light`] field that the panel sets as it is (world space,
+/// [`LIGHT_RANGE`]): it says where the light starts and how strong it may get, and has
+/// [`PointLight`], and so the light's sliders, without writing its methods.
+pub trait WorldLight {
+    /// The light without `--light` or `--light-power`, where the panel's reset puts it back.
+    const LIGHT_START: Light;
+    /// The power slider's highest value ([`PointLight::POWER_MAX`]).
+    const LIGHT_POWER_MAX: f32;
+    /// The scene's light.
+    fn world_light(&self) -> &Light;
+    fn world_light_mut(&mut self) -> &mut Light;
+}
+
+impl<S: WorldLight> PointLight for S {
+    const POWER_MAX: f32 = S::LIGHT_POWER_MAX;
+
+    fn light(&self) -> (glam::Vec3, f32) {
+        let light = self.world_light();
+        (light.position_worldspace, light.power)
+    }
+    fn light_start(&self) -> (glam::Vec3, f32) {
+        (S::LIGHT_START.position_worldspace, S::LIGHT_START.power)
+    }
+    fn set_light(&mut self, position: glam::Vec3, power: f32) -> Result<()> {
+        *self.world_light_mut() = Light {
+            position_worldspace: position,
+            power,
+        };
+        Ok(())
+    }
 }
 
 /// The labels of the light's three sliders ([`light_slider`]).

@@ -225,7 +225,7 @@ fn faces_turned_away_from_the_light_have_no_specular() {
     );
     let cube = renderer.scene_mut::<Cube>();
     cube.model_matrix = model;
-    cube.light_position_worldspace = light;
+    cube.light.position_worldspace = light;
     assert_unlit_either_way(
         &mut renderer,
         &samples,

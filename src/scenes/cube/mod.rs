@@ -13,13 +13,12 @@
 pub mod args;
 pub mod assets;
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use glam::{Mat4, Vec2, Vec3};
 use glow::HasContext;
 
 use crate::common::objloader::TriangleSoup;
-use crate::common::shader::{load_program, shader_paths};
 use crate::common::vboindexer::IndexedMesh;
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::state::GlState;
@@ -30,8 +29,10 @@ use assets::FILES;
 
 use super::descriptor::{SceneDescriptor, SceneType};
 use super::options::SceneOptions;
-use super::scene::{drawing_program, DrawingProgram, FrameInput, Scene, SceneContext};
-use super::table::{key_count, key_help, light_slider, power_slider, Control, KeyHelp, PointLight};
+use super::scene::{DrawingProgram, FrameInput, Scene, SceneContext, ShaderSet};
+use super::table::{
+    key_count, key_help, light_slider, power_slider, Control, KeyHelp, Light, WorldLight,
+};
 pub use args::CubeOptions;
 
 /// The scene as the rest of the program knows it.
@@ -198,14 +199,8 @@ crate::uniforms! {
 }
 
 impl CubeProgram {
-    pub fn load(gl: &Gl, shader_dir: Option<&Path>) -> Result<Self> {
-        let [vertex_shader, fragment_shader] = SHADERS;
-        Self::new(load_program(
-            gl,
-            vertex_shader,
-            fragment_shader,
-            shader_dir,
-        )?)
+    pub fn load(gl: &Gl, shaders: &ShaderSet) -> Result<Self> {
+        Self::new(shaders.load(gl, SHADERS)?)
     }
 }
 
@@ -221,11 +216,11 @@ pub struct Cube {
     pub normal_mapping: bool,
     /// [`model_matrix`] unless a test moves the cube.
     pub model_matrix: Mat4,
-    /// [`LIGHT_POSITION_WORLDSPACE`] unless a test or the panel moves the light.
-    pub light_position_worldspace: Vec3,
-    /// A factor on the diffuse and specular light (the article's 1, the panel moves it).
-    pub light_power: f32,
-    shader_dir: Option<PathBuf>,
+    /// At [`LIGHT_POSITION_WORLDSPACE`] unless a test or the panel moves it; its power is a factor
+    /// on the diffuse and specular light (the article's 1, the panel moves it).
+    pub light: Light,
+    /// `CubeBlinnPhong.*`, from `--shaders` or the crate's.
+    shaders: ShaderSet,
 }
 
 impl SceneType for Cube {
@@ -238,9 +233,9 @@ impl SceneType for Cube {
     /// Loads `cube/diffuse.bmp` and `cube/normal.bmp` from `assets` and the shaders from
     /// `shader_dir` (or the crate's), and builds the cube.
     fn new(context: &SceneContext, files: &SceneOptions, options: CubeOptions) -> Result<Self> {
-        let shader_dir = files.shader_dir();
+        let shaders = ShaderSet::new(files.shader_dir(), [SHADERS]);
         let gl = context.gl;
-        let program = CubeProgram::load(gl, shader_dir)?;
+        let program = CubeProgram::load(gl, &shaders)?;
         let maps = Maps::load(gl, &files.asset_files(FILES.names())?)?;
         let buffers = MeshBuffers::new(gl, &cube_mesh())?;
         Ok(Cube {
@@ -250,25 +245,24 @@ impl SceneType for Cube {
             gl: gl.clone(),
             normal_mapping: options.normal_mapping,
             model_matrix: model_matrix(),
-            light_position_worldspace: options.light.position.unwrap_or(LIGHT_POSITION_WORLDSPACE),
-            light_power: options.light.power.unwrap_or(1.0),
-            shader_dir: shader_dir.map(Path::to_path_buf),
+            light: Self::LIGHT_START.with_flags(options.light),
+            shaders,
         })
     }
 }
 
-impl PointLight for Cube {
-    const POWER_MAX: f32 = 4.0;
+impl WorldLight for Cube {
+    const LIGHT_START: Light = Light {
+        position_worldspace: LIGHT_POSITION_WORLDSPACE,
+        power: 1.0,
+    };
+    const LIGHT_POWER_MAX: f32 = 4.0;
 
-    fn light(&self) -> (Vec3, f32) {
-        (self.light_position_worldspace, self.light_power)
+    fn world_light(&self) -> &Light {
+        &self.light
     }
-    fn light_start(&self) -> (Vec3, f32) {
-        (LIGHT_POSITION_WORLDSPACE, 1.0)
-    }
-    fn set_light(&mut self, position: Vec3, power: f32) -> Result<()> {
-        (self.light_position_worldspace, self.light_power) = (position, power);
-        Ok(())
+    fn world_light_mut(&mut self) -> &mut Light {
+        &mut self.light
     }
 }
 
@@ -276,7 +270,7 @@ impl Scene for Cube {
     fn draw(&mut self, frame: &FrameInput) {
         let gl = &self.gl;
         let p = &self.program;
-        let light = self.light_position_worldspace;
+        let light = self.light.position_worldspace;
         // SAFETY: the program, its uniforms and the textures all belong to this context.
         unsafe {
             gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
@@ -292,7 +286,7 @@ impl Scene for Cube {
                 gl.uniform_matrix_4_f32_slice(uniform.as_ref(), false, &matrix.to_cols_array());
             }
             gl.uniform_3_f32(p.light.as_ref(), light.x, light.y, light.z);
-            gl.uniform_1_f32(p.light_power.as_ref(), self.light_power);
+            gl.uniform_1_f32(p.light_power.as_ref(), self.light.power);
             gl.uniform_1_i32(p.normal_mapping.as_ref(), i32::from(self.normal_mapping));
             self.maps.bind(gl, &p.diffuse_sampler, &p.normal_sampler);
         }
@@ -300,21 +294,17 @@ impl Scene for Cube {
     }
 
     fn shader_files(&self) -> Vec<PathBuf> {
-        shader_paths(SHADERS, self.shader_dir.as_deref())
+        self.shaders.files()
     }
 
     fn drawing_programs(&self) -> Vec<DrawingProgram> {
-        let dir = self.shader_dir.as_deref();
-        vec![drawing_program(
-            "CubeBlinnPhong (article 003's)",
-            SHADERS,
-            dir,
-        )]
+        let name = "CubeBlinnPhong (article 003's)";
+        vec![self.shaders.program(name, SHADERS)]
     }
 
     /// The scene's one program: replaced only once the new one has linked.
     fn reload_shaders(&mut self) -> Result<()> {
-        self.program = CubeProgram::load(&self.gl, self.shader_dir.as_deref())?;
+        self.program = CubeProgram::load(&self.gl, &self.shaders)?;
         Ok(())
     }
 }

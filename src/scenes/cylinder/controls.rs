@@ -9,7 +9,7 @@ use crate::debug::lines::{LineMode, LINE_LENGTH};
 use crate::debug::views::{ColorView, ShaderSwitches};
 use crate::mesh::MeshOptions;
 use crate::scenes::table::{
-    key_count, key_help, light_slider, power_slider, Control, KeyHelp, PointLight,
+    key_count, key_help, light_slider, power_slider, Control, KeyHelp, PointLight, LIGHT_RANGE,
 };
 use crate::tangents::TangentSource;
 use crate::Result;
@@ -348,6 +348,9 @@ type C = Control<Cylinder>;
 /// The key list `--help` and the window print.
 pub const KEYS: &[KeyHelp] = &key_help::<Cylinder, { key_count(CONTROLS) }>(CONTROLS);
 
+/// Not a [`crate::scenes::table::WorldLight`] as the cube's and the wall's: the panel moves the light
+/// in the space `--light` uses (a model's own coordinates), which is placed into world space, with
+/// its box and start in that space and its power one of the shader's knobs.
 impl PointLight for Cylinder {
     const POWER_MAX: f32 = 200.0;
 
@@ -361,7 +364,7 @@ impl PointLight for Cylinder {
     /// Room around the tutorial's cylinder (radius 1, height 2, light 4 away), or around the model
     /// placed on its bounding sphere, in the model's own coordinates.
     fn light_range(&self) -> (Vec3, Vec3) {
-        let world = (Vec3::splat(-10.0), Vec3::splat(10.0));
+        let world = LIGHT_RANGE;
         match &self.mesh.soup {
             SoupSource::Model(model) => {
                 let [a, b] = [world.0, world.1].map(|p| model.placement.to_file(p));

@@ -60,7 +60,7 @@ impl Cylinder {
                 &self.tutorial.mesh,
                 self.tutorial.light_position_worldspace,
                 *mode,
-                self.shader_dir.as_deref(),
+                self.shaders.dir(),
             )?;
             self.lines = TbnLines::Built(Box::new(lines));
             self.set_line_length(self.line_length)?;

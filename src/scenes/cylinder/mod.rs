@@ -19,7 +19,6 @@ use std::rc::Rc;
 
 use glam::Vec3;
 
-use crate::common::shader::shader_paths;
 use crate::debug::compare::{CompareMode, CompareView};
 use crate::debug::lines::{LegacyGl, LineMode, LINE_LENGTH, LINE_SHADERS};
 use crate::debug::views::ShaderSwitches;
@@ -34,9 +33,7 @@ use crate::Result;
 
 use super::descriptor::{SceneDescriptor, SceneType};
 use super::options::SceneOptions;
-use super::scene::{
-    drawing_program, CompareLabels, DrawingProgram, FrameInput, Scene, SceneContext,
-};
+use super::scene::{CompareLabels, DrawingProgram, FrameInput, Scene, SceneContext, ShaderSet};
 use super::table::{Control, SceneControls};
 pub use args::CylinderArgs;
 pub use controls::KEYS;
@@ -47,6 +44,10 @@ use mesh::{say_merged_corners, warn_of_far_frame, MeshState, SoupSource};
 pub use programs::{DebugProgram, Knobs, DEBUG_SHADERS, DERIVATIVE_SHADERS};
 use programs::{Drawing, Programs};
 use tutorial13::{NormalMappingProgram, Tutorial13, CLEAR_COLOR, SHADERS};
+
+/// Every shader the scene reads: the tutorial's program, the debugging and per-pixel ones, the
+/// line shader.
+const ALL_SHADERS: [[&str; 2]; 4] = [SHADERS, DEBUG_SHADERS, DERIVATIVE_SHADERS, LINE_SHADERS];
 
 /// The scene as the rest of the program knows it.
 pub static SCENE: SceneDescriptor = SceneDescriptor {
@@ -151,7 +152,8 @@ pub struct Cylinder {
     show_lines: bool,
     /// The immediate-mode entry points, or why this context has none.
     legacy: std::result::Result<LegacyGl, String>,
-    shader_dir: Option<PathBuf>,
+    /// [`ALL_SHADERS`], from `--shaders` or the crate's.
+    shaders: ShaderSet,
 }
 
 impl SceneType for Cylinder {
@@ -169,7 +171,8 @@ impl SceneType for Cylinder {
         files: &SceneOptions,
         cylinder: CylinderOptions,
     ) -> Result<Self> {
-        let shader_dir = files.shader_dir();
+        let shaders = ShaderSet::new(files.shader_dir(), ALL_SHADERS);
+        let shader_dir = shaders.dir();
         let gl = context.gl;
         let (mut tutorial, soup_source) = match &cylinder.model {
             None => load_tutorial(gl, files, shader_dir, &cylinder)?,
@@ -187,7 +190,7 @@ impl SceneType for Cylinder {
         };
         let mut scene = Cylinder {
             lines: TbnLines::Wanted(cylinder.line_mode),
-            programs: Programs::load(gl, shader_dir)?,
+            programs: Programs::load(gl, &shaders)?,
             knobs: Knobs {
                 light_power: cylinder.light_power.unwrap_or(Knobs::TUTORIAL.light_power),
                 normal_strength: cylinder
@@ -224,7 +227,7 @@ impl SceneType for Cylinder {
             use_debug_program: false,
             show_lines: false,
             legacy: context.extensions.legacy.clone(),
-            shader_dir: shader_dir.map(Path::to_path_buf),
+            shaders,
         };
         scene.start_with(&cylinder)?;
         Ok(scene)
@@ -366,16 +369,13 @@ impl Scene for Cylinder {
 
     /// The tutorial's program, the debugging program and the line shader.
     fn shader_files(&self) -> Vec<PathBuf> {
-        let programs = [SHADERS, DEBUG_SHADERS, DERIVATIVE_SHADERS, LINE_SHADERS];
-        shader_paths(programs.into_iter().flatten(), self.shader_dir.as_deref())
+        self.shaders.files()
     }
 
     /// All or nothing: every program is built before any replaces the one in use.
     fn reload_shaders(&mut self) -> Result<()> {
-        let dir = self.shader_dir.as_deref();
-        let [vertex_shader, fragment_shader] = SHADERS;
-        let program = NormalMappingProgram::load(&self.gl, vertex_shader, fragment_shader, dir)?;
-        let programs = Programs::load(&self.gl, dir)?;
+        let program = NormalMappingProgram::new(self.shaders.load(&self.gl, SHADERS)?)?;
+        let programs = Programs::load(&self.gl, &self.shaders)?;
         if let Some(lines) = self.lines.built_mut() {
             lines.reload_shaders()?;
         }
@@ -398,12 +398,11 @@ impl Scene for Cylinder {
         };
         let mut drawings: Vec<Drawing> = sources.iter().map(|&s| drawer.drawing(s)).collect();
         drawings.dedup();
-        let dir = self.shader_dir.as_deref();
         let mut programs: Vec<DrawingProgram> = drawings
             .into_iter()
             .map(|d| {
                 let (name, files) = d.shaders();
-                drawing_program(name, files, dir)
+                self.shaders.program(name, files)
             })
             .collect();
         match self.line_mode().filter(|_| self.lines_drawn()) {
@@ -413,7 +412,7 @@ impl Scene for Cylinder {
                 dir: None,
             }),
             Some(LineMode::Shader) => {
-                programs.push(drawing_program("TBN lines: DebugLines", LINE_SHADERS, dir))
+                programs.push(self.shaders.program("TBN lines: DebugLines", LINE_SHADERS))
             }
             None => {}
         }

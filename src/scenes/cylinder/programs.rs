@@ -2,14 +2,12 @@
 //! `NormalMappingDebug` (the experiments and colour views as uniforms) and the per-pixel
 //! `NormalMappingDerivative`, with the panel's knobs, and which of them draws ([`SourceDrawer`]).
 
-use std::path::Path;
-
 use glow::HasContext;
 
 use crate::debug::views::ShaderSwitches;
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::Gl;
-use crate::scenes::scene::FrameInput;
+use crate::scenes::scene::{FrameInput, ShaderSet};
 use crate::tangents::TangentSource;
 use crate::Result;
 
@@ -52,12 +50,10 @@ pub(super) struct Programs {
 }
 
 impl Programs {
-    pub(super) fn load(gl: &Gl, shader_dir: Option<&Path>) -> Result<Self> {
-        let [vertex_shader, fragment_shader] = DERIVATIVE_SHADERS;
-        let derivative =
-            NormalMappingProgram::load(gl, vertex_shader, fragment_shader, shader_dir)?;
+    pub(super) fn load(gl: &Gl, shaders: &ShaderSet) -> Result<Self> {
+        let derivative = NormalMappingProgram::new(shaders.load(gl, DERIVATIVE_SHADERS)?)?;
         Ok(Programs {
-            debug: DebugProgram::load(gl, shader_dir)?,
+            debug: DebugProgram::load(gl, shaders)?,
             derivative_knobs: KnobUniforms::locate(&derivative.program)?,
             derivative,
         })
@@ -207,9 +203,8 @@ pub struct DebugProgram {
 }
 
 impl DebugProgram {
-    pub fn load(gl: &Gl, shader_dir: Option<&Path>) -> Result<Self> {
-        let [vertex_shader, fragment_shader] = DEBUG_SHADERS;
-        let program = NormalMappingProgram::load(gl, vertex_shader, fragment_shader, shader_dir)?;
+    pub fn load(gl: &Gl, shaders: &ShaderSet) -> Result<Self> {
+        let program = NormalMappingProgram::new(shaders.load(gl, DEBUG_SHADERS)?)?;
         Ok(DebugProgram {
             gl: gl.clone(),
             switches: DebugUniforms::locate(&program.program)?,

@@ -20,7 +20,7 @@
 pub mod args;
 pub mod assets;
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use glow::HasContext;
@@ -31,7 +31,6 @@ use assets::SPRITE_SIZE;
 /// The sprite's two maps, under the assets folder.
 pub const DIFFUSE_FILE: &str = FILES.diffuse;
 pub const NORMAL_FILE: &str = FILES.normal;
-use crate::common::shader::{load_program, shader_paths};
 use crate::common::vboindexer::{IndexedMesh, Indices};
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::state::GlState;
@@ -40,7 +39,7 @@ use crate::Result;
 
 use super::descriptor::{SceneDescriptor, SceneType};
 use super::options::SceneOptions;
-use super::scene::{drawing_program, DrawingProgram, FrameInput, MouseMode, Scene, SceneContext};
+use super::scene::{DrawingProgram, FrameInput, MouseMode, Scene, SceneContext, ShaderSet};
 use super::table::{key_count, key_help, Control, KeyHelp};
 pub use args::SpriteArgs;
 
@@ -201,9 +200,8 @@ crate::uniforms! {
 }
 
 impl SpriteProgram {
-    pub fn load(gl: &Gl, shader_dir: Option<&Path>) -> Result<Self> {
-        let [vertex, fragment] = SHADERS;
-        Self::new(load_program(gl, vertex, fragment, shader_dir)?)
+    pub fn load(gl: &Gl, shaders: &ShaderSet) -> Result<Self> {
+        Self::new(shaders.load(gl, SHADERS)?)
     }
 }
 
@@ -216,7 +214,8 @@ pub struct Sprite {
     /// The unit square, (0, 0) to (1, 1), with matching UVs.
     quad: MeshBuffers,
     gl: Gl,
-    shader_dir: Option<PathBuf>,
+    /// `Sprite.*`, from `--shaders` or the crate's.
+    shaders: ShaderSet,
     /// x, y from 0 to 1 across the window (y up), z the height.
     pub light: Vec3,
     pub flip_green: bool,
@@ -240,9 +239,9 @@ impl SceneType for Sprite {
     /// Loads `sprite/diffuse.bmp` and `sprite/normal.bmp` from `assets`, and the shaders from
     /// `shader_dir` (or the crate's).
     fn new(context: &SceneContext, files: &SceneOptions, options: SpriteOptions) -> Result<Self> {
-        let shader_dir = files.shader_dir();
+        let shaders = ShaderSet::new(files.shader_dir(), [SHADERS]);
         let gl = context.gl;
-        let program = SpriteProgram::load(gl, shader_dir)?;
+        let program = SpriteProgram::load(gl, &shaders)?;
         // The tutorial's loadBMP_custom, as for every scene's BMP: mipmaps, trilinear filtering and
         // REPEAT, where the article's code samples with LINEAR and CLAMP_TO_EDGE. Kept on purpose (a
         // departure listed in docs/differences.md): it changes pixels only when the window scales the sprite
@@ -274,7 +273,7 @@ impl SceneType for Sprite {
             maps,
             quad,
             gl: gl.clone(),
-            shader_dir: shader_dir.map(Path::to_path_buf),
+            shaders,
             light: options.light,
             start_height: options.light.z,
             flip_green: options.flip_green,
@@ -356,18 +355,17 @@ impl Scene for Sprite {
     }
 
     fn shader_files(&self) -> Vec<PathBuf> {
-        shader_paths(SHADERS, self.shader_dir.as_deref())
+        self.shaders.files()
     }
 
     /// One program: replaced only once the new one links.
     fn reload_shaders(&mut self) -> Result<()> {
-        self.program = SpriteProgram::load(&self.gl, self.shader_dir.as_deref())?;
+        self.program = SpriteProgram::load(&self.gl, &self.shaders)?;
         Ok(())
     }
 
     fn drawing_programs(&self) -> Vec<DrawingProgram> {
-        let dir = self.shader_dir.as_deref();
-        vec![drawing_program("Sprite (article 001's)", SHADERS, dir)]
+        vec![self.shaders.program("Sprite (article 001's)", SHADERS)]
     }
 
     /// The wheel raises (away from the user) or lowers the light.

@@ -12,14 +12,13 @@
 pub mod args;
 pub mod assets;
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use clap::ValueEnum;
 use glam::{Mat4, Vec2, Vec3};
 use glow::HasContext;
 
 use crate::common::objloader::TriangleSoup;
-use crate::common::shader::{load_program, shader_paths};
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::state::GlState;
 use crate::gl::{Gl, Maps};
@@ -29,8 +28,10 @@ use assets::FILES;
 
 use super::descriptor::{SceneDescriptor, SceneType};
 use super::options::SceneOptions;
-use super::scene::{drawing_program, DrawingProgram, FrameInput, Scene, SceneContext};
-use super::table::{key_count, key_help, light_slider, power_slider, Control, KeyHelp, PointLight};
+use super::scene::{DrawingProgram, FrameInput, Scene, SceneContext, ShaderSet};
+use super::table::{
+    key_count, key_help, light_slider, power_slider, Control, KeyHelp, Light, WorldLight,
+};
 pub use args::WallOptions;
 
 /// The scene as the rest of the program knows it.
@@ -131,13 +132,6 @@ crate::uniforms! {
     }
 }
 
-impl WallProgram {
-    fn load(gl: &Gl, space: LightingSpace, shader_dir: Option<&Path>) -> Result<Self> {
-        let [vertex, fragment] = space.shaders();
-        Self::new(load_program(gl, vertex, fragment, shader_dir)?)
-    }
-}
-
 pub struct Wall {
     gl: Gl,
     /// One per [`LightingSpace`], in declaration order (indexed by `space as usize`).
@@ -147,10 +141,10 @@ pub struct Wall {
     maps: Maps,
     buffers: MeshBuffers,
     model_matrix: Mat4,
-    shader_dir: Option<PathBuf>,
-    /// The article's light unless the panel moves it.
-    pub light_position_worldspace: Vec3,
-    pub light_intensity: f32,
+    /// The three programs' shaders, from `--shaders` or the crate's.
+    shaders: ShaderSet,
+    /// The article's light unless the panel moves it; its power is the light's intensity.
+    pub light: Light,
 }
 
 impl SceneType for Wall {
@@ -162,9 +156,10 @@ impl SceneType for Wall {
 
     /// Loads the stone wall's two maps from `assets`/wall/ and the three programs.
     fn new(context: &SceneContext, files: &SceneOptions, options: WallOptions) -> Result<Self> {
-        let shader_dir = files.shader_dir();
+        let spaces = LightingSpace::value_variants().iter();
+        let shaders = ShaderSet::new(files.shader_dir(), spaces.map(|space| space.shaders()));
         let gl = context.gl;
-        let programs = load_programs(gl, shader_dir)?;
+        let programs = load_programs(gl, &shaders)?;
         let maps = Maps::load(gl, &files.asset_files(FILES.names())?)?;
         // The tutorial's CPU pipeline gives the square its tangents: T = +x (dP/du), B = +y (dP/dv).
         let mesh = build_mesh(&square(), MeshOptions::default());
@@ -176,17 +171,17 @@ impl SceneType for Wall {
             maps,
             buffers,
             model_matrix: Mat4::IDENTITY,
-            shader_dir: shader_dir.map(Path::to_path_buf),
-            light_position_worldspace: options.light.position.unwrap_or(LIGHT_POSITION_WORLDSPACE),
-            light_intensity: options.light.power.unwrap_or(LIGHT_INTENSITY),
+            shaders,
+            light: Self::LIGHT_START.with_flags(options.light),
         })
     }
 }
 
-fn load_programs(gl: &Gl, shader_dir: Option<&Path>) -> Result<Vec<WallProgram>> {
+/// One program per [`LightingSpace`], in declaration order.
+fn load_programs(gl: &Gl, shaders: &ShaderSet) -> Result<Vec<WallProgram>> {
     LightingSpace::value_variants()
         .iter()
-        .map(|&space| WallProgram::load(gl, space, shader_dir))
+        .map(|space| WallProgram::new(shaders.load(gl, space.shaders())?))
         .collect()
 }
 
@@ -210,19 +205,18 @@ fn square() -> TriangleSoup {
     soup
 }
 
-impl PointLight for Wall {
-    const POWER_MAX: f32 = 200.0;
+impl WorldLight for Wall {
+    const LIGHT_START: Light = Light {
+        position_worldspace: LIGHT_POSITION_WORLDSPACE,
+        power: LIGHT_INTENSITY,
+    };
+    const LIGHT_POWER_MAX: f32 = 200.0;
 
-    /// The light's position and intensity.
-    fn light(&self) -> (Vec3, f32) {
-        (self.light_position_worldspace, self.light_intensity)
+    fn world_light(&self) -> &Light {
+        &self.light
     }
-    fn light_start(&self) -> (Vec3, f32) {
-        (LIGHT_POSITION_WORLDSPACE, LIGHT_INTENSITY)
-    }
-    fn set_light(&mut self, position: Vec3, intensity: f32) -> Result<()> {
-        (self.light_position_worldspace, self.light_intensity) = (position, intensity);
-        Ok(())
+    fn world_light_mut(&mut self) -> &mut Light {
+        &mut self.light
     }
 }
 
@@ -230,7 +224,7 @@ impl Scene for Wall {
     fn draw(&mut self, frame: &FrameInput) {
         let gl = &self.gl;
         let p = &self.programs[self.space as usize];
-        let light = self.light_position_worldspace;
+        let light = self.light.position_worldspace;
         // SAFETY: the program, uniforms and textures all belong to this context.
         unsafe {
             gl.clear(glow::COLOR_BUFFER_BIT | glow::DEPTH_BUFFER_BIT);
@@ -244,7 +238,7 @@ impl Scene for Wall {
             gl.uniform_3_f32(p.light_position.as_ref(), light.x, light.y, light.z);
             let c = LIGHT_COLOR;
             gl.uniform_3_f32(p.light_color.as_ref(), c.x, c.y, c.z);
-            gl.uniform_1_f32(p.light_intensity.as_ref(), self.light_intensity);
+            gl.uniform_1_f32(p.light_intensity.as_ref(), self.light.power);
             let reflectivity = p.specular_reflectivity.as_ref();
             gl.uniform_1_f32(reflectivity, SPECULAR_REFLECTIVITY);
             gl.uniform_1_f32(p.specular_lobe_factor.as_ref(), SPECULAR_LOBE_FACTOR);
@@ -258,23 +252,16 @@ impl Scene for Wall {
             "{} (article 004's)",
             self.space.shaders()[0].trim_end_matches(".vertexshader")
         );
-        vec![drawing_program(
-            &name,
-            self.space.shaders(),
-            self.shader_dir.as_deref(),
-        )]
+        vec![self.shaders.program(&name, self.space.shaders())]
     }
 
     fn shader_files(&self) -> Vec<PathBuf> {
-        let names = LightingSpace::value_variants()
-            .iter()
-            .flat_map(|space| space.shaders());
-        shader_paths(names, self.shader_dir.as_deref())
+        self.shaders.files()
     }
 
     /// All three programs or none.
     fn reload_shaders(&mut self) -> Result<()> {
-        self.programs = load_programs(&self.gl, self.shader_dir.as_deref())?;
+        self.programs = load_programs(&self.gl, &self.shaders)?;
         Ok(())
     }
 }
