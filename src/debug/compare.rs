@@ -37,6 +37,10 @@ pub struct Difference {
     pub max: u8,
 }
 
+/// Where the split line starts, as a fraction of the width: the middle (`--split`'s default, and
+/// the panel's "tutorial's values").
+pub const SPLIT_START: f32 = 0.5;
+
 pub struct CompareView {
     gl: Gl,
     /// To store the targets like a window.

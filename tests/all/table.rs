@@ -2,7 +2,7 @@
 //! (building only what that value needs), and a control that does nothing in the scene's state
 //! says why instead of being shown as on.
 
-use tutorial13::frontends::headless::HeadlessOptions;
+use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::frontends::panel::PanelWidget;
 use tutorial13::gl::Profile;
 use tutorial13::scenes::cylinder::{Cylinder, CylinderOptions};
@@ -135,7 +135,7 @@ fn choosing_a_tangent_frame_on_the_panel_builds_only_its_mesh() {
 }
 
 /// A left click at the centre of `widget` over three frames (move, press, release).
-fn click(renderer: &mut tutorial13::frontends::headless::HeadlessRenderer, widget: PanelWidget) {
+fn click(renderer: &mut HeadlessRenderer, widget: PanelWidget) {
     let panel = renderer.panel().expect("the panel is shown");
     let pos = panel
         .widget_rect(&widget)
@@ -164,7 +164,7 @@ fn derivative_options(set: impl FnOnce(&mut CylinderOptions)) -> HeadlessOptions
 
 /// The key and label of each control of the renderer's scene that does nothing now.
 fn inert_controls(
-    renderer: &tutorial13::frontends::headless::HeadlessRenderer,
+    renderer: &HeadlessRenderer,
 ) -> impl Iterator<Item = (Option<char>, &'static str)> {
     let controls = renderer.scene.controls();
     controls
@@ -240,7 +240,7 @@ fn the_per_pixel_frame_says_which_switches_do_nothing() {
 fn the_compare_view_compares_like_with_like() {
     let mut renderer = renderer(&options(own_assets(), Profile::Core));
     // MikkTSpace against the next source, the per-pixel frame, with the colour view "normal".
-    let set = |r: &mut tutorial13::frontends::headless::HeadlessRenderer, label, to| {
+    let set = |r: &mut HeadlessRenderer, label, to| {
         let index = r.scene.control_index(label).unwrap();
         r.scene.set_control(index, to).unwrap();
     };
@@ -325,31 +325,36 @@ const OFF_CENTRE_QUAD: &str = "v 8 -2 0\nv 12 -2 0\nv 12 2 0\nv 8 2 0\n\
     f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n";
 
 // Fails if the light's sliders of a model are not in the model's own coordinates, as --light is
-// (--light 3,0,2 must show 3, 0, 2), or if moving one to a value does not give the frame of
-// --light with that value bit for bit, or if the tutorial's values do not give the first frame.
+// (--light 3,0,2 must show 3, 0, 2), if moving one to a value does not give the frame of --light
+// with that value bit for bit, or if their start (the tutorial's values) is --light's and not the
+// tutorial's light: set to their starts, the frame must be the one without --light, bit for bit.
 #[test]
 fn a_models_light_sliders_are_in_the_space_of_light() {
     let dir = scratch("table-model-light");
     let model = dir.join("quad.obj");
     std::fs::write(&model, OFF_CENTRE_QUAD).unwrap();
-    let with_light = |light: [f32; 3]| {
+    let with_light = |light: Option<[f32; 3]>| {
         let mut options = HeadlessOptions::default();
         let cylinder = cylinder_options(&mut options);
         cylinder.model = Some(model.clone());
-        cylinder.light = Some(light.into());
+        cylinder.light = light.map(Into::into);
         options
     };
     // Rendered first: each renderer has a context of its own, current while it is built.
-    let expected = render(&with_light([3.0, 1.5, 2.0]));
-    let mut renderer = renderer(&with_light([3.0, 0.0, 2.0]));
+    let expected = render(&with_light(Some([3.0, 1.5, 2.0])));
+    let tutorials = render(&with_light(None));
+    let mut renderer = renderer(&with_light(Some([3.0, 0.0, 2.0])));
     let first = frame(&mut renderer);
     let axes = ["light x", "light y", "light z"];
     let index = axes.map(|a| renderer.scene.control_index(a).unwrap());
-    let shown = index.map(|i| match renderer.scene.controls()[i].value {
-        ControlValue::Slider { value, start, .. } => (value, start),
-        _ => panic!("no slider"),
-    });
-    assert_eq!(shown, [(3.0, 3.0), (0.0, 0.0), (2.0, 2.0)]);
+    let shown = |renderer: &HeadlessRenderer| {
+        index.map(|i| match renderer.scene.controls()[i].value {
+            ControlValue::Slider { value, start, .. } => (value, start),
+            _ => panic!("no slider"),
+        })
+    };
+    let values = shown(&renderer).map(|(value, _)| value);
+    assert_eq!(values, [3.0, 0.0, 2.0]);
     renderer
         .scene
         .set_control(index[1], SetTo::Slider(1.5))
@@ -365,12 +370,16 @@ fn a_models_light_sliders_are_in_the_space_of_light() {
         .set_control(index[1], SetTo::Slider(0.0))
         .unwrap();
     assert!(frame(&mut renderer) == first);
+    for (i, (_, start)) in index.into_iter().zip(shown(&renderer)) {
+        renderer.scene.set_control(i, SetTo::Slider(start)).unwrap();
+    }
+    assert_eq!(differing_pixels(&frame(&mut renderer), &tutorials), 0);
 }
 
 /// The panel's frame with the pointer resting at `pos` (tooltips without egui's half-second delay:
 /// headless time stands still), and without any pointer.
 fn hovered_and_plain(
-    renderer: &mut tutorial13::frontends::headless::HeadlessRenderer,
+    renderer: &mut HeadlessRenderer,
     pos: egui::Pos2,
 ) -> (image::RgbImage, image::RgbImage) {
     let panel = renderer.panel().unwrap();

@@ -2,7 +2,7 @@
 
 use crate::common::tangentspace::TangentOptions;
 use crate::common::vboindexer::IndexOptions;
-use crate::debug::compare::CompareMode;
+use crate::debug::compare::{CompareMode, SPLIT_START};
 use crate::debug::lines::LineMode;
 use crate::debug::views::{ColorView, NormalMapConvention, ShaderSwitches};
 use std::path::PathBuf;
@@ -70,7 +70,7 @@ pub struct CylinderArgs {
     pub compare_difference: bool,
 
     /// With --compare: where the split line is, as a fraction of the width from the left
-    #[arg(long, value_name = "F", default_value_t = 0.5, value_parser = parse_fraction, requires = "compare")]
+    #[arg(long, value_name = "F", default_value_t = SPLIT_START, value_parser = parse_fraction, requires = "compare")]
     pub split: f32,
 
     /// Read normal-map bytes as c*255/127-128/127 (128 is exactly 0) instead of 2c-1 (key E)

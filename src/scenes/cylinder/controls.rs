@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use crate::debug::compare::CompareMode;
+use crate::debug::compare::{CompareMode, SPLIT_START};
 use crate::debug::lines::{LineMode, LINE_LENGTH};
 use crate::debug::views::{ColorView, ShaderSwitches};
 use crate::mesh::MeshOptions;
@@ -318,7 +318,7 @@ pub(super) const CONTROLS: &[C] = &[
     C::slider(
         "compare split",
         |_| (0.0, 1.0),
-        |c| c.compare_start_split,
+        |_| SPLIT_START,
         |c| c.compare_view.split,
         |c, value| {
             c.compare_view.split = value;

@@ -19,7 +19,7 @@ use std::rc::Rc;
 
 use glam::Vec3;
 
-use crate::debug::compare::{CompareMode, CompareView};
+use crate::debug::compare::{CompareMode, CompareView, SPLIT_START};
 use crate::debug::lines::{LegacyGl, LineMode, LINE_LENGTH, LINE_SHADERS};
 use crate::debug::views::ShaderSwitches;
 use crate::gl::buffers::MeshBuffers;
@@ -125,12 +125,11 @@ pub struct Cylinder {
     programs: Programs,
     /// The panel's light power and normal strength (the tutorial's unless moved).
     pub knobs: Knobs,
-    /// The compare view's split at the start (`--compare`'s, or the middle).
-    compare_start_split: f32,
     /// The light as the panel shows it, in the space `--light` uses (the model's own coordinates
     /// with `--model`, else world space): set there, it is placed as `--light` is, to the bit.
     light: Vec3,
-    /// Where it started (`--light`, or the tutorial's), in that space and in world space.
+    /// The tutorial's light (the panel's start, whatever `--light` says), in that space and in
+    /// world space.
     light_start: Vec3,
     light_start_world: Vec3,
     /// The TBN lines' length (the tutorial's [`LINE_LENGTH`] unless the panel moved it).
@@ -178,16 +177,16 @@ impl SceneType for Cylinder {
             None => load_tutorial(gl, files, shader_dir, &cylinder)?,
             Some(path) => load_model_scene(gl, shader_dir, path, &cylinder)?,
         };
+        // The panel shows the light where `--light` puts it: in the model's own coordinates. Its
+        // start is the tutorial's light, in those coordinates too.
+        let light_start_world = tutorial.light_position_worldspace;
+        let light_start = match &soup_source {
+            SoupSource::Model(model) => model.placement.to_file(light_start_world),
+            SoupSource::Tutorial(_) => light_start_world,
+        };
         if let Some(light) = cylinder.light {
             tutorial.light_position_worldspace = soup_source.to_world(light);
         }
-        // The panel shows the light where `--light` puts it: in the model's own coordinates.
-        let light_start_world = tutorial.light_position_worldspace;
-        let light_start = match (cylinder.light, &soup_source) {
-            (Some(light), _) => light,
-            (None, SoupSource::Model(model)) => model.placement.to_file(light_start_world),
-            (None, SoupSource::Tutorial(_)) => light_start_world,
-        };
         let mut scene = Cylinder {
             lines: TbnLines::Wanted(cylinder.line_mode),
             programs: Programs::load(gl, &shaders)?,
@@ -197,11 +196,10 @@ impl SceneType for Cylinder {
                     .normal_strength
                     .unwrap_or(Knobs::TUTORIAL.normal_strength),
             },
-            light: light_start,
+            light: cylinder.light.unwrap_or(light_start),
             light_start,
             light_start_world,
             line_length: cylinder.line_length.unwrap_or(LINE_LENGTH),
-            compare_start_split: cylinder.compare.map_or(0.5, |c| c.split.clamp(0.0, 1.0)),
             mesh: MeshState {
                 // A model's mesh is already the chosen source's; the tutorial's cylinder's is the
                 // tutorial's until the source is set below.
@@ -219,7 +217,7 @@ impl SceneType for Cylinder {
                 gl,
                 context.extensions,
                 cylinder.compare.map_or(CompareMode::Split, |c| c.mode),
-                cylinder.compare.map_or(0.5, |c| c.split),
+                cylinder.compare.map_or(SPLIT_START, |c| c.split),
             ),
             tutorial,
             gl: gl.clone(),

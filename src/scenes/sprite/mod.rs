@@ -134,7 +134,7 @@ const CONTROLS: &[C] = &[
     C::slider(
         "light height",
         |_| (Z_MIN, Z_MAX),
-        |sprite| sprite.start_height,
+        |_| DEFAULT_LIGHT_Z,
         |sprite| sprite.light.z,
         |sprite, z| {
             sprite.light.z = z;
@@ -222,8 +222,6 @@ pub struct Sprite {
     pub independent_falloff: bool,
     /// Whether the light follows the cursor (once it has moved over the window).
     following: bool,
-    /// The light's height at the start (`--light`'s, or the article's), for the panel.
-    start_height: f32,
     /// The cursor at the last frame, to notice that it moved.
     last_cursor: Option<Vec2>,
 }
@@ -275,7 +273,6 @@ impl SceneType for Sprite {
             gl: gl.clone(),
             shaders,
             light: options.light,
-            start_height: options.light.z,
             flip_green: options.flip_green,
             independent_falloff: options.independent_falloff,
             following: false,
