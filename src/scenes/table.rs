@@ -8,7 +8,7 @@ use super::options::LightFlags;
 use crate::Result;
 
 /// One control of scene type `S` (see the module's doc).
-pub struct Control<S> {
+pub struct Control<S: 'static> {
     /// The key that flips, steps or presses it (a slider has none).
     pub key: Option<char>,
     /// A few words: what it is, on the panel.
@@ -23,20 +23,16 @@ pub struct Control<S> {
 }
 
 /// What a control is, and how it reads and sets its scene.
-pub enum Kind<S> {
+pub enum Kind<S: 'static> {
     /// On or off (a checkbox); the key flips it.
     Toggle {
         get: fn(&S) -> bool,
         set: fn(&mut S, bool) -> Result<()>,
     },
-    /// One of several named values; the key steps to the next in the order of `choices`.
-    Choice {
-        /// The values this scene can take here (a context may offer fewer).
-        choices: fn(&S) -> Vec<String>,
-        get: fn(&S) -> String,
-        /// Sets one of `choices`, doing only what that value needs.
-        set: fn(&mut S, &str) -> Result<()>,
-    },
+    /// One of several named values; the key steps to the next in the order of its values. The
+    /// scene reads and sets typed values ([`Choices`]); names exist only for the panel, the title
+    /// and the log.
+    Choice(&'static dyn AnyChoice<S>),
     /// A value within `range`, starting at the tutorial's (or the article's) `start`.
     Slider {
         range: fn(&S) -> (f32, f32),
@@ -48,12 +44,54 @@ pub enum Kind<S> {
     Press { press: fn(&mut S) -> Result<()> },
 }
 
+/// A value a choice takes, with its name on the panel, in the title and in the log.
+pub trait ChoiceValue: Copy + PartialEq + 'static {
+    fn choice_name(self) -> String;
+}
+
+/// A choice's typed functions: the values the scene can take here (a context may offer fewer), the
+/// one it has, and setting one (doing only what that value needs). Written in a scene's table as
+/// `&Choices { values, get, set }`.
+pub struct Choices<S, T> {
+    pub values: fn(&S) -> Vec<T>,
+    pub get: fn(&S) -> T,
+    pub set: fn(&mut S, T) -> Result<()>,
+}
+
+/// What the table asks of a choice whatever its value's type: [`Choices`] by name.
+pub trait AnyChoice<S> {
+    /// Every value's name, in the order the key steps through them.
+    fn names(&self, scene: &S) -> Vec<String>;
+    /// The current value's name.
+    fn current(&self, scene: &S) -> String;
+    /// Sets the value at `index` of [`AnyChoice::names`].
+    fn set_index(&self, scene: &mut S, index: usize) -> Result<()>;
+}
+
+impl<S, T: ChoiceValue> AnyChoice<S> for Choices<S, T> {
+    fn names(&self, scene: &S) -> Vec<String> {
+        let values = (self.values)(scene);
+        values.into_iter().map(ChoiceValue::choice_name).collect()
+    }
+
+    fn current(&self, scene: &S) -> String {
+        (self.get)(scene).choice_name()
+    }
+
+    fn set_index(&self, scene: &mut S, index: usize) -> Result<()> {
+        match (self.values)(scene).get(index) {
+            Some(&value) => (self.set)(scene, value),
+            None => Ok(()),
+        }
+    }
+}
+
 /// A control that always applies.
 fn applies<S>(_: &S) -> Option<&'static str> {
     None
 }
 
-impl<S> Control<S> {
+impl<S: 'static> Control<S> {
     /// An on / off switch on `key`.
     pub const fn toggle(
         key: char,
@@ -65,16 +103,14 @@ impl<S> Control<S> {
         Self::keyed(key, label, help, Kind::Toggle { get, set })
     }
 
-    /// A choice of named values on `key`.
+    /// A choice of values on `key` (see [`Choices`]).
     pub const fn choice(
         key: char,
         label: &'static str,
         help: &'static str,
-        choices: fn(&S) -> Vec<String>,
-        get: fn(&S) -> String,
-        set: fn(&mut S, &str) -> Result<()>,
+        choices: &'static dyn AnyChoice<S>,
     ) -> Self {
-        Self::keyed(key, label, help, Kind::Choice { choices, get, set })
+        Self::keyed(key, label, help, Kind::Choice(choices))
     }
 
     /// A plain press on `key`.
@@ -139,7 +175,7 @@ impl<S> Control<S> {
     pub(super) fn shown(&self, scene: &S) -> String {
         match &self.kind {
             Kind::Toggle { get, .. } => ControlValue::Toggle(get(scene)).shown(),
-            Kind::Choice { get, .. } => get(scene),
+            Kind::Choice(choice) => choice.current(scene),
             Kind::Slider { get, .. } => get(scene).to_string(),
             Kind::Press { .. } => String::new(),
         }
@@ -148,9 +184,9 @@ impl<S> Control<S> {
     pub(super) fn state(&self, index: usize, scene: &S) -> ControlState {
         let value = match &self.kind {
             Kind::Toggle { get, .. } => ControlValue::Toggle(get(scene)),
-            Kind::Choice { choices, get, .. } => ControlValue::Choice {
-                current: get(scene),
-                choices: choices(scene),
+            Kind::Choice(choice) => ControlValue::Choice {
+                current: choice.current(scene),
+                choices: choice.names(scene),
             },
             Kind::Slider {
                 range, start, get, ..
@@ -176,10 +212,10 @@ impl<S> Control<S> {
     pub(super) fn set(&self, scene: &mut S, to: SetTo) -> Result<()> {
         match (&self.kind, to) {
             (Kind::Toggle { set, .. }, SetTo::Toggle(on)) => set(scene, on),
-            (Kind::Choice { choices, set, .. }, SetTo::Choice(name)) => {
-                match choices(scene).contains(&name) {
-                    true => set(scene, &name),
-                    false => {
+            (Kind::Choice(choice), SetTo::Choice(name)) => {
+                match choice.names(scene).iter().position(|n| *n == name) {
+                    Some(index) => choice.set_index(scene, index),
+                    None => {
                         log::warn!("{}: no choice {name:?} here", self.label);
                         Ok(())
                     }
@@ -201,10 +237,10 @@ impl<S> Control<S> {
     pub(super) fn key_press(&self, scene: &S) -> SetTo {
         match &self.kind {
             Kind::Toggle { get, .. } => SetTo::Toggle(!get(scene)),
-            Kind::Choice { choices, get, .. } => {
-                let (choices, current) = (choices(scene), get(scene));
-                let i = choices.iter().position(|c| *c == current).unwrap_or(0);
-                let next = choices.get((i + 1) % choices.len().max(1));
+            Kind::Choice(choice) => {
+                let (names, current) = (choice.names(scene), choice.current(scene));
+                let i = names.iter().position(|c| *c == current).unwrap_or(0);
+                let next = names.get((i + 1) % names.len().max(1));
                 SetTo::Choice(next.cloned().unwrap_or(current))
             }
             Kind::Slider { get, .. } => SetTo::Slider(get(scene)),
@@ -221,7 +257,7 @@ pub struct KeyHelp {
 }
 
 /// How many of `controls` have a key (the length of their [`key_help`]).
-pub const fn key_count<S>(controls: &[Control<S>]) -> usize {
+pub const fn key_count<S: 'static>(controls: &[Control<S>]) -> usize {
     let (mut i, mut n) = (0, 0);
     while i < controls.len() {
         if controls[i].key.is_some() {
@@ -234,7 +270,7 @@ pub const fn key_count<S>(controls: &[Control<S>]) -> usize {
 
 /// The key list of `controls`, in their order (a `const`, so that `--help` lists a scene's keys
 /// without building it). Two controls on one key stop the build: the second could never be reached.
-pub const fn key_help<S, const N: usize>(controls: &[Control<S>]) -> [KeyHelp; N] {
+pub const fn key_help<S: 'static, const N: usize>(controls: &[Control<S>]) -> [KeyHelp; N] {
     let mut keys = [KeyHelp { key: ' ', help: "" }; N];
     let (mut i, mut n) = (0, 0);
     while i < controls.len() {
@@ -257,7 +293,7 @@ pub const fn key_help<S, const N: usize>(controls: &[Control<S>]) -> [KeyHelp; N
 }
 
 /// The index of the control on `key` (letters either case).
-pub fn control_for_key<S>(controls: &[Control<S>], key: char) -> Option<usize> {
+pub fn control_for_key<S: 'static>(controls: &[Control<S>], key: char) -> Option<usize> {
     let key = key.to_ascii_uppercase();
     controls.iter().position(|c| c.key == Some(key))
 }
@@ -423,7 +459,7 @@ pub const LIGHT_AXES: [&str; 3] = ["light x", "light y", "light z"];
 pub const LIGHT_POWER: &str = "light power";
 
 /// The slider of the light's axis `AXIS` (0, 1, 2: x, y, z), within [`PointLight::light_range`].
-pub const fn light_slider<S: PointLight, const AXIS: usize>() -> Control<S> {
+pub const fn light_slider<S: PointLight + 'static, const AXIS: usize>() -> Control<S> {
     fn range<S: PointLight, const AXIS: usize>(scene: &S) -> (f32, f32) {
         let (lo, hi) = scene.light_range();
         (lo[AXIS], hi[AXIS])
@@ -449,7 +485,7 @@ pub const fn light_slider<S: PointLight, const AXIS: usize>() -> Control<S> {
 }
 
 /// The slider of the light's power, from 0 to [`PointLight::POWER_MAX`].
-pub const fn power_slider<S: PointLight>() -> Control<S> {
+pub const fn power_slider<S: PointLight + 'static>() -> Control<S> {
     fn range<S: PointLight>(_: &S) -> (f32, f32) {
         (0.0, S::POWER_MAX)
     }

@@ -48,17 +48,13 @@ impl Cylinder {
         })
     }
 
-    /// The compare view `name` (one of [`COMPARE_NAMES`]): off, or on in that mode, comparing
-    /// `--compare`'s sources, else the current one and the next. A comparison of a colour view
-    /// with the per-pixel frame, which draws none, is not started.
-    pub(super) fn set_compare(&mut self, name: &str) -> Result<()> {
-        let mode = match name {
-            "side by side" => CompareMode::Split,
-            "difference" => CompareMode::Difference,
-            _ => {
-                self.stop_comparison();
-                return Ok(());
-            }
+    /// The compare view off (`None`), or on in `mode`, comparing `--compare`'s sources, else the
+    /// current one and the next. A comparison of a colour view with the per-pixel frame, which
+    /// draws none, is not started.
+    pub(super) fn set_compare(&mut self, mode: Option<CompareMode>) -> Result<()> {
+        let Some(mode) = mode else {
+            self.stop_comparison();
+            return Ok(());
         };
         if self.comparison.is_none() {
             if self.unlike_comparison().is_some() {
@@ -77,10 +73,9 @@ impl Cylinder {
         let current = self.mesh.source;
         let compared = self.comparison.as_ref().map(|(sources, _)| *sources);
         compared.or(self.compare_sources).unwrap_or_else(|| {
-            let names = super::controls::tangent_source_names(self);
-            let i = names.iter().position(|n| *n == current.to_string());
-            let next = names[i.map_or(0, |i| (i + 1) % names.len())].as_str();
-            [current, crate::choices::by_name(next).unwrap_or(current)]
+            let sources = super::controls::tangent_sources(self);
+            let i = sources.iter().position(|&s| s == current);
+            [current, sources[i.map_or(0, |i| (i + 1) % sources.len())]]
         })
     }
 

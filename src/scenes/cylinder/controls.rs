@@ -6,10 +6,13 @@ use glam::Vec3;
 
 use crate::debug::compare::{CompareMode, SPLIT_START};
 use crate::debug::lines::{LineMode, LINE_LENGTH};
-use crate::debug::views::{ColorView, ShaderSwitches};
+use crate::debug::views::{ColorView, DebugVector, ShaderSwitches};
 use crate::mesh::MeshOptions;
+use clap::ValueEnum;
+
 use crate::scenes::table::{
-    key_count, key_help, light_slider, power_slider, Control, KeyHelp, PointLight, LIGHT_RANGE,
+    key_count, key_help, light_slider, power_slider, ChoiceValue, Choices, Control, KeyHelp,
+    PointLight, LIGHT_RANGE,
 };
 use crate::tangents::TangentSource;
 use crate::Result;
@@ -115,14 +118,60 @@ fn mesh_switch(cylinder: &mut Cylinder, change: impl FnOnce(&mut MeshOptions)) -
     cylinder.set_mesh_options(mesh)
 }
 
-/// The colour view's component names, [`ColorView::component`] `None`, 0, 1, 2.
-const COMPONENTS: [&str; 4] = ["all", "x", "y", "z"];
+/// The colour view's component ([`ColorView::component`]): all, or x, y or z alone.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Component(Option<u8>);
 
-/// The compare view's states on the panel: off, [`CompareMode::Split`], [`CompareMode::Difference`].
-pub(super) const COMPARE_NAMES: [&str; 3] = ["off", "side by side", "difference"];
+impl Component {
+    const ALL: [Component; 4] = [
+        Component(None),
+        Component(Some(0)),
+        Component(Some(1)),
+        Component(Some(2)),
+    ];
+}
 
-fn names(names: &[&str]) -> Vec<String> {
-    names.iter().map(|n| n.to_string()).collect()
+impl ChoiceValue for Component {
+    fn choice_name(self) -> String {
+        let Component(component) = self;
+        ["all", "x", "y", "z"][component.map_or(0, |i| usize::from(i) + 1)].into()
+    }
+}
+
+/// A colour view without its component: what it shows, mapped to 0..1 or not ("light01").
+impl ChoiceValue for (DebugVector, bool) {
+    fn choice_name(self) -> String {
+        let (vector, mapped) = self;
+        ColorView::default().with_vector(vector, mapped).to_string()
+    }
+}
+
+/// The compare view: off (`None`), or on in a mode.
+impl ChoiceValue for Option<CompareMode> {
+    fn choice_name(self) -> String {
+        match self {
+            None => "off",
+            Some(CompareMode::Split) => "side by side",
+            Some(CompareMode::Difference) => "difference",
+        }
+        .into()
+    }
+}
+
+impl ChoiceValue for LineMode {
+    fn choice_name(self) -> String {
+        match self {
+            LineMode::Legacy => "immediate mode",
+            LineMode::Shader => "line shader",
+        }
+        .into()
+    }
+}
+
+impl ChoiceValue for TangentSource {
+    fn choice_name(self) -> String {
+        crate::choices::name(&self)
+    }
 }
 
 /// Every switch, choice and slider of the scene, in the order they are listed.
@@ -140,18 +189,14 @@ pub(super) const CONTROLS: &[C] = &[
         'M',
         "lines drawn with",
         "debug lines: immediate mode (compatibility profile) / line shader",
-        // A core context has no immediate mode to choose.
-        |c| match c.legacy {
-            Ok(_) => names(&LINE_MODE_NAMES),
-            Err(_) => names(&LINE_MODE_NAMES[1..]),
-        },
-        |c| line_mode_name(c.shown_line_mode()).into(),
-        |c, name| {
-            c.set_line_mode(if name == LINE_MODE_NAMES[0] {
-                LineMode::Legacy
-            } else {
-                LineMode::Shader
-            })
+        &Choice {
+            // A core context has no immediate mode to choose.
+            values: |c| match c.legacy {
+                Ok(_) => vec![LineMode::Legacy, LineMode::Shader],
+                Err(_) => vec![LineMode::Shader],
+            },
+            get: Cylinder::shown_line_mode,
+            set: Cylinder::set_line_mode,
         },
     )
     .inert_when(|c| {
@@ -164,24 +209,12 @@ pub(super) const CONTROLS: &[C] = &[
         'V',
         "colour view",
         "colour view: lit, light, light01, eye, eye01, normal, normal01",
-        |_| {
-            ColorView::CYCLE
-                .iter()
-                .map(|&(v, m)| view_name(v, m))
-                .collect()
-        },
-        |c| {
-            let view = c.switches.view;
-            view_name(view.vector, view.mapped)
-        },
-        |c, name| {
-            let cycle = ColorView::CYCLE.iter();
-            let found = cycle.copied().find(|&(v, m)| view_name(v, m) == name);
-            switch(c, |sw| {
-                if let Some((vector, mapped)) = found {
-                    sw.view = sw.view.with_vector(vector, mapped);
-                }
-            })
+        &Choice {
+            values: |_| ColorView::CYCLE.to_vec(),
+            get: |c| (c.switches.view.vector, c.switches.view.mapped),
+            set: |c, (vector, mapped)| {
+                switch(c, |sw| sw.view = sw.view.with_vector(vector, mapped))
+            },
         },
     )
     .in_title("view")
@@ -190,13 +223,10 @@ pub(super) const CONTROLS: &[C] = &[
         'C',
         "component",
         "colour view component: all, x, y, z",
-        |_| names(&COMPONENTS),
-        |c| COMPONENTS[c.switches.view.component.map_or(0, |i| usize::from(i) + 1)].into(),
-        |c, name| {
-            let i = COMPONENTS.iter().position(|&n| n == name).unwrap_or(0);
-            switch(c, |sw| {
-                sw.view.component = i.checked_sub(1).map(|i| i as u8)
-            })
+        &Choice {
+            values: |_| Component::ALL.to_vec(),
+            get: |c| Component(c.switches.view.component),
+            set: |c, Component(component)| switch(c, |sw| sw.view.component = component),
         },
     )
     .inert_when(per_pixel),
@@ -234,11 +264,10 @@ pub(super) const CONTROLS: &[C] = &[
         'F',
         "tangent frame",
         "tangent frame: tutorial, MikkTSpace, per-pixel derivatives, a glTF file's own",
-        tangent_source_names,
-        |c| c.mesh.source.to_string(),
-        |c, name| match crate::choices::by_name(name) {
-            Some(source) => c.set_tangent_source(source),
-            None => Ok(()),
+        &Choice {
+            values: tangent_sources,
+            get: |c| c.mesh.source,
+            set: Cylinder::set_tangent_source,
         },
     )
     .in_title("tangents"),
@@ -246,16 +275,17 @@ pub(super) const CONTROLS: &[C] = &[
         'K',
         "compare view",
         "compare two tangent frames: off, side by side, difference heat map",
-        |_| names(&COMPARE_NAMES),
-        |c| {
-            match (&c.comparison, c.compare_view.mode) {
-                (None, _) => COMPARE_NAMES[0],
-                (Some(_), CompareMode::Split) => COMPARE_NAMES[1],
-                (Some(_), CompareMode::Difference) => COMPARE_NAMES[2],
-            }
-            .into()
+        &Choice {
+            values: |_| {
+                vec![
+                    None,
+                    Some(CompareMode::Split),
+                    Some(CompareMode::Difference),
+                ]
+            },
+            get: |c| c.comparison.as_ref().map(|_| c.compare_view.mode),
+            set: Cylinder::set_compare,
         },
-        Cylinder::set_compare,
     )
     .inert_when(|c| c.unlike_comparison()),
     C::press(
@@ -329,21 +359,17 @@ pub(super) const CONTROLS: &[C] = &[
 ];
 
 /// The tangent sources key F steps through: `file` only for a glTF model.
-pub(super) fn tangent_source_names(cylinder: &Cylinder) -> Vec<String> {
-    let mut all = crate::choices::names::<TangentSource>();
+pub(super) fn tangent_sources(cylinder: &Cylinder) -> Vec<TangentSource> {
+    let mut all = TangentSource::value_variants().to_vec();
     if !cylinder.mesh.soup.is_gltf() {
-        all.retain(|n| *n != TangentSource::File.to_string());
+        all.retain(|&s| s != TangentSource::File);
     }
     all
 }
 
-/// A colour view's name without its component ("light01").
-fn view_name(vector: crate::debug::views::DebugVector, mapped: bool) -> String {
-    ColorView::default().with_vector(vector, mapped).to_string()
-}
-
-/// A control of this scene.
+/// A control of this scene, and a choice's values.
 type C = Control<Cylinder>;
+type Choice<T> = Choices<Cylinder, T>;
 
 /// The key list `--help` and the window print.
 pub const KEYS: &[KeyHelp] = &key_help::<Cylinder, { key_count(CONTROLS) }>(CONTROLS);
@@ -382,15 +408,5 @@ impl PointLight for Cylinder {
             false => self.mesh.soup.to_world(position),
         };
         self.move_light(world)
-    }
-}
-
-/// The line paths' names on the panel: [`LineMode::Legacy`], [`LineMode::Shader`].
-pub(super) const LINE_MODE_NAMES: [&str; 2] = ["immediate mode", "line shader"];
-
-pub(super) fn line_mode_name(mode: LineMode) -> &'static str {
-    match mode {
-        LineMode::Legacy => LINE_MODE_NAMES[0],
-        LineMode::Shader => LINE_MODE_NAMES[1],
     }
 }

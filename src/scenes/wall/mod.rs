@@ -30,7 +30,8 @@ use super::descriptor::{SceneDescriptor, SceneType};
 use super::options::SceneOptions;
 use super::scene::{DrawingProgram, FrameInput, Scene, SceneContext, ShaderSet};
 use super::table::{
-    key_count, key_help, light_slider, power_slider, Control, KeyHelp, Light, WorldLight,
+    key_count, key_help, light_slider, power_slider, ChoiceValue, Choices, Control, KeyHelp, Light,
+    WorldLight,
 };
 pub use args::WallOptions;
 
@@ -90,17 +91,25 @@ impl LightingSpace {
     }
 }
 
+impl ChoiceValue for LightingSpace {
+    fn choice_name(self) -> String {
+        self.name()
+    }
+}
+
 /// The scene's choice and sliders, in the order they are listed.
 const CONTROLS: &[C] = &[
     C::choice(
         'S',
         "lighting space",
         "lighting space: view, tangent, none (no normal map)",
-        |_| crate::choices::names::<LightingSpace>(),
-        |wall| wall.space.name(),
-        |wall, name| {
-            wall.space = crate::choices::by_name(name).unwrap_or(wall.space);
-            Ok(())
+        &Choices::<Wall, _> {
+            values: |_| LightingSpace::value_variants().to_vec(),
+            get: |wall| wall.space,
+            set: |wall, space| {
+                wall.space = space;
+                Ok(())
+            },
         },
     )
     .in_title("lighting space"),
