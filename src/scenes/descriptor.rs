@@ -5,7 +5,7 @@
 use std::fmt;
 use std::path::Path;
 
-use super::options::{read_args, SceneArgs, SceneOptions};
+use super::options::{read_args, SceneArgs, SceneOptions, Shared};
 use super::scene::{MouseMode, Scene, SceneContext};
 use super::table::{control_for_key, Control, ControlState, KeyHelp, Kind, SceneControls, SetTo};
 use crate::gl::state::GlState;
@@ -27,8 +27,8 @@ pub struct SceneDescriptor {
     pub mouse_help: &'static [(&'static str, &'static str)],
     /// The scene's command-line arguments: its [`SceneArgs`] struct, under a heading of its own.
     pub args: fn(clap::Command) -> clap::Command,
-    /// Which of the flags several scenes read ([`super::SharedArgs`]) this one reads, by argument id.
-    pub shared_args: &'static [&'static str],
+    /// Which of the flags several scenes read ([`super::SharedArgs`]) this one reads.
+    pub shared_args: &'static [Shared],
     /// Reads the scene's arguments from the parsed command line into [`SceneOptions`].
     pub read_args: fn(&clap::ArgMatches, &mut SceneOptions) -> std::result::Result<(), clap::Error>,
     /// Loads the scene on the current context, with its options from `options` (its defaults where
@@ -46,6 +46,11 @@ pub struct SceneDescriptor {
 }
 
 impl SceneDescriptor {
+    /// Whether the scene reads the shared flag whose argument id is `id`.
+    pub fn reads_shared(&self, id: &str) -> bool {
+        Shared::of_id(id).is_some_and(|flag| self.shared_args.contains(&flag))
+    }
+
     /// The descriptor of scene type `S`: mouse look, no mouse help, no shared flags, no generated
     /// or asset files (a scene that differs sets those fields over this one).
     pub const fn of<S: SceneType>(

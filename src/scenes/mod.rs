@@ -25,7 +25,7 @@ use clap::parser::ValueSource;
 pub use crate::assets::{crate_assets_dir, find_assets, taken_from_crate, AssetFiles};
 pub use descriptor::{SceneDescriptor, SceneType};
 pub use options::{
-    read_args, OwnOptions, PerScene, SceneArgs, SceneOption, SceneOptions, SharedArgs,
+    read_args, OwnOptions, PerScene, SceneArgs, SceneOption, SceneOptions, Shared, SharedArgs,
 };
 pub use scene::{
     CompareLabels, DrawingProgram, FrameInput, MouseMode, Scene, SceneContext, ShaderSet,
@@ -116,7 +116,7 @@ fn shared_args() -> clap::Command {
 fn readers(id: &str) -> String {
     let names: Vec<_> = SCENES
         .iter()
-        .filter(|s| s.shared_args.contains(&id))
+        .filter(|s| s.reads_shared(id))
         .map(|s| s.name)
         .collect();
     match names.split_last() {
@@ -137,7 +137,7 @@ pub fn scene_options(
     let given = |id: &str| matches.value_source(id) == Some(ValueSource::CommandLine);
     for arg in shared_args().get_arguments() {
         let id = arg.get_id().as_str();
-        if given(id) && !scene.shared_args.contains(&id) {
+        if given(id) && !scene.reads_shared(id) {
             return Err(format!(
                 "{} is an option of {}, not of scene {} (choose one with --scene)",
                 flag(arg),

@@ -89,6 +89,34 @@ pub struct SharedArgs {
     pub light_power: Option<f32>,
 }
 
+/// A flag of [`SharedArgs`], as a scene's descriptor names those it reads
+/// ([`super::SceneDescriptor::shared_args`]): a misspelt one does not compile, and a unit test
+/// checks that every field of [`SharedArgs`] has one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Shared {
+    Green,
+    Light,
+    LightPower,
+}
+
+impl Shared {
+    pub const ALL: [Shared; 3] = [Shared::Green, Shared::Light, Shared::LightPower];
+
+    /// Its argument's id in [`SharedArgs`] (clap's: the field's name).
+    pub const fn id(self) -> &'static str {
+        match self {
+            Shared::Green => "green",
+            Shared::Light => "light",
+            Shared::LightPower => "light_power",
+        }
+    }
+
+    /// The flag whose argument id is `id`.
+    pub fn of_id(id: &str) -> Option<Shared> {
+        Shared::ALL.into_iter().find(|s| s.id() == id)
+    }
+}
+
 /// A light's power: a finite number, 0 or more.
 fn parse_power(s: &str) -> std::result::Result<f32, String> {
     s.trim()
@@ -213,5 +241,26 @@ impl SceneOptions {
     fn find<T: SceneOption>(&self) -> Option<&T> {
         let i = self.position::<T>()?;
         (*self.per_scene.0[i]).option_any().downcast_ref()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Fails if a field of SharedArgs has no `Shared` (a scene could not say it reads it) or a
+    // `Shared` names no argument of SharedArgs: the two lists must be the same, in order.
+    #[test]
+    fn every_shared_flag_has_its_name() {
+        let command = <SharedArgs as clap::Args>::augment_args(clap::Command::new("shared"));
+        let ids: Vec<String> = command
+            .get_arguments()
+            .map(|a| a.get_id().to_string())
+            .collect();
+        let named: Vec<&str> = Shared::ALL.iter().map(|s| s.id()).collect();
+        assert_eq!(ids, named);
+        for flag in Shared::ALL {
+            assert_eq!(Shared::of_id(flag.id()), Some(flag));
+        }
     }
 }

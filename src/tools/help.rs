@@ -68,7 +68,7 @@ fn only_flags_of(command: Command, scene: &SceneDescriptor) -> Command {
     let mut hidden: Vec<String> = shared
         .get_arguments()
         .map(|arg| arg.get_id().to_string())
-        .filter(|id| !scene.shared_args.contains(&id.as_str()))
+        .filter(|id| !scene.reads_shared(id))
         .collect();
     for other in others {
         hidden.extend(other.get_arguments().map(|arg| arg.get_id().to_string()));

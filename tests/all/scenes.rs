@@ -7,7 +7,7 @@ use glow::HasContext;
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::gl::Profile;
 use tutorial13::scenes::cylinder::CylinderOptions;
-use tutorial13::scenes::{SceneOptions, SCENES};
+use tutorial13::scenes::{SceneOptions, Shared, SCENES};
 
 /// GL names in use, by kind, among the first 4096 (Mesa hands out small consecutive names).
 fn live_objects(gl: &glow::Context) -> [usize; 6] {
@@ -174,7 +174,7 @@ fn a_flag_of_another_scene_is_an_error_naming_its_scene() {
         let result = tutorial13::scenes::scene_options(&matches, scene, SceneOptions::default());
         assert_eq!(
             result.is_ok(),
-            scene.shared_args.contains(&"green"),
+            scene.shared_args.contains(&Shared::Green),
             "{scene}: {result:?}"
         );
         checked += 1;
@@ -224,7 +224,7 @@ fn a_shared_flags_help_names_its_scenes() {
     let help = green.get_help().expect("help").to_string();
     let readers: Vec<_> = SCENES
         .iter()
-        .filter(|s| s.shared_args.contains(&"green"))
+        .filter(|s| s.shared_args.contains(&Shared::Green))
         .map(|s| s.name)
         .collect();
     assert_eq!(readers, ["cylinder", "sprite"]);

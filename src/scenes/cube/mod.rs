@@ -28,7 +28,7 @@ use crate::Result;
 use assets::FILES;
 
 use super::descriptor::{SceneDescriptor, SceneType};
-use super::options::SceneOptions;
+use super::options::{SceneOptions, Shared};
 use super::scene::{DrawingProgram, FrameInput, Scene, SceneContext, ShaderSet};
 use super::table::{
     key_count, key_help, light_slider, power_slider, Control, KeyHelp, Light, WorldLight,
@@ -37,7 +37,7 @@ pub use args::CubeOptions;
 
 /// The scene as the rest of the program knows it.
 pub static SCENE: SceneDescriptor = SceneDescriptor {
-    shared_args: &["light", "light_power"],
+    shared_args: &[Shared::Light, Shared::LightPower],
     generate_assets: assets::generate,
     asset_files: &assets::FILES.names(),
     ..SceneDescriptor::of::<Cube>(

@@ -32,7 +32,7 @@ use crate::tangents::TangentSource;
 use crate::Result;
 
 use super::descriptor::{SceneDescriptor, SceneType};
-use super::options::SceneOptions;
+use super::options::{SceneOptions, Shared};
 use super::scene::{CompareLabels, DrawingProgram, FrameInput, Scene, SceneContext, ShaderSet};
 use super::table::{Control, SceneControls};
 pub use args::CylinderArgs;
@@ -51,7 +51,7 @@ const ALL_SHADERS: [[&str; 2]; 4] = [SHADERS, DEBUG_SHADERS, DERIVATIVE_SHADERS,
 
 /// The scene as the rest of the program knows it.
 pub static SCENE: SceneDescriptor = SceneDescriptor {
-    shared_args: &["green", "light", "light_power"],
+    shared_args: &[Shared::Green, Shared::Light, Shared::LightPower],
     generate_assets: crate::assets::generate_cylinder_assets,
     asset_files: &crate::assets::ASSET_FILES,
     open_file: open_model,

@@ -38,7 +38,7 @@ use crate::gl::{Gl, Maps};
 use crate::Result;
 
 use super::descriptor::{SceneDescriptor, SceneType};
-use super::options::SceneOptions;
+use super::options::{SceneOptions, Shared};
 use super::scene::{DrawingProgram, FrameInput, MouseMode, Scene, SceneContext, ShaderSet};
 use super::table::{key_count, key_help, Control, KeyHelp};
 pub use args::SpriteArgs;
@@ -49,7 +49,7 @@ pub static SCENE: SceneDescriptor = SceneDescriptor {
     mouse_help: MOUSE_HELP,
     generate_assets: assets::generate,
     asset_files: &assets::FILES.names(),
-    shared_args: &["green", "light"],
+    shared_args: &[Shared::Green, Shared::Light],
     ..SceneDescriptor::of::<Sprite>(
         "sprite",
         "Article 001: a 2D normal-mapped rock lit by a light on the mouse",
