@@ -3,6 +3,7 @@
 //! below them, so no scene imports the module that imports it.
 
 use std::fmt;
+use std::marker::PhantomData;
 use std::path::Path;
 
 use super::options::{read_args, SceneArgs, SceneOptions, Shared};
@@ -64,9 +65,9 @@ impl SceneDescriptor {
             mouse_mode: MouseMode::Look,
             keys,
             mouse_help: &[],
-            args: <S::Args as clap::Args>::augment_args,
+            args: scene_args::<S>,
             shared_args: &[],
-            read_args: read_args::<S::Args>,
+            read_args: read_scene_args::<S>,
             build: build::<S>,
             generate_assets: || Ok(Vec::new()),
             asset_files: &[],
@@ -95,11 +96,90 @@ pub trait SceneType: Scene + Sized + 'static {
         files: &SceneOptions,
         options: <Self::Args as SceneArgs>::Options,
     ) -> Result<Self>;
+
+    /// Once the scene is built and the toggles its flags name are set through its table: what it
+    /// says of the state it starts in (a warning that a flag may have made moot). Nothing unless
+    /// the scene says.
+    fn started(&mut self) {}
 }
 
-/// [`SceneDescriptor::build`] of scene type `S`, with its options from `options`.
+/// [`SceneDescriptor::args`] of scene type `S`: its `Args` struct's, then a flag for each toggle
+/// of its table that has one ([`Flag`]), under the same heading.
+fn scene_args<S: SceneType>(command: clap::Command) -> clap::Command {
+    // The `Args` struct's `next_help_heading` stays set for the arguments added after it.
+    let command = <S::Args as clap::Args>::augment_args(command);
+    let flags = S::CONTROLS.iter().filter_map(|control| {
+        let flag = control.flag?;
+        let arg = clap::Arg::new(flag.long)
+            .long(flag.long)
+            .action(clap::ArgAction::SetTrue)
+            .help(flag.help_line(control.key));
+        Some(arg)
+    });
+    command.args(flags)
+}
+
+/// The toggles of scene type `S`'s table whose flags were given, by index, each with the value
+/// its flag starts it with: set through the table once the scene is built.
+pub struct StartToggles<S>(pub Vec<(usize, bool)>, PhantomData<fn() -> S>);
+
+impl<S> StartToggles<S> {
+    pub fn new(toggles: Vec<(usize, bool)>) -> Self {
+        StartToggles(toggles, PhantomData)
+    }
+}
+
+impl<S> Clone for StartToggles<S> {
+    fn clone(&self) -> Self {
+        StartToggles::new(self.0.clone())
+    }
+}
+
+impl<S> Default for StartToggles<S> {
+    fn default() -> Self {
+        StartToggles::new(Vec::new())
+    }
+}
+
+impl<S> fmt::Debug for StartToggles<S> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_tuple("StartToggles").field(&self.0).finish()
+    }
+}
+
+/// [`SceneDescriptor::read_args`] of scene type `S`: its `Args` struct's options, and the toggles
+/// whose flags were given.
+fn read_scene_args<S: SceneType>(
+    matches: &clap::ArgMatches,
+    options: &mut SceneOptions,
+) -> std::result::Result<(), clap::Error> {
+    read_args::<S::Args>(matches, options)?;
+    let given = S::CONTROLS
+        .iter()
+        .enumerate()
+        .filter_map(|(index, control)| {
+            let flag = control.flag?;
+            let given = matches.try_get_one::<bool>(flag.long).ok().flatten() == Some(&true);
+            given.then_some((index, flag.value))
+        });
+    options.set(StartToggles::<S>::new(given.collect()));
+    Ok(())
+}
+
+/// [`SceneDescriptor::build`] of scene type `S`, with its options from `options`, then each toggle
+/// whose flag was given set through the table (a flag that does nothing in the scene's state says
+/// why, as the panel does).
 fn build<S: SceneType>(context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
-    Ok(Box::new(S::new(context, options, options.get())?))
+    let mut scene = S::new(context, options, options.get())?;
+    for &(index, value) in &options.get::<StartToggles<S>>().0 {
+        let control = &S::CONTROLS[index];
+        if let (Some(reason), Some(flag)) = ((control.inert)(&scene), control.flag) {
+            log::warn!("--{}: {reason}", flag.long);
+        }
+        control.set(&mut scene, SetTo::Toggle(value))?;
+    }
+    scene.started();
+    Ok(Box::new(scene))
 }
 
 impl PartialEq for SceneDescriptor {

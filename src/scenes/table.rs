@@ -20,6 +20,29 @@ pub struct Control<S: 'static> {
     pub title: Option<&'static str>,
     /// Why it does nothing in the scene's current state, if it does nothing.
     pub inert: fn(&S) -> Option<&'static str>,
+    /// The command-line flag that starts a toggle one way ([`Control::flag`]).
+    pub flag: Option<Flag>,
+}
+
+/// A toggle's command-line flag: given, the scene starts with the toggle set to `value` through
+/// the table's `set`, as its key or the panel would set it (`--debug-lines` on, `--no-handedness`
+/// off). Its help line is `help` and the key ("(key L)").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Flag {
+    /// The flag without its dashes (`debug-lines`), also its argument's id.
+    pub long: &'static str,
+    pub help: &'static str,
+    pub value: bool,
+}
+
+impl Flag {
+    /// Its line in `--help`: what it does, and the key that does it later.
+    pub fn help_line(&self, key: Option<char>) -> String {
+        match key {
+            Some(key) => format!("{} (key {key})", self.help),
+            None => self.help.to_string(),
+        }
+    }
 }
 
 /// What a control is, and how it reads and sets its scene.
@@ -143,6 +166,7 @@ impl<S: 'static> Control<S> {
             },
             title: None,
             inert: applies,
+            flag: None,
         }
     }
 
@@ -154,7 +178,14 @@ impl<S: 'static> Control<S> {
             kind,
             title: None,
             inert: applies,
+            flag: None,
         }
+    }
+
+    /// This toggle with the command-line flag `--long` (see [`Flag`]), which starts it `value`.
+    pub const fn flag(mut self, long: &'static str, value: bool, help: &'static str) -> Self {
+        self.flag = Some(Flag { long, help, value });
+        self
     }
 
     /// This control, shown in the title as "`name` value".
@@ -205,6 +236,7 @@ impl<S: 'static> Control<S> {
             title: self.title,
             value,
             inert: (self.inert)(scene),
+            flag: self.flag,
         }
     }
 
@@ -310,6 +342,8 @@ pub struct ControlState {
     pub value: ControlValue,
     /// Why it does nothing now, if it does nothing.
     pub inert: Option<&'static str>,
+    /// The command-line flag that starts it one way, if it has one.
+    pub flag: Option<Flag>,
 }
 
 /// A control's value now.

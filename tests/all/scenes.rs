@@ -260,8 +260,15 @@ fn each_flag_is_parsed_into_its_option() {
     use glam::Vec3;
     use std::path::PathBuf;
     use tutorial13::debug::lines::LineMode;
-    use tutorial13::scenes::cube::CubeOptions;
-    use tutorial13::scenes::sprite::SpriteOptions;
+    use tutorial13::scenes::cube::{Cube, CubeOptions};
+    use tutorial13::scenes::sprite::{Sprite, SpriteOptions};
+    use tutorial13::scenes::{SceneType, StartToggles};
+    /// The index in `S`'s table of the control on `key`, which has a flag.
+    fn flagged_control<S: SceneType>(key: char) -> usize {
+        let index = S::CONTROLS.iter().position(|c| c.key == Some(key)).unwrap();
+        assert!(S::CONTROLS[index].flag.is_some(), "key {key} has no flag");
+        index
+    }
     use tutorial13::scenes::wall::{LightingSpace, WallOptions};
     type Check = fn(&SceneOptions) -> bool;
     let cases: [(&str, &[&str], Check); 16] = [
@@ -301,10 +308,12 @@ fn each_flag_is_parsed_into_its_option() {
             o.get::<SpriteOptions>().flip_green
         }),
         ("sprite", &["--independent-falloff"], |o| {
-            o.get::<SpriteOptions>().independent_falloff
+            let falloff = flagged_control::<Sprite>('I');
+            o.get::<StartToggles<Sprite>>().0 == [(falloff, true)]
         }),
         ("cube", &["--no-normal-map"], |o| {
-            !o.get::<CubeOptions>().normal_mapping
+            let normal_mapping = flagged_control::<Cube>('N');
+            o.get::<StartToggles<Cube>>().0 == [(normal_mapping, false)]
         }),
         ("cube", &["--light", "1,2,3", "--light-power", "2"], |o| {
             let light = o.get::<CubeOptions>().light;

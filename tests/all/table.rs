@@ -506,3 +506,49 @@ fn greyed_controls_look_greyed_and_say_why_on_hover() {
         "the tooltip is {height} high, its reason's text needs {expected}"
     );
 }
+
+// Fails if a toggle's command-line flag is not its table's: each flag a table declares, given on
+// the command line, must start its scene with that control at the flag's value, and without the
+// flag the control must start the other way (else the flag would do nothing). The flags are parsed
+// as the binary parses them (`scenes::command_line`, `scenes::scene_options`).
+#[test]
+fn each_toggles_flag_starts_it_through_the_table() {
+    let mut checked = 0;
+    for scene in SCENES {
+        let plain = renderer(&HeadlessOptions {
+            descriptor: scene,
+            ..Default::default()
+        });
+        let controls = plain.scene.controls();
+        drop(plain);
+        for control in controls.iter().filter(|c| c.flag.is_some()) {
+            let flag = control.flag.unwrap();
+            let long = format!("--{}", flag.long);
+            assert_eq!(
+                control.value,
+                ControlValue::Toggle(!flag.value),
+                "{scene}: {long} would change nothing"
+            );
+            let command = tutorial13::scenes::command_line(clap::Command::new("t"));
+            let matches = command.get_matches_from(["t", long.as_str()]);
+            let options = tutorial13::scenes::scene_options(&matches, scene, Default::default())
+                .unwrap_or_else(|e| panic!("{scene} {long}: {e}"));
+            let flagged = renderer(&HeadlessOptions {
+                descriptor: scene,
+                scene: options,
+                ..Default::default()
+            });
+            let value = &flagged.scene.controls()[control.index].value;
+            assert_eq!(
+                *value,
+                ControlValue::Toggle(flag.value),
+                "{scene}: {long} did not start \"{}\" {}",
+                control.label,
+                flag.value
+            );
+            checked += 1;
+        }
+    }
+    // The cylinder's eight, the cube's --no-normal-map and the sprite's --independent-falloff.
+    assert_eq!(checked, 10);
+}

@@ -7,9 +7,9 @@ use crate::scenes::options::{LightFlags, OwnOptions, SharedArgs};
 #[derive(clap::Args, Debug, Clone, Copy, PartialEq)]
 #[command(next_help_heading = "Scene cube")]
 pub struct CubeOptions {
-    /// The article's `flag`, perturbing the normal with the normal map: `--no-normal-map` starts with
-    /// it off (key N)
-    #[arg(long = "no-normal-map", action = clap::ArgAction::SetFalse)]
+    /// The article's `flag`, perturbing the normal with the normal map (its flag `--no-normal-map`
+    /// is the table's, on key N).
+    #[arg(skip = true)]
     pub normal_mapping: bool,
     /// `--light` (world space) and `--light-power` (a factor on the article's light, 1).
     #[arg(skip)]

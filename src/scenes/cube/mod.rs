@@ -59,6 +59,11 @@ const CONTROLS: &[C] = &[
             Ok(())
         },
     )
+    .flag(
+        "no-normal-map",
+        false,
+        "The article's `flag`, perturbing the normal with the normal map: start with it off",
+    )
     .in_title("normal mapping"),
     light_slider::<Cube, 0>(),
     light_slider::<Cube, 1>(),

@@ -1,7 +1,6 @@
-//! The cylinder scene's command-line arguments: the switches its keys toggle, to start with.
+//! The cylinder scene's command-line arguments: its choices, sliders and files to start with (its
+//! toggles' flags, `--debug-lines` and the others, are its table's: see controls.rs).
 
-use crate::common::tangentspace::TangentOptions;
-use crate::common::vboindexer::IndexOptions;
 use crate::debug::compare::{CompareMode, SPLIT_START};
 use crate::debug::lines::LineMode;
 use crate::debug::views::{ColorView, NormalMapConvention, ShaderSwitches};
@@ -18,10 +17,6 @@ use super::{CompareOptions, CylinderOptions};
 #[derive(clap::Args, Debug, Clone)]
 #[command(next_help_heading = "Scene cylinder")]
 pub struct CylinderArgs {
-    /// Start with the TBN debug lines on (key L)
-    #[arg(long)]
-    pub debug_lines: bool,
-
     /// How to draw the debug lines: the tutorial's immediate mode (needs --profile compat) or a line
     /// shader [default: immediate mode where the context allows it, else the shader, with a notice]
     /// (key M)
@@ -31,26 +26,6 @@ pub struct CylinderArgs {
     /// Colour view: lit, light, light01, eye, eye01, normal, normal01, optionally .x/.y/.z (keys V, C)
     #[arg(long, value_name = "NAME", default_value = "lit")]
     pub view: ColorView,
-
-    /// Exercise 1: normalize tangents and bitangents before summing them (key N)
-    #[arg(long)]
-    pub normalize_before_sum: bool,
-
-    /// Skip the Gram-Schmidt step of the tangent basis (key G)
-    #[arg(long)]
-    pub no_gram_schmidt: bool,
-
-    /// Skip the handedness fix of the tangent basis (key H)
-    #[arg(long)]
-    pub no_handedness: bool,
-
-    /// Constant specular colour 0.3 instead of the specular texture (key S)
-    #[arg(long)]
-    pub no_specular_texture: bool,
-
-    /// Normalize the camera-space T, B, N as the article's text does (key T)
-    #[arg(long)]
-    pub normalize_tbn: bool,
 
     /// Where the tangent frame comes from: the tutorial's computeTangentBasis + indexVBO_TBN,
     /// MikkTSpace, none (a per-pixel frame from screen-space derivatives), or a glTF model's own
@@ -72,14 +47,6 @@ pub struct CylinderArgs {
     /// With --compare: where the split line is, as a fraction of the width from the left
     #[arg(long, value_name = "F", default_value_t = SPLIT_START, value_parser = parse_fraction, requires = "compare")]
     pub split: f32,
-
-    /// Read normal-map bytes as c*255/127-128/127 (128 is exactly 0) instead of 2c-1 (key E)
-    #[arg(long)]
-    pub exact_expansion: bool,
-
-    /// The normal map holds x and y only; rebuild z = sqrt(1 - x² - y²) (key Z)
-    #[arg(long)]
-    pub two_channel: bool,
 
     /// Your own model instead of the tutorial's cylinder, scaled onto it: a glTF 2.0 file (.gltf,
     /// .glb) with its textures, or an OBJ with UVs and the maps its .mtl names (docs/model.md says
@@ -133,26 +100,16 @@ impl SceneArgs for CylinderArgs {
             return Err(format!("--strength {s}: must be a finite number"));
         }
         Ok(CylinderOptions {
-            mesh: MeshOptions {
-                tangents: TangentOptions {
-                    gram_schmidt: !self.no_gram_schmidt,
-                    handedness: !self.no_handedness,
-                },
-                indexing: IndexOptions {
-                    normalize_before_sum: self.normalize_before_sum,
-                },
-            },
+            // The toggles' flags (--debug-lines, --no-gram-schmidt, …) are the table's
+            // (controls.rs): they are set through it once the scene is built.
             switches: ShaderSwitches {
-                normalize_tbn: self.normalize_tbn,
-                specular_texture: !self.no_specular_texture,
                 view: self.view,
                 convention: NormalMapConvention {
                     green_down: shared.green == Green::Down,
-                    exact_expansion: self.exact_expansion,
-                    two_channel: self.two_channel,
+                    ..NormalMapConvention::default()
                 },
+                ..ShaderSwitches::default()
             },
-            debug_lines: self.debug_lines,
             line_mode: self.debug_lines_mode,
             tangents: self
                 .tangents
@@ -178,6 +135,8 @@ impl SceneArgs for CylinderArgs {
             light_power: shared.light_power,
             normal_strength: self.normal_strength,
             line_length: self.line_length,
+            mesh: MeshOptions::default(),
+            debug_lines: false,
         })
     }
 }

@@ -26,19 +26,15 @@ pub(super) fn flags_without_effect(options: &CylinderOptions) -> Vec<String> {
     if options.tangents.has_vertex_tangents() || options.compare.is_some() {
         return Vec::new();
     }
+    // The toggles' flags are the table's: set through it, each says so itself when it does
+    // nothing (see `scene_args` in descriptor.rs).
     let sw = options.switches;
-    let convention = sw.convention;
     let flags = [
         (
             sw.view != ColorView::default(),
             format!("--view {}", sw.view),
         ),
-        (!sw.specular_texture, "--no-specular-texture".into()),
-        (sw.normalize_tbn, "--normalize-tbn".into()),
-        (convention.green_down, "--green down".into()),
-        (convention.exact_expansion, "--exact-expansion".into()),
-        (convention.two_channel, "--two-channel".into()),
-        (options.debug_lines, "--debug-lines".into()),
+        (sw.convention.green_down, "--green down".into()),
     ];
     flags
         .into_iter()
@@ -183,6 +179,7 @@ pub(super) const CONTROLS: &[C] = &[
         |c| c.show_lines,
         Cylinder::set_show_lines,
     )
+    .flag("debug-lines", true, "Start with the TBN debug lines on")
     .in_title("lines")
     .inert_when(no_lines),
     C::choice(
@@ -235,30 +232,55 @@ pub(super) const CONTROLS: &[C] = &[
         "normalize before summing",
         "normalize tangents before summing them (exercise 1)",
         indexing.normalize_before_sum
+    )
+    .flag(
+        "normalize-before-sum",
+        true,
+        "Exercise 1: normalize tangents and bitangents before summing them",
     ),
     mesh_toggle!(
         'G',
         "Gram-Schmidt",
         "Gram-Schmidt on / off",
         tangents.gram_schmidt
+    )
+    .flag(
+        "no-gram-schmidt",
+        false,
+        "Skip the Gram-Schmidt step of the tangent basis",
     ),
     mesh_toggle!(
         'H',
         "handedness fix",
         "handedness fix on / off",
         tangents.handedness
+    )
+    .flag(
+        "no-handedness",
+        false,
+        "Skip the handedness fix of the tangent basis",
     ),
     shader_toggle!(
         'S',
         "specular texture",
         "specular texture / constant 0.3",
         specular_texture
+    )
+    .flag(
+        "no-specular-texture",
+        false,
+        "Constant specular colour 0.3 instead of the specular texture",
     ),
     shader_toggle!(
         'T',
         "normalized TBN (article)",
         "TBN as summed (repository shader) / normalized (article)",
         normalize_tbn
+    )
+    .flag(
+        "normalize-tbn",
+        true,
+        "Normalize the camera-space T, B, N as the article's text does",
     ),
     C::choice(
         'F',
@@ -313,12 +335,22 @@ pub(super) const CONTROLS: &[C] = &[
         "exact expansion",
         "normal map expansion 2c-1 / c*255/127-128/127 (exact 0 at 128)",
         convention.exact_expansion
+    )
+    .flag(
+        "exact-expansion",
+        true,
+        "Read normal-map bytes as c*255/127-128/127 (128 is exactly 0) instead of 2c-1",
     ),
     shader_toggle!(
         'Z',
         "two channels",
         "normal map of three channels / two (z rebuilt)",
         convention.two_channel
+    )
+    .flag(
+        "two-channel",
+        true,
+        "The normal map holds x and y only; rebuild z = sqrt(1 - x² - y²)",
     ),
     light_slider::<Cylinder, 0>(),
     light_slider::<Cylinder, 1>(),

@@ -230,6 +230,17 @@ impl SceneType for Cylinder {
         scene.start_with(&cylinder)?;
         Ok(scene)
     }
+
+    /// A model drawn with the tutorial's frame far from MikkTSpace's is warned of once its
+    /// toggles are set (`--normalize-tbn` undoes the stretch; `--no-gram-schmidt` changes the
+    /// mesh).
+    fn started(&mut self) {
+        if let (SoupSource::Model(model), TangentSource::Tutorial) =
+            (&self.mesh.soup, self.mesh.source)
+        {
+            warn_of_far_frame(model, &self.tutorial.mesh, self.switches.normalize_tbn);
+        }
+    }
 }
 
 impl Cylinder {
@@ -302,7 +313,6 @@ fn load_model_scene(
         TangentSource::Tutorial => {
             let tutorial = Tutorial13::from_soup(gl, shader_dir, &model.soup, cylinder.mesh, sets)?;
             say_merged_corners(&model, &tutorial.mesh);
-            warn_of_far_frame(&model, &tutorial.mesh, cylinder.switches.normalize_tbn);
             tutorial
         }
         // Another source's mesh straight away: the tutorial's would be built for

@@ -7,11 +7,7 @@ use super::SpriteOptions;
 
 #[derive(clap::Args, Debug, Clone)]
 #[command(next_help_heading = "Scene sprite")]
-pub struct SpriteArgs {
-    /// Measure the light's distance in the sprite's own pixels, not in window heights (key I)
-    #[arg(long)]
-    pub independent_falloff: bool,
-}
+pub struct SpriteArgs {}
 
 impl SceneArgs for SpriteArgs {
     type Options = SpriteOptions;
@@ -29,7 +25,8 @@ impl SceneArgs for SpriteArgs {
         Ok(SpriteOptions {
             light,
             flip_green: shared.green == Green::Down,
-            independent_falloff: self.independent_falloff,
+            // `--independent-falloff` is the table's (key I), set once the sprite is built.
+            independent_falloff: false,
         })
     }
 }

@@ -129,6 +129,11 @@ const CONTROLS: &[C] = &[
             sprite.independent_falloff = on;
             Ok(())
         },
+    )
+    .flag(
+        "independent-falloff",
+        true,
+        "Measure the light's distance in the sprite's own pixels, not in window heights",
     ),
     // The light's height (its x and y follow the mouse).
     C::slider(
