@@ -303,6 +303,12 @@ impl FrameClock {
         }
     }
 
+    /// Seconds since the clock started, now (the panel's clock: egui's animations and double
+    /// clicks).
+    pub fn seconds(&self) -> f64 {
+        self.started.elapsed().as_secs_f64()
+    }
+
     /// The last "ms/frame" figure (`None` in the first second).
     pub fn ms_per_frame(&self) -> Option<f64> {
         self.ms_per_frame

@@ -190,8 +190,6 @@ struct Running {
     panel_glue: Option<egui_winit::State>,
     /// Ctrl is held (Ctrl+P saves the window as shown, the panel with it).
     ctrl_held: bool,
-    /// When the window opened: the panel's clock (egui's animations and double clicks).
-    started: Instant,
     gl_window: GlWindow,
 }
 
@@ -202,13 +200,13 @@ fn take_panel_input(
     state: &mut egui_winit::State,
     window: &winit::window::Window,
     (width, height): (u32, u32),
-    started: Instant,
+    seconds: f64,
 ) -> egui::RawInput {
     let pixels = egui::vec2(width as f32, height as f32);
     // winit keeps the scale factor; reading it asks the server nothing.
     let points = pixels / egui_winit::pixels_per_point(state.egui_ctx(), window);
     let input = state.egui_input_mut();
-    input.time = Some(started.elapsed().as_secs_f64());
+    input.time = Some(seconds);
     input.screen_rect = Some(egui::Rect::from_min_size(egui::Pos2::ZERO, points));
     input.viewport_id = egui::ViewportId::ROOT;
     let viewport = input.viewports.entry(egui::ViewportId::ROOT).or_default();
@@ -243,7 +241,6 @@ impl Running {
             grab: CursorGrab::default(),
             panel_glue,
             ctrl_held: false,
-            started: Instant::now(),
             gl_window,
         };
         // With the panel shown the cursor starts free, so that the panel can be clicked; a click on
@@ -265,7 +262,8 @@ impl Running {
             return;
         };
         let window = &self.gl_window.window;
-        let input = take_panel_input(state, window, host.size(), self.started);
+        let seconds = host.clock.seconds();
+        let input = take_panel_input(state, window, host.size(), seconds);
         let platform = host.draw_panel(input);
         // The cursor's shape is egui's only while it is free (a grabbed cursor stays hidden).
         if let (Some(platform), false) = (platform, self.grab.grabbed()) {
