@@ -43,28 +43,13 @@ impl Default for HeadlessOptions {
 }
 
 /// A ready-to-draw headless set-up: context, target, and the [`SceneHost`] with the scene and its
-/// camera at the start. It derefs to the host (it has no methods of the host's names), so that
-/// tests and tools reach the scene, its camera, the cursor and the panel as the window's own front
-/// end does.
+/// camera at the start. Tests and tools reach the scene, its camera, the cursor and the panel
+/// through [`HeadlessRenderer::host`], as the window's own front end does.
 pub struct HeadlessRenderer {
     // Field order is drop order: GL objects go before the context that owns them.
     pub host: SceneHost,
     pub target: OffscreenTarget,
     pub context: HeadlessContext,
-}
-
-impl std::ops::Deref for HeadlessRenderer {
-    type Target = SceneHost;
-
-    fn deref(&self) -> &SceneHost {
-        &self.host
-    }
-}
-
-impl std::ops::DerefMut for HeadlessRenderer {
-    fn deref_mut(&mut self) -> &mut SceneHost {
-        &mut self.host
-    }
 }
 
 impl HeadlessRenderer {

@@ -159,7 +159,7 @@ fn run_headless(options: &RunOptions, scene: SceneOptions) -> Result<()> {
     })?;
     log::info!("{}", renderer.context.info());
     if options.panel {
-        renderer.show_panel()?;
+        renderer.host.show_panel()?;
     }
     if let Some(k) = options.bench {
         let times = renderer.bench(k)?;

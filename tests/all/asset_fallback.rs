@@ -123,7 +123,7 @@ fn enter_steps_through_every_scene_from_the_tutorials_four_files() {
     for round in 0..2 {
         for i in (1..=SCENES.len()).map(|i| i % SCENES.len()) {
             let scene = SCENES[i];
-            renderer.switch_scene(scene).unwrap();
+            renderer.host.switch_scene(scene).unwrap();
             let frame = common::frame(&mut renderer);
             let from_crate = usize::from(scene.name != "cylinder");
             assert_eq!(

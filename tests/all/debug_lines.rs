@@ -53,8 +53,8 @@ fn frame(r: &mut HeadlessRenderer, lines: Option<&DebugLines>) -> RgbaImage {
     r.render();
     if let Some(lines) = lines {
         lines.draw(
-            r.controls.projection_matrix(),
-            r.controls.view_matrix(),
+            r.host.controls.projection_matrix(),
+            r.host.controls.view_matrix(),
             r.scene_ref::<Cylinder>().tutorial.model_matrix,
         );
     }
@@ -72,8 +72,8 @@ fn rgb(image: &RgbaImage) -> RgbImage {
 /// normals and tangents do not all fall on one row as they do from the tutorial's camera (which has
 /// the bottom rim edge-on).
 fn look_from_above(r: &mut HeadlessRenderer) {
-    r.controls.position = Vec3::new(0.0, 3.5, 5.0);
-    r.controls.vertical_angle = (-2.5f32).atan2(5.0);
+    r.host.controls.position = Vec3::new(0.0, 3.5, 5.0);
+    r.host.controls.vertical_angle = (-2.5f32).atan2(5.0);
 }
 
 /// One line as the tutorial computes it, independently of the crate's code.
@@ -182,9 +182,9 @@ impl LineCheck {
 /// from the top rim lies in the surface and z-fights with it).
 fn check_lines(r: &HeadlessRenderer, with: &RgbImage, without: &RgbImage) -> LineCheck {
     let mesh = &r.scene_ref::<Cylinder>().tutorial.mesh;
-    let camera = r.controls.position;
-    let mvp = r.controls.projection_matrix()
-        * r.controls.view_matrix()
+    let camera = r.host.controls.position;
+    let mvp = r.host.controls.projection_matrix()
+        * r.host.controls.view_matrix()
         * r.scene_ref::<Cylinder>().tutorial.model_matrix;
     let radius = mesh
         .vertices
@@ -596,8 +596,8 @@ fn lines_leave_the_state_and_the_next_frame_as_they_found_them() {
         );
         assert!(before.program.is_some() && before.vertex_array.is_some());
         lines.draw(
-            r.controls.projection_matrix(),
-            r.controls.view_matrix(),
+            r.host.controls.projection_matrix(),
+            r.host.controls.view_matrix(),
             r.scene_ref::<Cylinder>().tutorial.model_matrix,
         );
         assert_eq!(state(&r), before, "{mode:?}");

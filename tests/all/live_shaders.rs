@@ -59,7 +59,7 @@ fn saved_shader_shows_in_the_next_frame_and_a_broken_one_changes_nothing() {
     let last_brace = good.rfind('}').expect("a closing brace");
     let halved = format!("{}    color *= 0.5;\n}}\n", &good[..last_brace]);
     write(&fragment, &halved);
-    r.reload_shaders().expect("the edited shader compiles");
+    r.host.reload_shaders().expect("the edited shader compiles");
     let edited = frame(&mut r);
     let (differing, _, _) = pixel_diff(&first, &edited);
     let (before, after) = (mean_brightness(&first), mean_brightness(&edited));
@@ -70,6 +70,7 @@ fn saved_shader_shows_in_the_next_frame_and_a_broken_one_changes_nothing() {
     // A typo: the error names the file and carries the driver's log; the frame stays the edited one.
     write(&fragment, &halved.replace("color *= 0.5;", "color *= 0.5"));
     let error = r
+        .host
         .reload_shaders()
         .expect_err("a shader with a syntax error")
         .to_string();
@@ -85,7 +86,7 @@ fn saved_shader_shows_in_the_next_frame_and_a_broken_one_changes_nothing() {
 
     // Saved back as it was: the first frame again, bit for bit.
     write(&fragment, &good);
-    r.reload_shaders().expect("the original compiles");
+    r.host.reload_shaders().expect("the original compiles");
     assert!(
         frame(&mut r) == first,
         "the original shader does not give the first frame back"
@@ -117,7 +118,9 @@ fn every_program_reloads_and_a_failure_keeps_them_all() {
             &good_lines[..end]
         ),
     );
-    r.reload_shaders().expect("the edited line shader compiles");
+    r.host
+        .reload_shaders()
+        .expect("the edited line shader compiles");
     let yellow = frame(&mut r);
     let yellow_pixels = yellow.pixels().filter(|p| p.0 == [255, 255, 0]).count();
     assert!(
@@ -129,7 +132,7 @@ fn every_program_reloads_and_a_failure_keeps_them_all() {
     let fragment = dir.join(FRAGMENT);
     write(&fragment, "#version 330 core\nvoid main() { nonsense }\n");
     write(&lines_fragment, &good_lines);
-    assert!(r.reload_shaders().is_err());
+    assert!(r.host.reload_shaders().is_err());
     assert!(
         frame(&mut r) == yellow,
         "a failed reload changed some program"
@@ -140,7 +143,7 @@ fn every_program_reloads_and_a_failure_keeps_them_all() {
         &fragment,
         &std::fs::read_to_string(crate_shader_dir().join(FRAGMENT)).unwrap(),
     );
-    r.reload_shaders().unwrap();
+    r.host.reload_shaders().unwrap();
     assert!(frame(&mut r) == with_lines);
 }
 
@@ -160,6 +163,7 @@ fn a_misspelt_uniform_is_refused_and_an_unused_one_is_not() {
     write(&vertex, &good.replace("MV3x3", "MV3X3"));
     write(&fragment, &good_fragment.replace("MV3x3", "MV3X3"));
     let error = r
+        .host
         .reload_shaders()
         .expect_err("a misspelt uniform is refused");
     let message = error.to_string();
@@ -175,7 +179,8 @@ fn a_misspelt_uniform_is_refused_and_an_unused_one_is_not() {
     let at_camera = good.replace("(V * vec4(LightPosition_worldspace, 1.0)).xyz", "vec3(0.0)");
     assert_ne!(at_camera, good, "the edit found its line");
     write(&vertex, &at_camera);
-    r.reload_shaders()
+    r.host
+        .reload_shaders()
         .expect("a declared but unused uniform is not an error");
     assert!(frame(&mut r) != first, "the edit did not show");
 }

@@ -557,7 +557,7 @@ fn a_dropped_obj_opens_as_the_model() {
     let options = common::options(common::own_assets(), Profile::Core);
     let mut renderer = HeadlessRenderer::new(&options).unwrap();
     let tutorial = renderer.render_frames(1).unwrap();
-    let e = renderer.open_file(&dir.join("notes.txt")).unwrap_err();
+    let e = renderer.host.open_file(&dir.join("notes.txt")).unwrap_err();
     assert!(e.to_string().contains("notes.txt"), "{e}");
     assert_eq!(
         common::differing_pixels(
@@ -566,7 +566,7 @@ fn a_dropped_obj_opens_as_the_model() {
         ),
         0
     );
-    renderer.open_file(&obj).unwrap();
+    renderer.host.open_file(&obj).unwrap();
     let dropped = common::rgb(renderer.render_frames(1).unwrap());
     assert_eq!(common::differing_pixels(&dropped, &expected), 0);
 }
@@ -668,8 +668,8 @@ fn a_models_light_lands_where_it_is_put() {
         let mut renderer = common::renderer(&options);
         let frame = common::frame(&mut renderer);
         let (view, projection) = (
-            renderer.controls.view_matrix(),
-            renderer.controls.projection_matrix(),
+            renderer.host.controls.view_matrix(),
+            renderer.host.controls.projection_matrix(),
         );
         drop(renderer);
         let foot = model.placement.to_world(Vec3::new(light.x, light.y, 0.0));

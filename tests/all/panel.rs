@@ -25,7 +25,7 @@ fn click(renderer: &mut HeadlessRenderer, widget: PanelWidget) {
 }
 
 fn click_at(renderer: &mut HeadlessRenderer, pos: egui::Pos2) {
-    renderer.panel_event(egui::Event::PointerMoved(pos));
+    renderer.host.panel_event(egui::Event::PointerMoved(pos));
     renderer.render();
     let button = |pressed| egui::Event::PointerButton {
         pos,
@@ -34,14 +34,14 @@ fn click_at(renderer: &mut HeadlessRenderer, pos: egui::Pos2) {
         modifiers: Default::default(),
     };
     for pressed in [true, false] {
-        renderer.panel_event(button(pressed));
+        renderer.host.panel_event(button(pressed));
         renderer.render();
     }
 }
 
 /// The scene's sliders, in its table's order.
 fn sliders(renderer: &HeadlessRenderer) -> Vec<ControlState> {
-    let controls = renderer.scene.controls().into_iter();
+    let controls = renderer.host.scene.controls().into_iter();
     controls
         .filter(|c| matches!(c.value, ControlValue::Slider { .. }))
         .collect()
@@ -56,7 +56,7 @@ fn value_and_start(slider: &ControlState) -> (f32, f32) {
 }
 
 fn panel_rect_of(renderer: &HeadlessRenderer, widget: &PanelWidget) -> egui::Rect {
-    let panel = renderer.panel().expect("the panel is shown");
+    let panel = renderer.host.panel().expect("the panel is shown");
     panel
         .widget_rect(widget)
         .unwrap_or_else(|| panic!("the panel shows no {widget:?}"))
@@ -71,9 +71,9 @@ fn the_panel_changes_only_its_own_rectangle() {
     for scene in SCENES {
         let mut renderer = renderer_for(scene);
         let plain = frame(&mut renderer);
-        renderer.show_panel().unwrap();
+        renderer.host.show_panel().unwrap();
         let with_panel = frame(&mut renderer);
-        let rect = renderer.panel().unwrap().rect().expect("laid out");
+        let rect = renderer.host.panel().unwrap().rect().expect("laid out");
         assert!(
             rect.width() > 200.0 && rect.height() >= 767.0,
             "{scene}: {rect:?}"
@@ -101,7 +101,11 @@ fn the_panel_changes_only_its_own_rectangle() {
         // window's byte order, as the window keeps it (a cache stored unflipped would show here).
         for window_order in [false, true] {
             if window_order {
-                renderer.panel_mut().unwrap().store_cache_like_a_window();
+                renderer
+                    .host
+                    .panel_mut()
+                    .unwrap()
+                    .store_cache_like_a_window();
             }
             for n in 2..4 {
                 assert!(
@@ -110,13 +114,13 @@ fn the_panel_changes_only_its_own_rectangle() {
                 );
             }
         }
-        renderer.panel_mut().unwrap().paint_every_frame = true;
+        renderer.host.panel_mut().unwrap().paint_every_frame = true;
         assert!(
             frame(&mut renderer) == with_panel,
             "{scene}: painted again, it differs"
         );
         // Painting the panel leaves no state that changes the next frame of the scene.
-        renderer.set_panel_shown(false);
+        renderer.host.set_panel_shown(false);
         assert!(
             frame(&mut renderer) == plain,
             "{scene}: the frame after the panel differs"
@@ -139,6 +143,7 @@ fn the_panel_lists_the_scene_keys_and_their_switches_follow_them() {
 
         let mut renderer = renderer_for(scene);
         let switches: Vec<ControlState> = renderer
+            .host
             .scene
             .controls()
             .into_iter()
@@ -165,9 +170,9 @@ fn the_panel_lists_the_scene_keys_and_their_switches_follow_them() {
                     continue; // nothing to step to in this context
                 }
             }
-            assert!(renderer.scene.key(key).unwrap());
+            assert!(renderer.host.scene.key(key).unwrap());
             // One that does nothing in this state says why (the panel greys it).
-            let now = &renderer.scene.controls()[switch.index];
+            let now = &renderer.host.scene.controls()[switch.index];
             if now.inert.is_some() && now.value == switch.value {
                 renderer.render_frames(1).unwrap();
                 continue;
@@ -187,16 +192,16 @@ fn the_panel_lists_the_scene_keys_and_their_switches_follow_them() {
 fn clicking_a_checkbox_does_what_its_key_does() {
     let scene = tutorial13::scenes::default_scene();
     let mut pressed = renderer_for(scene);
-    pressed.scene.key('L').unwrap();
+    pressed.host.scene.key('L').unwrap();
     let expected = frame(&mut pressed);
 
     let mut clicked = renderer_for(scene);
     let start = frame(&mut clicked);
-    clicked.show_panel().unwrap();
+    clicked.host.show_panel().unwrap();
     frame(&mut clicked);
     click(&mut clicked, PanelWidget::Key('L'));
-    assert_eq!(clicked.scene.status(), pressed.scene.status());
-    clicked.set_panel_shown(false);
+    assert_eq!(clicked.host.scene.status(), pressed.host.scene.status());
+    clicked.host.set_panel_shown(false);
     let after = frame(&mut clicked);
     assert!(after == expected, "the click did not draw the key's frame");
     assert!(after != start, "the lines did not appear");
@@ -207,13 +212,13 @@ fn clicking_a_checkbox_does_what_its_key_does() {
 #[test]
 fn a_choice_sets_its_value_and_the_panel_names_the_program() {
     let mut renderer = renderer_for(tutorial13::scenes::default_scene());
-    let program = |r: &HeadlessRenderer| r.scene.drawing_programs()[0].name.clone();
+    let program = |r: &HeadlessRenderer| r.host.scene.drawing_programs()[0].name.clone();
     assert!(
         program(&renderer).starts_with("NormalMapping "),
         "{}",
         program(&renderer)
     );
-    renderer.show_panel().unwrap();
+    renderer.host.show_panel().unwrap();
     frame(&mut renderer);
     // The combo box opens on a click; its choices are then listed below it, one row each.
     let combo = panel_rect_of(&renderer, &PanelWidget::Key('V'));
@@ -222,7 +227,7 @@ fn a_choice_sets_its_value_and_the_panel_names_the_program() {
         click(&mut renderer, PanelWidget::Key('V'));
         let below = combo.center_bottom() + egui::vec2(0.0, dy as f32);
         click_at(&mut renderer, below);
-        if renderer.scene.status().contains("view normal01") {
+        if renderer.host.scene.status().contains("view normal01") {
             chosen = true;
             break;
         }
@@ -230,9 +235,9 @@ fn a_choice_sets_its_value_and_the_panel_names_the_program() {
     assert!(
         chosen,
         "no click chose normal01: {}",
-        renderer.scene.status()
+        renderer.host.scene.status()
     );
-    let drawing = &renderer.scene.drawing_programs()[0];
+    let drawing = &renderer.host.scene.drawing_programs()[0];
     assert!(
         drawing.name.starts_with("NormalMappingDebug"),
         "{}",
@@ -252,34 +257,38 @@ fn a_slider_moves_the_light_and_the_tutorials_values_bring_the_first_frame_back(
     for scene in SCENES {
         let mut renderer = renderer_for(scene);
         let first = frame(&mut renderer);
-        let first_programs = renderer.scene.drawing_programs();
-        renderer.show_panel().unwrap();
+        let first_programs = renderer.host.scene.drawing_programs();
+        renderer.host.show_panel().unwrap();
         frame(&mut renderer);
         let first_slider = sliders(&renderer)[0].clone();
         let (name, index) = (first_slider.label, first_slider.index);
         let slider = panel_rect_of(&renderer, &PanelWidget::Slider(index));
         // Near the left end of the rail (the widget's first 100 points).
         click_at(&mut renderer, slider.left_center() + egui::vec2(12.0, 0.0));
-        let (value, start) = value_and_start(&renderer.scene.controls()[index]);
+        let (value, start) = value_and_start(&renderer.host.scene.controls()[index]);
         assert_ne!(value, start, "{scene}: the {name} slider did not move");
-        renderer.set_panel_shown(false);
+        renderer.host.set_panel_shown(false);
         assert!(
             frame(&mut renderer) != first,
             "{scene}: moving {name} changed nothing"
         );
-        renderer.set_panel_shown(true);
+        renderer.host.set_panel_shown(true);
         frame(&mut renderer);
         click(&mut renderer, PanelWidget::StartValues);
         for slider in sliders(&renderer) {
             let (value, start) = value_and_start(&slider);
             assert_eq!(value, start, "{scene}: {}", slider.label);
         }
-        renderer.set_panel_shown(false);
+        renderer.host.set_panel_shown(false);
         assert!(
             frame(&mut renderer) == first,
             "{scene}: not the first frame again"
         );
-        assert_eq!(renderer.scene.drawing_programs(), first_programs, "{scene}");
+        assert_eq!(
+            renderer.host.scene.drawing_programs(),
+            first_programs,
+            "{scene}"
+        );
     }
 }
 
@@ -290,21 +299,23 @@ fn a_slider_moves_the_light_and_the_tutorials_values_bring_the_first_frame_back(
 fn the_cylinders_sliders_each_change_the_frame() {
     let options = HeadlessOptions::default();
     let mut renderer = common::renderer(&options);
-    renderer.scene.key('L').unwrap();
+    renderer.host.scene.key('L').unwrap();
     let first = frame(&mut renderer);
     for (name, value) in [
         ("light power", 80.0),
         ("normal strength", 0.0),
         ("TBN line length", 0.3),
     ] {
-        let index = renderer.scene.control_index(name).unwrap();
+        let index = renderer.host.scene.control_index(name).unwrap();
         renderer
+            .host
             .scene
             .set_control(index, SetTo::Slider(value))
             .unwrap();
         let moved = frame(&mut renderer);
         assert!(common::differing_pixels(&moved, &first) > 1000, "{name}");
         let names: Vec<String> = renderer
+            .host
             .scene
             .drawing_programs()
             .into_iter()
@@ -312,8 +323,9 @@ fn the_cylinders_sliders_each_change_the_frame() {
             .collect();
         let debug = names[0].starts_with("NormalMappingDebug");
         assert_eq!(debug, name != "TBN line length", "{name}: {names:?}");
-        let (_, start) = value_and_start(&renderer.scene.controls()[index]);
+        let (_, start) = value_and_start(&renderer.host.scene.controls()[index]);
         renderer
+            .host
             .scene
             .set_control(index, SetTo::Slider(start))
             .unwrap();
@@ -413,13 +425,14 @@ fn each_slider_gives_the_frame_of_its_flag() {
 
             let mut moved = renderer_with_flags(scene, &needs);
             let before = frame(&mut moved);
-            let index = moved.scene.control_index(label).unwrap();
+            let index = moved.host.scene.control_index(label).unwrap();
             assert_eq!(
-                moved.scene.controls()[index].inert,
+                moved.host.scene.controls()[index].inert,
                 None,
                 "{scene}: {label}"
             );
             moved
+                .host
                 .scene
                 .set_control(index, SetTo::Slider(value))
                 .unwrap();
@@ -433,7 +446,7 @@ fn each_slider_gives_the_frame_of_its_flag() {
             let mut args = needs.clone();
             args.extend(flag.iter().cloned());
             let mut flagged = renderer_with_flags(scene, &args);
-            let shown = value_and_start(&flagged.scene.controls()[index]).0;
+            let shown = value_and_start(&flagged.host.scene.controls()[index]).0;
             assert_eq!(shown, value, "{scene} {args:?}: the {label} slider");
             assert!(
                 frame(&mut flagged) == moved_frame,

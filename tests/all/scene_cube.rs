@@ -113,10 +113,10 @@ fn assert_all_equal(
 #[test]
 fn normal_mapping_off_and_on_differ_on_lit_faces() {
     let mut renderer = renderer(&cube_options(own_assets()));
-    assert_eq!(renderer.scene.short_status(), "normal mapping on");
+    assert_eq!(renderer.host.scene.short_status(), "normal mapping on");
     let on = frame(&mut renderer);
-    assert!(renderer.scene.key('N').unwrap(), "N is the cube's key");
-    assert_eq!(renderer.scene.short_status(), "normal mapping off");
+    assert!(renderer.host.scene.key('N').unwrap(), "N is the cube's key");
+    assert_eq!(renderer.host.scene.short_status(), "normal mapping off");
     let off = frame(&mut renderer);
 
     for (face, name) in [(FRONT, "front"), (TOP, "top")] {
@@ -147,7 +147,7 @@ fn normal_mapping_off_and_on_differ_on_lit_faces() {
         .get_mut::<tutorial13::scenes::cube::CubeOptions>()
         .normal_mapping = false;
     let mut second = common::renderer(&flag_off);
-    assert_eq!(second.scene.short_status(), "normal mapping off");
+    assert_eq!(second.host.scene.short_status(), "normal mapping off");
     assert!(
         frame(&mut second) == off,
         "--no-normal-map differs from pressing N"
@@ -337,6 +337,7 @@ fn shader_reload_is_all_or_nothing() {
     let mut renderer = renderer(&options);
     let first = frame(&mut renderer);
     assert!(renderer
+        .host
         .scene
         .shader_files()
         .iter()
@@ -350,6 +351,7 @@ fn shader_reload_is_all_or_nothing() {
     )
     .unwrap();
     let error = renderer
+        .host
         .reload_shaders()
         .expect_err("a broken shader is refused")
         .to_string();
@@ -364,7 +366,7 @@ fn shader_reload_is_all_or_nothing() {
         good.replace("color.a = 1.0;", "color = vec4(1.0);"),
     )
     .unwrap();
-    renderer.reload_shaders().unwrap();
+    renderer.host.reload_shaders().unwrap();
     let white = frame(&mut renderer);
     let (x, y) = pixel_of(face_point(model_matrix(), FRONT, 0.0, 0.0));
     assert_eq!(white.get_pixel(x, y).0, [255; 3], "the edit did not show");

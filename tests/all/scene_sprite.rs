@@ -340,12 +340,12 @@ fn green_flip_equals_an_inverted_green_channel() {
 
     let mut renderer = sprite_renderer(None, light, (1024, 768));
     let as_made = frame(&mut renderer);
-    assert!(renderer.scene.key('Y').unwrap(), "Y is the flip key");
+    assert!(renderer.host.scene.key('Y').unwrap(), "Y is the flip key");
     assert!(renderer.scene_ref::<Sprite>().flip_green);
     assert!(
-        renderer.scene.status().contains("green flipped on"),
+        renderer.host.scene.status().contains("green flipped on"),
         "{}",
-        renderer.scene.status()
+        renderer.host.scene.status()
     );
     let flipped = frame(&mut renderer);
     let from_file = frame(&mut sprite_renderer(Some(assets), light, (1024, 768)));
@@ -468,12 +468,13 @@ fn the_light_follows_the_cursor_wheel_and_click() {
     let first = frame(&mut renderer);
     assert_eq!(renderer.scene_ref::<Sprite>().light, start);
     assert!(renderer
+        .host
         .scene
         .status()
         .contains("light (0.200, 0.700, 0.100)"));
 
     let pointer = Vec2::new(700.0, 200.0);
-    renderer.cursor = Some(pointer);
+    renderer.host.cursor = Some(pointer);
     for _ in 0..2 {
         assert_eq!(
             frame(&mut renderer),
@@ -482,38 +483,38 @@ fn the_light_follows_the_cursor_wheel_and_click() {
         );
     }
     let moved = Vec2::new(701.0, 200.0);
-    renderer.cursor = Some(moved);
+    renderer.host.cursor = Some(moved);
     frame(&mut renderer);
     let sprite = renderer.scene_ref::<Sprite>();
     assert!(sprite.following());
     let expected = cursor_to_light(moved, (1024, 768));
     assert_eq!(sprite.light, expected.extend(start.z));
     assert!(expected.abs_diff_eq(Vec2::new(701.5 / 1024.0, 567.5 / 768.0), 1e-6));
-    assert!(renderer.scene.status().contains("on the mouse"));
+    assert!(renderer.host.scene.status().contains("on the mouse"));
 
-    renderer.cursor = None;
+    renderer.host.cursor = None;
     frame(&mut renderer);
     assert_eq!(
         renderer.scene_ref::<Sprite>().light,
         expected.extend(start.z)
     );
 
-    renderer.scene.scroll(3.0);
+    renderer.host.scene.scroll(3.0);
     let z = renderer.scene_ref::<Sprite>().light.z;
     println!("z after 3 notches up from 0.1: {z}");
     assert!((z - 0.13).abs() < 1e-6, "{z}");
-    renderer.scene.scroll(-1000.0);
+    renderer.host.scene.scroll(-1000.0);
     assert_eq!(renderer.scene_ref::<Sprite>().light.z, Z_MIN);
-    renderer.scene.scroll(f32::NAN);
+    renderer.host.scene.scroll(f32::NAN);
     assert_eq!(renderer.scene_ref::<Sprite>().light.z, Z_MIN);
-    renderer.scene.scroll(1000.0);
+    renderer.host.scene.scroll(1000.0);
     assert_eq!(renderer.scene_ref::<Sprite>().light.z, Z_MAX);
-    renderer.scene.click();
+    renderer.host.scene.click();
     assert_eq!(renderer.scene_ref::<Sprite>().light.z, DEFAULT_LIGHT_Z);
     assert!(
-        renderer.scene.status().contains(", 0.075)"),
+        renderer.host.scene.status().contains(", 0.075)"),
         "{}",
-        renderer.scene.status()
+        renderer.host.scene.status()
     );
 }
 

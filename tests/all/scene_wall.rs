@@ -44,9 +44,9 @@ fn flat_assets(name: &str, diffuse: [u8; 3]) -> PathBuf {
 fn render_from(assets: &Path, space: LightingSpace, oblique: bool) -> RgbImage {
     let mut r = renderer(&options(assets.to_path_buf(), space));
     if oblique {
-        r.controls.position = Vec3::new(3.0, 1.5, 3.0);
-        r.controls.horizontal_angle = 3.927;
-        r.controls.vertical_angle = -0.3398;
+        r.host.controls.position = Vec3::new(3.0, 1.5, 3.0);
+        r.host.controls.horizontal_angle = 3.927;
+        r.host.controls.vertical_angle = -0.3398;
     }
     frame(&mut r)
 }

@@ -50,10 +50,13 @@ fn switching_scenes_leaks_no_gl_objects() {
         );
         // Enter, as the window's: the host builds the next scene.
         for _ in 0..3 * SCENES.len() {
-            renderer.next_scene().unwrap();
+            renderer.host.next_scene().unwrap();
             renderer.render_frames(1).unwrap();
         }
-        assert_eq!(renderer.descriptor(), tutorial13::scenes::default_scene());
+        assert_eq!(
+            renderer.host.descriptor(),
+            tutorial13::scenes::default_scene()
+        );
         assert_eq!(live_objects(renderer.context.gl()), before, "{profile}");
         assert!(
             renderer.render_frames(1).unwrap() == first,
@@ -91,7 +94,7 @@ fn every_scene_draws_the_same_after_any_other() {
             for (&b, alone) in SCENES.iter().zip(&alone).filter(|(&b, _)| b != a) {
                 let mut renderer = HeadlessRenderer::new(&options(a)).unwrap();
                 renderer.render_frames(1).unwrap();
-                renderer.switch_scene(b).unwrap();
+                renderer.host.switch_scene(b).unwrap();
                 let after = renderer.render_frames(1).unwrap();
                 let differ = after
                     .pixels()

@@ -21,7 +21,7 @@ fn the_key_list_is_the_tables() {
             descriptor: scene,
             ..Default::default()
         });
-        let controls = renderer.scene.controls();
+        let controls = renderer.host.scene.controls();
         let keyed: Vec<(char, &str)> = controls
             .iter()
             .filter_map(|c| Some((c.key?, c.help)))
@@ -36,9 +36,9 @@ fn the_key_list_is_the_tables() {
             );
             // The key reaches its control: a switch's state follows it.
             let index = controls.iter().position(|c| c.key == Some(key)).unwrap();
-            let before = renderer.scene.controls()[index].value.clone();
-            assert!(renderer.scene.key(key.to_ascii_lowercase()).unwrap());
-            let after = renderer.scene.controls()[index].value.clone();
+            let before = renderer.host.scene.controls()[index].value.clone();
+            assert!(renderer.host.scene.key(key.to_ascii_lowercase()).unwrap());
+            let after = renderer.host.scene.controls()[index].value.clone();
             if let ControlValue::Toggle(on) = before {
                 assert_eq!(after, ControlValue::Toggle(!on), "{scene}: {key}");
             }
@@ -64,13 +64,13 @@ fn the_status_line_is_the_tables() {
         let scene = options.descriptor;
         let mut renderer = renderer(&options);
         for round in 0..2 {
-            let controls = renderer.scene.controls();
+            let controls = renderer.host.scene.controls();
             let expected: Vec<String> = controls
                 .iter()
                 .filter(|c| c.inert.is_none() && c.value != ControlValue::Press)
                 .map(|c| format!("{} {}", c.label, c.value.shown()))
                 .collect();
-            let status = renderer.scene.status();
+            let status = renderer.host.scene.status();
             let expected = expected.join(" | ");
             assert!(
                 status.starts_with(&expected),
@@ -102,11 +102,15 @@ fn the_status_line_is_the_tables() {
                 };
                 let index = toggle.index;
                 renderer
+                    .host
                     .scene
                     .set_control(index, SetTo::Toggle(!on))
                     .unwrap();
                 let shown = format!("{} {}", toggle.label, if on { "off" } else { "on" });
-                assert!(renderer.scene.status().contains(&shown), "{scene}: {shown}");
+                assert!(
+                    renderer.host.scene.status().contains(&shown),
+                    "{scene}: {shown}"
+                );
             }
         }
     }
@@ -118,7 +122,7 @@ fn the_status_line_is_the_tables() {
 #[test]
 fn choosing_a_tangent_frame_on_the_panel_builds_only_its_mesh() {
     let mut renderer = renderer(&HeadlessOptions::default());
-    renderer.show_panel().unwrap();
+    renderer.host.show_panel().unwrap();
     frame(&mut renderer);
     click(&mut renderer, PanelWidget::Key('F'));
     // The list is open: its third row is "derivative".
@@ -127,24 +131,24 @@ fn choosing_a_tangent_frame_on_the_panel_builds_only_its_mesh() {
     assert_eq!(cylinder.tangent_source(), TangentSource::Derivative);
     assert_eq!(cylinder.meshes_built(), [TangentSource::Derivative]);
     // The same through the table, from the per-pixel frame back to the tutorial's.
-    let f = renderer.scene.control_index("tangent frame").unwrap();
+    let f = renderer.host.scene.control_index("tangent frame").unwrap();
     let to = SetTo::Choice("tutorial".into());
-    renderer.scene.set_control(f, to).unwrap();
+    renderer.host.scene.set_control(f, to).unwrap();
     let built = renderer.scene_ref::<Cylinder>().meshes_built().to_vec();
     assert_eq!(built, [TangentSource::Derivative, TangentSource::Tutorial]);
 }
 
 /// A left click at the centre of `widget` over three frames (move, press, release).
 fn click(renderer: &mut HeadlessRenderer, widget: PanelWidget) {
-    let panel = renderer.panel().expect("the panel is shown");
+    let panel = renderer.host.panel().expect("the panel is shown");
     let pos = panel
         .widget_rect(&widget)
         .unwrap_or_else(|| panic!("the panel shows no {widget:?}"))
         .center();
-    renderer.panel_event(egui::Event::PointerMoved(pos));
+    renderer.host.panel_event(egui::Event::PointerMoved(pos));
     renderer.render_frames(1).unwrap();
     for pressed in [true, false] {
-        renderer.panel_event(egui::Event::PointerButton {
+        renderer.host.panel_event(egui::Event::PointerButton {
             pos,
             button: egui::PointerButton::Primary,
             pressed,
@@ -166,7 +170,7 @@ fn derivative_options(set: impl FnOnce(&mut CylinderOptions)) -> HeadlessOptions
 fn inert_controls(
     renderer: &HeadlessRenderer,
 ) -> impl Iterator<Item = (Option<char>, &'static str)> {
-    let controls = renderer.scene.controls();
+    let controls = renderer.host.scene.controls();
     controls
         .into_iter()
         .filter(|c| c.inert.is_some())
@@ -189,11 +193,11 @@ fn the_per_pixel_frame_says_which_switches_do_nothing() {
         inert,
         ['L', 'M', 'V', 'C', 'S', 'T', 'A', 'D', 'Y', 'E', 'Z'],
         "{:?}",
-        renderer.scene.controls()
+        renderer.host.scene.controls()
     );
-    let title = renderer.scene.short_status();
+    let title = renderer.host.scene.short_status();
     assert_eq!(title, "tangents derivative");
-    let status = renderer.scene.status();
+    let status = renderer.host.scene.status();
     for claim in [
         "colour view",
         "TBN debug lines",
@@ -206,14 +210,14 @@ fn the_per_pixel_frame_says_which_switches_do_nothing() {
         assert!(!status.contains(claim), "{claim}: {status}");
     }
     for key in ['V', 'C', 'S', 'T', 'Y', 'E', 'Z', 'L'] {
-        assert!(renderer.scene.key(key).unwrap(), "{key}");
+        assert!(renderer.host.scene.key(key).unwrap(), "{key}");
         assert!(frame(&mut renderer) == plain, "{key} changed the frame");
-        assert_eq!(renderer.scene.short_status(), title, "{key}");
+        assert_eq!(renderer.host.scene.short_status(), title, "{key}");
     }
     // The tutorial's frame: all of them apply (the title names view and lines again).
-    let f = renderer.scene.control_index("tangent frame").unwrap();
+    let f = renderer.host.scene.control_index("tangent frame").unwrap();
     let to = SetTo::Choice("tutorial".into());
-    renderer.scene.set_control(f, to).unwrap();
+    renderer.host.scene.set_control(f, to).unwrap();
     // Only those that need another state: immediate mode (none in a core context) and the compare
     // view's split line (the view is off); the lines are on (L above), so their length applies.
     let inert: Vec<&str> = inert_controls(&renderer).map(|(_, label)| label).collect();
@@ -226,7 +230,7 @@ fn the_per_pixel_frame_says_which_switches_do_nothing() {
             "compare split"
         ]
     );
-    let title = renderer.scene.short_status();
+    let title = renderer.host.scene.short_status();
     assert!(
         title.contains("view ") && title.contains("lines "),
         "{title}"
@@ -241,8 +245,8 @@ fn the_compare_view_compares_like_with_like() {
     let mut renderer = renderer(&options(own_assets(), Profile::Core));
     // MikkTSpace against the next source, the per-pixel frame, with the colour view "normal".
     let set = |r: &mut HeadlessRenderer, label, to| {
-        let index = r.scene.control_index(label).unwrap();
-        r.scene.set_control(index, to).unwrap();
+        let index = r.host.scene.control_index(label).unwrap();
+        r.host.scene.set_control(index, to).unwrap();
     };
     set(
         &mut renderer,
@@ -250,15 +254,15 @@ fn the_compare_view_compares_like_with_like() {
         SetTo::Choice("mikktspace".into()),
     );
     set(&mut renderer, "colour view", SetTo::Choice("normal".into()));
-    let k = renderer.scene.control_index("compare view").unwrap();
-    let reason = renderer.scene.controls()[k].inert.expect("a reason");
+    let k = renderer.host.scene.control_index("compare view").unwrap();
+    let reason = renderer.host.scene.controls()[k].inert.expect("a reason");
     assert!(reason.contains("colour view"), "{reason}");
-    assert!(renderer.scene.key('K').unwrap());
+    assert!(renderer.host.scene.key('K').unwrap());
     assert!(renderer.scene_ref::<Cylinder>().compare_view().is_none());
     // The lit picture compares.
     set(&mut renderer, "colour view", SetTo::Choice("lit".into()));
-    assert!(renderer.scene.controls()[k].inert.is_none());
-    assert!(renderer.scene.key('K').unwrap());
+    assert!(renderer.host.scene.controls()[k].inert.is_none());
+    assert!(renderer.host.scene.key('K').unwrap());
     assert!(renderer.scene_ref::<Cylinder>().compare_view().is_some());
 }
 
@@ -346,9 +350,9 @@ fn a_models_light_sliders_are_in_the_space_of_light() {
     let mut renderer = renderer(&with_light(Some([3.0, 0.0, 2.0])));
     let first = frame(&mut renderer);
     let axes = ["light x", "light y", "light z"];
-    let index = axes.map(|a| renderer.scene.control_index(a).unwrap());
+    let index = axes.map(|a| renderer.host.scene.control_index(a).unwrap());
     let shown = |renderer: &HeadlessRenderer| {
-        index.map(|i| match renderer.scene.controls()[i].value {
+        index.map(|i| match renderer.host.scene.controls()[i].value {
             ControlValue::Slider { value, start, .. } => (value, start),
             _ => panic!("no slider"),
         })
@@ -356,6 +360,7 @@ fn a_models_light_sliders_are_in_the_space_of_light() {
     let values = shown(&renderer).map(|(value, _)| value);
     assert_eq!(values, [3.0, 0.0, 2.0]);
     renderer
+        .host
         .scene
         .set_control(index[1], SetTo::Slider(1.5))
         .unwrap();
@@ -366,12 +371,17 @@ fn a_models_light_sliders_are_in_the_space_of_light() {
     );
     assert_eq!(differing_pixels(&moved, &expected), 0);
     renderer
+        .host
         .scene
         .set_control(index[1], SetTo::Slider(0.0))
         .unwrap();
     assert!(frame(&mut renderer) == first);
     for (i, (_, start)) in index.into_iter().zip(shown(&renderer)) {
-        renderer.scene.set_control(i, SetTo::Slider(start)).unwrap();
+        renderer
+            .host
+            .scene
+            .set_control(i, SetTo::Slider(start))
+            .unwrap();
     }
     assert_eq!(differing_pixels(&frame(&mut renderer), &tutorials), 0);
 }
@@ -382,15 +392,15 @@ fn hovered_and_plain(
     renderer: &mut HeadlessRenderer,
     pos: egui::Pos2,
 ) -> (image::RgbImage, image::RgbImage) {
-    let panel = renderer.panel().unwrap();
+    let panel = renderer.host.panel().unwrap();
     panel
         .context()
         .global_style_mut(|style| style.interaction.tooltip_delay = 0.0);
     let plain = frame(renderer);
-    renderer.panel_event(egui::Event::PointerMoved(pos));
+    renderer.host.panel_event(egui::Event::PointerMoved(pos));
     renderer.render();
     let hovered = frame(renderer);
-    renderer.panel_event(egui::Event::PointerGone);
+    renderer.host.panel_event(egui::Event::PointerGone);
     (hovered, plain)
 }
 
@@ -444,9 +454,10 @@ fn greyed_controls_look_greyed_and_say_why_on_hover() {
     // One renderer at a time: each makes its own context current when it is made.
     let look = |options: &HeadlessOptions| {
         let mut r = renderer(options);
-        r.show_panel().unwrap();
+        r.host.show_panel().unwrap();
         frame(&mut r);
         let rect = r
+            .host
             .panel()
             .unwrap()
             .widget_rect(&PanelWidget::Key('L'))
@@ -455,12 +466,13 @@ fn greyed_controls_look_greyed_and_say_why_on_hover() {
         let (hovered, plain) = hovered_and_plain(&mut r, rect.center());
         let tooltip = changed_outside(&hovered, &plain, rect);
         let control = r
+            .host
             .scene
             .controls()
             .into_iter()
             .find(|c| c.key == Some('L'))
             .unwrap();
-        let panel = r.panel().unwrap();
+        let panel = r.host.panel().unwrap();
         let style = panel.context().global_style();
         let font = egui::TextStyle::Body.resolve(&style);
         // The reason laid out as the tooltip lays it out: wrapped at its width inside its margin.
@@ -519,7 +531,7 @@ fn each_toggles_flag_starts_it_through_the_table() {
             descriptor: scene,
             ..Default::default()
         });
-        let controls = plain.scene.controls();
+        let controls = plain.host.scene.controls();
         drop(plain);
         for control in controls.iter().filter(|c| c.flag.is_some()) {
             let flag = control.flag.unwrap();
@@ -538,7 +550,7 @@ fn each_toggles_flag_starts_it_through_the_table() {
                 scene: options,
                 ..Default::default()
             });
-            let value = &flagged.scene.controls()[control.index].value;
+            let value = &flagged.host.scene.controls()[control.index].value;
             assert_eq!(
                 *value,
                 ControlValue::Toggle(flag.value),

@@ -252,7 +252,10 @@ fn handedness_switch_changes_only_the_mirrored_half() {
 
     let mut renderer = renderer(&options(dir, Profile::Core));
     let fixed = frame(&mut renderer);
-    assert!(renderer.scene.key('H').unwrap(), "H: the handedness fix");
+    assert!(
+        renderer.host.scene.key('H').unwrap(),
+        "H: the handedness fix"
+    );
     let cylinder = renderer.scene_mut::<Cylinder>();
     assert_eq!(cylinder.mesh_options().tangents, no_fix);
     let unfixed = frame(&mut renderer);
@@ -308,12 +311,12 @@ fn every_switch_renders_without_gl_errors_in_both_profiles() {
         let start = frame(&mut renderer);
         let mut previous = start.clone();
         for action in actions {
-            assert!(renderer.scene.key(action).unwrap());
+            assert!(renderer.host.scene.key(action).unwrap());
             let switched = frame(&mut renderer);
             let changed = differing_pixels(&previous, &switched);
             println!(
                 "{profile:?} {action:?}: {changed} pixels changed; {}",
-                renderer.scene.status()
+                renderer.host.scene.status()
             );
             // Both line paths draw the same pixels; every other action changes the frame.
             if action != 'M' {
@@ -329,7 +332,7 @@ fn every_switch_renders_without_gl_errors_in_both_profiles() {
                 _ => 1,
             };
             for _ in 0..presses {
-                assert!(renderer.scene.key(action).unwrap());
+                assert!(renderer.host.scene.key(action).unwrap());
             }
         }
         assert_eq!(

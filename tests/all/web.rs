@@ -222,7 +222,7 @@ fn the_page_shows_the_panel() {
     let page = load("panel", &base, "scene=cylinder&frames=1");
     page.check_clean("panel");
     let mut renderer = native_renderer("cylinder");
-    renderer.show_panel().expect("the panel");
+    renderer.host.show_panel().expect("the panel");
     let native = frame(&mut renderer);
     let share = share_within(&page.shot, &native);
     eprintln!(
@@ -248,9 +248,9 @@ fn a_click_on_a_switch_does_what_its_key_does() {
         return;
     };
     let mut renderer = native_renderer("cylinder");
-    renderer.show_panel().expect("the panel");
+    renderer.host.show_panel().expect("the panel");
     frame(&mut renderer);
-    let panel = renderer.panel().expect("the panel");
+    let panel = renderer.host.panel().expect("the panel");
     let at = panel
         .widget_rect(&PanelWidget::Key('L'))
         .expect("the L switch")
@@ -318,7 +318,7 @@ fn bad_drops_give_the_native_lines() {
     let in_page = |line: &str| line.replace(&format!("{}/", drops.display()), "dropped/");
     let mut renderer = native_renderer("cylinder");
     for name in ["notes.txt", "bare.obj"] {
-        let native = match renderer.open_file(&drops.join(name)) {
+        let native = match renderer.host.open_file(&drops.join(name)) {
             Err(e) => e.to_string(),
             Ok(()) => panic!("{name} opened natively"),
         };

@@ -326,11 +326,11 @@ struct PanelLayout {
 
 fn panel_layout() -> PanelLayout {
     let mut layout = HeadlessRenderer::new(&HeadlessOptions::default()).unwrap();
-    layout.show_panel().unwrap();
+    layout.host.show_panel().unwrap();
     layout.render_frames(1).unwrap();
-    let panel = layout.panel().unwrap();
+    let panel = layout.host.panel().unwrap();
     let at = |w: PanelWidget| panel.widget_rect(&w).unwrap();
-    let light_x = layout.scene.control_index("light x").unwrap();
+    let light_x = layout.host.scene.control_index("light x").unwrap();
     PanelLayout {
         rect: panel.rect().unwrap(),
         lines_checkbox: at(PanelWidget::Key('L')).center(),
@@ -581,10 +581,10 @@ fn enter_does_the_same_in_the_window_and_headless() {
     }
     let dir = common::scratch("enter");
     let mut headless = HeadlessRenderer::new(&HeadlessOptions::default()).unwrap();
-    headless.controls.position.z += 2.0;
-    headless.next_scene().unwrap();
-    headless.next_scene().unwrap();
-    assert_eq!(headless.descriptor().name, "cube");
+    headless.host.controls.position.z += 2.0;
+    headless.host.next_scene().unwrap();
+    headless.host.next_scene().unwrap();
+    assert_eq!(headless.host.descriptor().name, "cube");
     let headless_cube = image::DynamicImage::from(headless.render_frames(1).unwrap()).into_rgb8();
     let cube_start = common::headless_screenshot(&dir, "cube.png", &["--scene", "cube"]);
     assert!(
