@@ -95,11 +95,11 @@ fn lines(c: &mut Criterion) {
         ("tutorial_camera", Vec3::new(0.0, 0.0, 5.0)),
         ("whole_cylinder", Vec3::new(0.0, 5.0, 30.0)),
     ] {
-        renderer.controls.position = position;
+        renderer.host.controls.position = position;
         renderer.render();
         let (projection, view) = (
-            renderer.controls.projection_matrix(),
-            renderer.controls.view_matrix(),
+            renderer.host.controls.projection_matrix(),
+            renderer.host.controls.view_matrix(),
         );
         for (name, lines) in [("immediate_mode", &legacy), ("line_shader", &shader)] {
             group.bench_function(format!("{camera}/{name}"), |b| {
