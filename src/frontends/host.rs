@@ -349,9 +349,10 @@ impl SceneHost {
         }
         let info = self.panel_info();
         let panel = self.panel.as_mut()?;
-        let (output, actions) = panel.run(input, self.descriptor, &*self.scene, info);
-        let platform = match &output {
-            PanelFrame::Laid(output) => Some(output.platform_output.clone()),
+        let (mut output, actions) = panel.run(input, self.descriptor, &*self.scene, info);
+        // Painting needs none of it: taken, not copied.
+        let platform = match &mut output {
+            PanelFrame::Laid(output) => Some(std::mem::take(&mut output.platform_output)),
             PanelFrame::Unchanged => None,
         };
         panel.paint(self.size, output);

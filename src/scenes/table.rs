@@ -184,6 +184,11 @@ impl<S: 'static> Control<S> {
 
     /// This toggle with the command-line flag `--long` (see [`Flag`]), which starts it `value`.
     pub const fn flag(mut self, long: &'static str, value: bool, help: &'static str) -> Self {
+        // A table that gives a choice or a slider a toggle's flag does not compile.
+        assert!(
+            matches!(self.kind, Kind::Toggle { .. }),
+            "only a toggle takes a Flag"
+        );
         self.flag = Some(Flag { long, help, value });
         self
     }
