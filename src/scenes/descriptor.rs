@@ -8,7 +8,9 @@ use std::path::Path;
 
 use super::options::{read_args, SceneArgs, SceneOptions, Shared};
 use super::scene::{MouseMode, Scene, SceneContext};
-use super::table::{control_for_key, Control, ControlState, KeyHelp, Kind, SceneControls, SetTo};
+use super::table::{
+    control_for_key, Control, ControlState, KeyHelp, Kind, SceneControls, SetTo, Start,
+};
 use crate::gl::state::GlState;
 use crate::Result;
 
@@ -97,58 +99,64 @@ pub trait SceneType: Scene + Sized + 'static {
         options: <Self::Args as SceneArgs>::Options,
     ) -> Result<Self>;
 
-    /// Once the scene is built and the toggles its flags name are set through its table: what it
+    /// Once the scene is built and the controls its flags name are set through its table: what it
     /// says of the state it starts in (a warning that a flag may have made moot). Nothing unless
     /// the scene says.
     fn started(&mut self) {}
 }
 
-/// [`SceneDescriptor::args`] of scene type `S`: its `Args` struct's, then a flag for each toggle
+/// [`SceneDescriptor::args`] of scene type `S`: its `Args` struct's, then the flag of each control
 /// of its table that has one ([`Flag`]), under the same heading.
 fn scene_args<S: SceneType>(command: clap::Command) -> clap::Command {
     // The `Args` struct's `next_help_heading` stays set for the arguments added after it.
     let command = <S::Args as clap::Args>::augment_args(command);
-    let flags = S::CONTROLS.iter().filter_map(|control| {
-        let flag = control.flag?;
-        let arg = clap::Arg::new(flag.long)
-            .long(flag.long)
-            .action(clap::ArgAction::SetTrue)
-            .help(flag.help_line(control.key));
-        Some(arg)
-    });
+    let flags = S::CONTROLS
+        .iter()
+        .filter_map(|control| control.flag?.arg(control.key));
     command.args(flags)
 }
 
-/// The toggles of scene type `S`'s table whose flags were given, by index, each with the value
-/// its flag starts it with: set through the table once the scene is built.
-pub struct StartToggles<S>(pub Vec<(usize, bool)>, PhantomData<fn() -> S>);
+/// The starts that scene type `S`'s flags gave, each with the index of its control in the table:
+/// set through the table once the scene is built.
+pub struct FlagStarts<S>(pub Vec<(usize, Start)>, PhantomData<fn() -> S>);
 
-impl<S> StartToggles<S> {
-    pub fn new(toggles: Vec<(usize, bool)>) -> Self {
-        StartToggles(toggles, PhantomData)
+impl<S: SceneType> FlagStarts<S> {
+    pub fn new(starts: Vec<(usize, Start)>) -> Self {
+        FlagStarts(starts, PhantomData)
+    }
+
+    /// The value the flag of the choice on `key` starts it with, if given: for a scene whose
+    /// load depends on it (the cylinder's mesh is built for `--tangents` straight away; the
+    /// table's `set` then finds it set).
+    pub fn choice<T: Copy + 'static>(&self, key: char) -> Option<T> {
+        let index = control_for_key(S::CONTROLS, key)?;
+        self.0.iter().find_map(|(i, start)| match start {
+            Start::Choice(value) if *i == index => value.downcast_ref::<T>().copied(),
+            _ => None,
+        })
     }
 }
 
-impl<S> Clone for StartToggles<S> {
+impl<S> Clone for FlagStarts<S> {
     fn clone(&self) -> Self {
-        StartToggles::new(self.0.clone())
+        FlagStarts(self.0.clone(), PhantomData)
     }
 }
 
-impl<S> Default for StartToggles<S> {
+impl<S> Default for FlagStarts<S> {
     fn default() -> Self {
-        StartToggles::new(Vec::new())
+        FlagStarts(Vec::new(), PhantomData)
     }
 }
 
-impl<S> fmt::Debug for StartToggles<S> {
+impl<S> fmt::Debug for FlagStarts<S> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_tuple("StartToggles").field(&self.0).finish()
+        f.debug_tuple("FlagStarts").field(&self.0).finish()
     }
 }
 
-/// [`SceneDescriptor::read_args`] of scene type `S`: its `Args` struct's options, and the toggles
-/// whose flags were given.
+/// [`SceneDescriptor::read_args`] of scene type `S`: its `Args` struct's options, and the starts
+/// of the flags that were given.
 fn read_scene_args<S: SceneType>(
     matches: &clap::ArgMatches,
     options: &mut SceneOptions,
@@ -157,26 +165,29 @@ fn read_scene_args<S: SceneType>(
     let given = S::CONTROLS
         .iter()
         .enumerate()
-        .filter_map(|(index, control)| {
-            let flag = control.flag?;
-            let given = matches.try_get_one::<bool>(flag.long).ok().flatten() == Some(&true);
-            given.then_some((index, flag.value))
-        });
-    options.set(StartToggles::<S>::new(given.collect()));
+        .filter_map(|(index, control)| Some((index, control.flag?.read(matches)?)));
+    options.set(FlagStarts::<S>::new(given.collect()));
     Ok(())
 }
 
-/// [`SceneDescriptor::build`] of scene type `S`, with its options from `options`, then each toggle
-/// whose flag was given set through the table (a flag that does nothing in the scene's state says
-/// why, as the panel does).
+/// [`SceneDescriptor::build`] of scene type `S`, with its options from `options`, then each control
+/// whose flag was given set through the table: choices and sliders first, then toggles (turning
+/// the TBN lines on builds them, with the line mode and length already set). A flag that does
+/// nothing in the state the scene starts in says why, as the panel does.
 fn build<S: SceneType>(context: &SceneContext, options: &SceneOptions) -> Result<Box<dyn Scene>> {
     let mut scene = S::new(context, options, options.get())?;
-    for &(index, value) in &options.get::<StartToggles<S>>().0 {
-        let control = &S::CONTROLS[index];
+    let starts = options.get::<FlagStarts<S>>().0;
+    let (toggles, values): (Vec<_>, Vec<_>) = starts
+        .iter()
+        .partition(|(_, start)| matches!(start, Start::Toggle(_)));
+    for (index, start) in values.into_iter().chain(toggles) {
+        S::CONTROLS[*index].start(&mut scene, start)?;
+    }
+    for (index, _) in &starts {
+        let control = &S::CONTROLS[*index];
         if let (Some(reason), Some(flag)) = ((control.inert)(&scene), control.flag) {
             log::warn!("--{}: {reason}", flag.long);
         }
-        control.set(&mut scene, SetTo::Toggle(value))?;
     }
     scene.started();
     Ok(Box::new(scene))

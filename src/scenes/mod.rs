@@ -23,7 +23,7 @@ use clap::parser::ValueSource;
 
 // Where a scene's asset files are found: re-exported for the tests and tools that used them here.
 pub use crate::assets::{crate_assets_dir, find_assets, taken_from_crate, AssetFiles};
-pub use descriptor::{SceneDescriptor, SceneType, StartToggles};
+pub use descriptor::{FlagStarts, SceneDescriptor, SceneType};
 pub use options::{
     read_args, OwnOptions, PerScene, SceneArgs, SceneOption, SceneOptions, Shared, SharedArgs,
 };

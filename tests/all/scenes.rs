@@ -121,7 +121,8 @@ fn some_value(arg: &clap::Arg) -> Option<String> {
         "model" => "model.obj".to_string(),
         "diffuse" | "normal_map" | "specular" | "height" => "map.png".to_string(),
         "strength" => "8".to_string(),
-        "normal_strength" | "line_length" | "light_power" => "0.5".to_string(),
+        "normal-strength" | "line-length" | "light_power" | "split" => "0.5".to_string(),
+        "view" => "normal01.y".to_string(),
         _ => match arg.get_default_values().first() {
             Some(default) => default.to_string_lossy().into_owned(),
             None => arg.get_possible_values()[0].get_name().to_string(),
@@ -265,14 +266,16 @@ fn each_flag_is_parsed_into_its_option() {
     use tutorial13::debug::lines::LineMode;
     use tutorial13::scenes::cube::{Cube, CubeOptions};
     use tutorial13::scenes::sprite::{Sprite, SpriteOptions};
-    use tutorial13::scenes::{SceneType, StartToggles};
+    use tutorial13::scenes::table::Start;
+    use tutorial13::scenes::{FlagStarts, SceneType};
     /// The index in `S`'s table of the control on `key`, which has a flag.
     fn flagged_control<S: SceneType>(key: char) -> usize {
         let index = S::CONTROLS.iter().position(|c| c.key == Some(key)).unwrap();
         assert!(S::CONTROLS[index].flag.is_some(), "key {key} has no flag");
         index
     }
-    use tutorial13::scenes::wall::{LightingSpace, WallOptions};
+    use tutorial13::scenes::cylinder::Cylinder;
+    use tutorial13::scenes::wall::{LightingSpace, Wall, WallOptions};
     type Check = fn(&SceneOptions) -> bool;
     let cases: [(&str, &[&str], Check); 16] = [
         ("cylinder", &["--light", "1,-2,3"], |o| {
@@ -282,7 +285,8 @@ fn each_flag_is_parsed_into_its_option() {
             o.get::<CylinderOptions>().light_power == Some(12.5)
         }),
         ("cylinder", &["--debug-lines-mode", "shader"], |o| {
-            o.get::<CylinderOptions>().line_mode == Some(LineMode::Shader)
+            let flags = o.get::<FlagStarts<Cylinder>>();
+            flags.choice::<LineMode>('M') == Some(LineMode::Shader)
         }),
         ("cylinder", &["--model", "a b.obj"], |o| {
             o.get::<CylinderOptions>().model == Some(PathBuf::from("a b.obj"))
@@ -312,18 +316,19 @@ fn each_flag_is_parsed_into_its_option() {
         }),
         ("sprite", &["--independent-falloff"], |o| {
             let falloff = flagged_control::<Sprite>('I');
-            o.get::<StartToggles<Sprite>>().0 == [(falloff, true)]
+            matches!(o.get::<FlagStarts<Sprite>>().0[..], [(i, Start::Toggle(true))] if i == falloff)
         }),
         ("cube", &["--no-normal-map"], |o| {
             let normal_mapping = flagged_control::<Cube>('N');
-            o.get::<StartToggles<Cube>>().0 == [(normal_mapping, false)]
+            let flags = o.get::<FlagStarts<Cube>>();
+            matches!(flags.0[..], [(i, Start::Toggle(false))] if i == normal_mapping)
         }),
         ("cube", &["--light", "1,2,3", "--light-power", "2"], |o| {
             let light = o.get::<CubeOptions>().light;
             light.position == Some(Vec3::new(1.0, 2.0, 3.0)) && light.power == Some(2.0)
         }),
         ("wall", &["--space", "tangent"], |o| {
-            o.get::<WallOptions>().space == LightingSpace::Tangent
+            o.get::<FlagStarts<Wall>>().choice::<LightingSpace>('S') == Some(LightingSpace::Tangent)
         }),
         ("wall", &["--light", "0,1,2", "--light-power", "7"], |o| {
             let light = o.get::<WallOptions>().light;

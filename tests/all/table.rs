@@ -6,7 +6,7 @@ use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::frontends::panel::PanelWidget;
 use tutorial13::gl::Profile;
 use tutorial13::scenes::cylinder::{Cylinder, CylinderOptions};
-use tutorial13::scenes::{ControlValue, SetTo, SCENES};
+use tutorial13::scenes::{ControlValue, SceneControls, SetTo, SCENES};
 use tutorial13::tangents::TangentSource;
 
 use crate::common::*;
@@ -288,13 +288,19 @@ fn flags_the_per_pixel_frame_ignores_are_warned_of() {
         .current_dir(&dir));
     assert!(out.status.success(), "{}", text(&out.stderr));
     let stderr = text(&out.stderr);
-    let warning = stderr
-        .lines()
-        .find(|l| l.contains("--tangents derivative"))
-        .unwrap_or_else(|| panic!("no warning: {stderr}"));
+    let warning = |start: &str| {
+        let line = stderr.lines().find(|l| l.contains(start));
+        line.unwrap_or_else(|| panic!("no warning {start:?}: {stderr}"))
+    };
+    // --view is the colour view's flag in the table, which says why it does nothing; --green,
+    // which several scenes share, is named by the scene.
     assert!(
-        warning.contains("--view normal") && warning.contains("--green down"),
-        "{warning}"
+        warning("--view: ").contains("the per-pixel frame (F = derivative) draws the lit picture"),
+        "{stderr}"
+    );
+    assert!(
+        warning("--tangents derivative").contains("--green down"),
+        "{stderr}"
     );
     let flags = image::open(&shot).unwrap().to_rgb8();
     assert!(flags == plain, "the flags changed the per-pixel frame");
@@ -533,12 +539,15 @@ fn each_toggles_flag_starts_it_through_the_table() {
         });
         let controls = plain.host.scene.controls();
         drop(plain);
-        for control in controls.iter().filter(|c| c.flag.is_some()) {
-            let flag = control.flag.unwrap();
+        for control in controls.iter() {
+            let Some((flag, value)) = control.flag.and_then(|f| Some((f, f.toggle_value()?)))
+            else {
+                continue;
+            };
             let long = format!("--{}", flag.long);
             assert_eq!(
                 control.value,
-                ControlValue::Toggle(!flag.value),
+                ControlValue::Toggle(!value),
                 "{scene}: {long} would change nothing"
             );
             let command = tutorial13::scenes::command_line(clap::Command::new("t"));
@@ -550,17 +559,152 @@ fn each_toggles_flag_starts_it_through_the_table() {
                 scene: options,
                 ..Default::default()
             });
+            let value_of_flag = value;
             let value = &flagged.host.scene.controls()[control.index].value;
             assert_eq!(
                 *value,
-                ControlValue::Toggle(flag.value),
+                ControlValue::Toggle(value_of_flag),
                 "{scene}: {long} did not start \"{}\" {}",
                 control.label,
-                flag.value
+                value_of_flag
             );
             checked += 1;
         }
     }
     // The cylinder's eight, the cube's --no-normal-map and the sprite's --independent-falloff.
     assert_eq!(checked, 10);
+}
+
+// Fails if a choice's or a slider's command-line flag is not its table's: each such flag, given a
+// value, must start its control at exactly that value through the table (a slider's past the
+// panel's range too: --normal-strength 8 where the slider stops at 4), and every flag of that kind
+// in every table must be one of the cases (so a new one cannot go unchecked).
+#[test]
+fn each_value_flag_starts_its_control_through_the_table() {
+    let slider = |value: f32| move |v: &ControlValue| matches!(v, ControlValue::Slider { value: x, .. } if *x == value);
+    let choice = |name: &'static str| move |v: &ControlValue| matches!(v, ControlValue::Choice { current, .. } if current == name);
+    type Check = Box<dyn Fn(&ControlValue) -> bool>;
+    let cases: Vec<(&str, &[&str], &str, Check)> = vec![
+        (
+            "cylinder",
+            &["--debug-lines-mode", "shader"],
+            "lines drawn with",
+            Box::new(choice("line shader")),
+        ),
+        (
+            "cylinder",
+            &["--view", "normal01.y"],
+            "colour view",
+            Box::new(choice("normal01")),
+        ),
+        (
+            "cylinder",
+            &["--view", "normal01.y"],
+            "component",
+            Box::new(choice("y")),
+        ),
+        (
+            "cylinder",
+            &["--tangents", "mikktspace"],
+            "tangent frame",
+            Box::new(choice("mikktspace")),
+        ),
+        (
+            "cylinder",
+            &["--normal-strength", "8"],
+            "normal strength",
+            Box::new(slider(8.0)),
+        ),
+        (
+            "cylinder",
+            &["--line-length", "0.25"],
+            "TBN line length",
+            Box::new(slider(0.25)),
+        ),
+        (
+            "cylinder",
+            &["--compare", "tutorial,mikktspace", "--split", "0.3"],
+            "compare split",
+            Box::new(slider(0.3)),
+        ),
+        (
+            "wall",
+            &["--space", "tangent"],
+            "lighting space",
+            Box::new(choice("tangent")),
+        ),
+    ];
+    let mut flagged_controls = std::collections::BTreeSet::new();
+    for (name, args, label, check) in &cases {
+        let scene = SCENES.iter().find(|s| s.name == *name).unwrap();
+        let command = tutorial13::scenes::command_line(clap::Command::new("t"));
+        let matches = command.get_matches_from(std::iter::once("t").chain(args.iter().copied()));
+        let options = tutorial13::scenes::scene_options(&matches, scene, Default::default())
+            .unwrap_or_else(|e| panic!("{name} {args:?}: {e}"));
+        // A compatibility context, where the lines start in immediate mode.
+        let start = |scene_options| {
+            let renderer = renderer(&HeadlessOptions {
+                descriptor: scene,
+                profile: Profile::Compat,
+                scene: scene_options,
+                ..Default::default()
+            });
+            renderer.host.scene.controls()
+        };
+        let (plain, flagged) = (start(Default::default()), start(options));
+        let index = plain.iter().position(|c| c.label == *label).unwrap();
+        assert!(
+            !check(&plain[index].value),
+            "{name}: {args:?} would change nothing"
+        );
+        assert!(
+            check(&flagged[index].value),
+            "{name} {args:?}: \"{label}\" started {:?}",
+            flagged[index].value
+        );
+        flagged_controls.insert((*name, *label));
+    }
+    let mut declared = std::collections::BTreeSet::new();
+    for scene in SCENES {
+        let plain = renderer(&HeadlessOptions {
+            descriptor: scene,
+            ..Default::default()
+        });
+        for control in plain.host.scene.controls() {
+            if control.flag.is_some_and(|f| f.toggle_value().is_none()) {
+                declared.insert((scene.name, control.label));
+            }
+        }
+    }
+    assert_eq!(flagged_controls, declared);
+}
+
+// Fails if --tangents builds a model's mesh twice: it is key F's flag, set through the table once the
+// scene is built, but the scene reads it first and builds the model's mesh for it straight away
+// (seconds on a large model), so the table's set finds it done and no mesh is built after the load.
+#[test]
+fn a_models_tangents_flag_builds_its_mesh_once() {
+    let dir = scratch("table-tangents-once");
+    let model = dir.join("quad.obj");
+    std::fs::write(&model, OFF_CENTRE_QUAD).unwrap();
+    let model = model.to_str().unwrap();
+    let command = tutorial13::scenes::command_line(clap::Command::new("t"));
+    let matches = command.get_matches_from(["t", "--model", model, "--tangents", "mikktspace"]);
+    let scene = &tutorial13::scenes::cylinder::SCENE;
+    let options = tutorial13::scenes::scene_options(&matches, scene, Default::default()).unwrap();
+    let renderer = renderer(&HeadlessOptions {
+        scene: options,
+        ..Default::default()
+    });
+    let cylinder = renderer.scene_ref::<Cylinder>();
+    let frame = cylinder
+        .controls()
+        .into_iter()
+        .find(|c| c.label == "tangent frame");
+    assert_eq!(frame.unwrap().value.shown(), "mikktspace");
+    assert_eq!(
+        cylinder.meshes_built(),
+        [],
+        "a mesh was built after the load"
+    );
 }

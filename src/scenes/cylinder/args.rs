@@ -1,9 +1,9 @@
-//! The cylinder scene's command-line arguments: its choices, sliders and files to start with (its
-//! toggles' flags, `--debug-lines` and the others, are its table's: see controls.rs).
+//! The cylinder scene's command-line arguments: its files, and the comparison to start with. The
+//! flags of its switches, choices and sliders (`--debug-lines`, `--tangents`, `--view`, …) are its
+//! table's: see controls.rs.
 
 use crate::debug::compare::{CompareMode, SPLIT_START};
-use crate::debug::lines::LineMode;
-use crate::debug::views::{ColorView, NormalMapConvention, ShaderSwitches};
+use crate::debug::views::{NormalMapConvention, ShaderSwitches};
 use std::path::PathBuf;
 
 use crate::mesh::MeshOptions;
@@ -17,23 +17,6 @@ use super::{CompareOptions, CylinderOptions};
 #[derive(clap::Args, Debug, Clone)]
 #[command(next_help_heading = "Scene cylinder")]
 pub struct CylinderArgs {
-    /// How to draw the debug lines: the tutorial's immediate mode (needs --profile compat) or a line
-    /// shader [default: immediate mode where the context allows it, else the shader, with a notice]
-    /// (key M)
-    #[arg(long, value_enum, value_name = "MODE")]
-    pub debug_lines_mode: Option<LineMode>,
-
-    /// Colour view: lit, light, light01, eye, eye01, normal, normal01, optionally .x/.y/.z (keys V, C)
-    #[arg(long, value_name = "NAME", default_value = "lit")]
-    pub view: ColorView,
-
-    /// Where the tangent frame comes from: the tutorial's computeTangentBasis + indexVBO_TBN,
-    /// MikkTSpace, none (a per-pixel frame from screen-space derivatives), or a glTF model's own
-    /// TANGENTs (MikkTSpace where it has none) [default: file for a glTF model, else tutorial]
-    /// (key F)
-    #[arg(long, value_enum, value_name = "SOURCE")]
-    pub tangents: Option<TangentSource>,
-
     /// Compare two tangent sources in one frame: A left of the split line, B right of it
     /// (e.g. tutorial,mikktspace) (key K; A and D move the split)
     #[arg(long, value_name = "A,B", value_parser = parse_pair)]
@@ -43,10 +26,6 @@ pub struct CylinderArgs {
     /// printed and in the title) instead of the two sides
     #[arg(long, requires = "compare")]
     pub compare_difference: bool,
-
-    /// With --compare: where the split line is, as a fraction of the width from the left
-    #[arg(long, value_name = "F", default_value_t = SPLIT_START, value_parser = parse_fraction, requires = "compare")]
-    pub split: f32,
 
     /// Your own model instead of the tutorial's cylinder, scaled onto it: a glTF 2.0 file (.gltf,
     /// .glb) with its textures, or an OBJ with UVs and the maps its .mtl names (docs/model.md says
@@ -81,15 +60,6 @@ pub struct CylinderArgs {
         allow_negative_numbers = true
     )]
     pub strength: Option<f32>,
-
-    /// A factor on the normal map's x and y, as the panel's "normal strength" slider sets it
-    /// [default: 1, the map as it is]
-    #[arg(long, value_name = "S", value_parser = parse_finite)]
-    pub normal_strength: Option<f32>,
-
-    /// The TBN debug lines' length, as the panel's slider sets it [default: the tutorial's 0.1]
-    #[arg(long, value_name = "L", value_parser = parse_length)]
-    pub line_length: Option<f32>,
 }
 
 impl SceneArgs for CylinderArgs {
@@ -103,17 +73,15 @@ impl SceneArgs for CylinderArgs {
             // The toggles' flags (--debug-lines, --no-gram-schmidt, …) are the table's
             // (controls.rs): they are set through it once the scene is built.
             switches: ShaderSwitches {
-                view: self.view,
                 convention: NormalMapConvention {
                     green_down: shared.green == Green::Down,
                     ..NormalMapConvention::default()
                 },
                 ..ShaderSwitches::default()
             },
-            line_mode: self.debug_lines_mode,
-            tangents: self
-                .tangents
-                .unwrap_or_else(|| default_tangents(self.model.as_deref())),
+            line_mode: None,
+            // --tangents is the table's (key F); the scene reads it before it builds the mesh.
+            tangents: default_tangents(self.model.as_deref()),
             compare: self.compare.map(|sources| CompareOptions {
                 sources,
                 mode: if self.compare_difference {
@@ -121,7 +89,7 @@ impl SceneArgs for CylinderArgs {
                 } else {
                     CompareMode::Split
                 },
-                split: self.split,
+                split: SPLIT_START,
             }),
             model: self.model.clone(),
             maps: MapOverrides {
@@ -133,8 +101,8 @@ impl SceneArgs for CylinderArgs {
             },
             light: shared.light,
             light_power: shared.light_power,
-            normal_strength: self.normal_strength,
-            line_length: self.line_length,
+            normal_strength: None,
+            line_length: None,
             mesh: MeshOptions::default(),
             debug_lines: false,
         })
@@ -155,26 +123,4 @@ fn parse_pair(s: &str) -> std::result::Result<[TangentSource; 2], String> {
         .ok_or_else(|| format!("'{s}' is not A,B, e.g. tutorial,mikktspace"))?;
     let parse = |name: &str| <TangentSource as clap::ValueEnum>::from_str(name.trim(), false);
     Ok([parse(a)?, parse(b)?])
-}
-
-fn parse_finite(s: &str) -> std::result::Result<f32, String> {
-    s.trim()
-        .parse::<f32>()
-        .ok()
-        .filter(|f| f.is_finite())
-        .ok_or_else(|| format!("'{s}' is not a finite number"))
-}
-
-fn parse_length(s: &str) -> std::result::Result<f32, String> {
-    parse_finite(s)
-        .ok()
-        .filter(|l| *l > 0.0)
-        .ok_or_else(|| format!("'{s}' is not a length above 0"))
-}
-
-fn parse_fraction(s: &str) -> std::result::Result<f32, String> {
-    s.parse::<f32>()
-        .ok()
-        .filter(|f| (0.0..=1.0).contains(f))
-        .ok_or_else(|| format!("'{s}' is not a number from 0 to 1"))
 }

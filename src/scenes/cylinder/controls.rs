@@ -11,8 +11,8 @@ use crate::mesh::MeshOptions;
 use clap::ValueEnum;
 
 use crate::scenes::table::{
-    key_count, key_help, light_slider, power_slider, ChoiceValue, Choices, Control, KeyHelp,
-    PointLight, LIGHT_RANGE,
+    key_count, key_help, light_slider, power_slider, read_slider, ChoiceValue, Choices, Control,
+    KeyHelp, PointLight, Start, LIGHT_RANGE,
 };
 use crate::tangents::TangentSource;
 use crate::Result;
@@ -196,6 +196,13 @@ pub(super) const CONTROLS: &[C] = &[
             set: Cylinder::set_line_mode,
         },
     )
+    .enum_flag::<LineMode>(
+        "debug-lines-mode",
+        "MODE",
+        "How to draw the debug lines: the tutorial's immediate mode (legacy, needs --profile \
+         compat) or a line shader [default: immediate mode where the context allows it, else the \
+         shader, with a notice]",
+    )
     .inert_when(|c| {
         c.legacy
             .as_ref()
@@ -214,6 +221,18 @@ pub(super) const CONTROLS: &[C] = &[
             },
         },
     )
+    .value_flag(
+        "view",
+        "NAME",
+        "Colour view: lit, light, light01, eye, eye01, normal, normal01, optionally .x/.y/.z for \
+         one component (key C) [default: lit]",
+        Some(|arg| arg.value_parser(clap::value_parser!(ColorView))),
+        |matches, long| {
+            let view = matches.try_get_one::<ColorView>(long).ok().flatten()?;
+            let vector = (view.vector, view.mapped);
+            Some(Start::Choice(std::sync::Arc::new(vector)))
+        },
+    )
     .in_title("view")
     .inert_when(per_pixel),
     C::choice(
@@ -226,6 +245,13 @@ pub(super) const CONTROLS: &[C] = &[
             set: |c, Component(component)| switch(c, |sw| sw.view.component = component),
         },
     )
+    // Its part of --view (normal01.y), which the colour view declares.
+    .value_flag("view", "NAME", "", None, |matches, long| {
+        let view = matches.try_get_one::<ColorView>(long).ok().flatten()?;
+        Some(Start::Choice(std::sync::Arc::new(Component(
+            view.component,
+        ))))
+    })
     .inert_when(per_pixel),
     mesh_toggle!(
         'N',
@@ -291,6 +317,13 @@ pub(super) const CONTROLS: &[C] = &[
             get: |c| c.mesh.source,
             set: Cylinder::set_tangent_source,
         },
+    )
+    .enum_flag::<TangentSource>(
+        "tangents",
+        "SOURCE",
+        "Where the tangent frame comes from: the tutorial's computeTangentBasis + indexVBO_TBN, \
+         MikkTSpace, none (a per-pixel frame from screen-space derivatives), or a glTF model's own \
+         TANGENTs (MikkTSpace where it has none) [default: file for a glTF model, else tutorial]",
     )
     .in_title("tangents"),
     C::choice(
@@ -365,6 +398,14 @@ pub(super) const CONTROLS: &[C] = &[
             c.knobs.normal_strength = value;
             Ok(())
         },
+    )
+    .value_flag(
+        "normal-strength",
+        "S",
+        "A factor on the normal map's x and y, as the panel's \"normal strength\" slider sets it \
+         [default: 1, the map as it is]",
+        Some(|arg| arg.value_parser(parse_finite)),
+        read_slider,
     ),
     C::slider(
         "TBN line length",
@@ -372,6 +413,13 @@ pub(super) const CONTROLS: &[C] = &[
         |_| LINE_LENGTH,
         |c| c.line_length,
         Cylinder::set_line_length,
+    )
+    .value_flag(
+        "line-length",
+        "L",
+        "The TBN debug lines' length, as the panel's slider sets it [default: the tutorial's 0.1]",
+        Some(|arg| arg.value_parser(parse_length)),
+        read_slider,
     )
     .inert_when(|c| match c.show_lines {
         true => no_lines(c),
@@ -387,8 +435,38 @@ pub(super) const CONTROLS: &[C] = &[
             Ok(())
         },
     )
+    .value_flag(
+        "split",
+        "F",
+        "With --compare: where the split line is, as a fraction of the width from the left \
+         [default: 0.5]",
+        Some(|arg| arg.value_parser(parse_fraction).requires("compare")),
+        read_slider,
+    )
     .inert_when(no_split),
 ];
+
+fn parse_finite(s: &str) -> std::result::Result<f32, String> {
+    s.trim()
+        .parse::<f32>()
+        .ok()
+        .filter(|f| f.is_finite())
+        .ok_or_else(|| format!("'{s}' is not a finite number"))
+}
+
+fn parse_length(s: &str) -> std::result::Result<f32, String> {
+    parse_finite(s)
+        .ok()
+        .filter(|l| *l > 0.0)
+        .ok_or_else(|| format!("'{s}' is not a length above 0"))
+}
+
+fn parse_fraction(s: &str) -> std::result::Result<f32, String> {
+    s.parse::<f32>()
+        .ok()
+        .filter(|f| (0.0..=1.0).contains(f))
+        .ok_or_else(|| format!("'{s}' is not a number from 0 to 1"))
+}
 
 /// The tangent sources key F steps through: `file` only for a glTF model.
 pub(super) fn tangent_sources(cylinder: &Cylinder) -> Vec<TangentSource> {

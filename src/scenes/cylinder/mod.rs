@@ -31,7 +31,7 @@ use crate::progress::Progress;
 use crate::tangents::TangentSource;
 use crate::Result;
 
-use super::descriptor::{SceneDescriptor, SceneType};
+use super::descriptor::{FlagStarts, SceneDescriptor, SceneType};
 use super::options::{SceneOptions, Shared};
 use super::scene::{CompareLabels, DrawingProgram, FrameInput, Scene, SceneContext, ShaderSet};
 use super::table::{Control, SceneControls};
@@ -65,7 +65,7 @@ pub static SCENE: SceneDescriptor = SceneDescriptor {
 
 /// A dropped `.obj`, `.gltf` or `.glb` file is opened as `--model` (the other options stay as they
 /// were, but the tangent source, when it is the default of the model it replaces, becomes the new
-/// model's default).
+/// model's default; one given by `--tangents` stays).
 fn open_model(path: &Path, options: &mut SceneOptions) -> bool {
     let opened = crate::model::Format::of(path).is_some();
     if opened {
@@ -168,8 +168,14 @@ impl SceneType for Cylinder {
     fn new(
         context: &SceneContext,
         files: &SceneOptions,
-        cylinder: CylinderOptions,
+        mut cylinder: CylinderOptions,
     ) -> Result<Self> {
+        // `--tangents` (key F's flag): the mesh is built for it straight away, not for the default
+        // and then again when the table sets it (seconds on a large model).
+        let flags = files.get::<FlagStarts<Cylinder>>();
+        if let Some(tangents) = flags.choice::<TangentSource>('F') {
+            cylinder.tangents = tangents;
+        }
         let shaders = ShaderSet::new(files.shader_dir(), ALL_SHADERS);
         let shader_dir = shaders.dir();
         let gl = context.gl;
@@ -231,10 +237,14 @@ impl SceneType for Cylinder {
         Ok(scene)
     }
 
-    /// A model drawn with the tutorial's frame far from MikkTSpace's is warned of once its
-    /// toggles are set (`--normalize-tbn` undoes the stretch; `--no-gram-schmidt` changes the
+    /// Once the flags have set the table: a comparison of unlike pictures (`--view` with a side
+    /// drawn by the per-pixel frame) is warned of, and a model drawn with the tutorial's frame far
+    /// from MikkTSpace's (`--normalize-tbn` undoes the stretch; `--no-gram-schmidt` changes the
     /// mesh).
     fn started(&mut self) {
+        if let Some(reason) = self.comparison.as_ref().and(self.unlike_comparison()) {
+            log::warn!("--compare: {reason}");
+        }
         if let (SoupSource::Model(model), TangentSource::Tutorial) =
             (&self.mesh.soup, self.mesh.source)
         {
@@ -244,8 +254,8 @@ impl SceneType for Cylinder {
 }
 
 impl Cylinder {
-    /// Applies `cylinder`'s starting tangent source, comparison and lines, and warns of the flags
-    /// that change nothing.
+    /// Applies `cylinder`'s starting tangent source, comparison and lines, and warns of the options
+    /// that the per-pixel frame ignores.
     fn start_with(&mut self, cylinder: &CylinderOptions) -> Result<()> {
         self.set_tangent_source(cylinder.tangents)?;
         if let Some(compare) = cylinder.compare {
@@ -258,9 +268,6 @@ impl Cylinder {
                 "--tangents derivative: {PER_PIXEL}: {} change nothing",
                 flags.join(", ")
             );
-        }
-        if let Some(reason) = self.comparison.as_ref().and(self.unlike_comparison()) {
-            log::warn!("--compare: {reason}");
         }
         Ok(())
     }

@@ -1,4 +1,4 @@
-//! The wall scene's command-line arguments, which are its options as they are.
+//! The wall scene's options, as the command line sets them (its `--space` is its table's flag).
 
 use crate::scenes::options::{LightFlags, OwnOptions, SharedArgs};
 
@@ -9,8 +9,8 @@ use super::LightingSpace;
 #[derive(clap::Args, Debug, Clone, Copy, Default, PartialEq)]
 #[command(next_help_heading = "Scene wall")]
 pub struct WallOptions {
-    /// Light the stone wall in view space, in tangent space, or without its normal map (key S)
-    #[arg(long, value_enum, value_name = "SPACE", default_value_t = LightingSpace::View)]
+    /// Where the wall is lit (`--space` is the table's flag of key S, set once the scene is built).
+    #[arg(skip)]
     pub space: LightingSpace,
     /// `--light` (world space) and `--light-power` (the light's intensity, the article's 50).
     #[arg(skip)]

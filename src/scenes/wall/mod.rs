@@ -112,6 +112,12 @@ const CONTROLS: &[C] = &[
             },
         },
     )
+    .enum_flag::<LightingSpace>(
+        "space",
+        "SPACE",
+        "Light the stone wall in view space, in tangent space, or without its normal map \
+         [default: view]",
+    )
     .in_title("lighting space"),
     light_slider::<Wall, 0>(),
     light_slider::<Wall, 1>(),
