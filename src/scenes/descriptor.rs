@@ -6,11 +6,10 @@ use std::fmt;
 use std::marker::PhantomData;
 use std::path::Path;
 
+use super::flags::Start;
 use super::options::{read_args, SceneArgs, SceneOptions, Shared};
 use super::scene::{MouseMode, Scene, SceneContext};
-use super::table::{
-    control_for_key, Control, ControlState, KeyHelp, Kind, SceneControls, SetTo, Start,
-};
+use super::table::{control_for_key, Control, ControlState, KeyHelp, Kind, SceneControls, SetTo};
 use crate::gl::state::GlState;
 use crate::Result;
 

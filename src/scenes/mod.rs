@@ -13,6 +13,7 @@
 pub mod cube;
 pub mod cylinder;
 mod descriptor;
+pub mod flags;
 mod options;
 mod scene;
 pub mod sprite;
@@ -24,6 +25,7 @@ use clap::parser::ValueSource;
 // Where a scene's asset files are found: re-exported for the tests and tools that used them here.
 pub use crate::assets::{crate_assets_dir, find_assets, taken_from_crate, AssetFiles};
 pub use descriptor::{FlagStarts, SceneDescriptor, SceneType};
+pub use flags::{Flag, Start};
 pub use options::{
     read_args, OwnOptions, PerScene, SceneArgs, SceneOption, SceneOptions, Shared, SharedArgs,
 };
@@ -31,7 +33,7 @@ pub use scene::{
     CompareLabels, DrawingProgram, FrameInput, MouseMode, Scene, SceneContext, ShaderSet,
 };
 pub use table::{
-    control_for_key, key_count, key_help, Control, ControlState, ControlValue, Flag, KeyHelp, Kind,
+    control_for_key, key_count, key_help, Control, ControlState, ControlValue, KeyHelp, Kind,
     SceneControls, SetTo,
 };
 

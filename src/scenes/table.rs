@@ -4,8 +4,7 @@
 //! panel's rows, the title's short status and the log's status line are all read from this one
 //! table.
 
-use std::fmt;
-
+use super::flags::{enum_arg, read_choice, Flag, Start, Takes};
 use super::options::LightFlags;
 use crate::Result;
 
@@ -24,132 +23,6 @@ pub struct Control<S: 'static> {
     pub inert: fn(&S) -> Option<&'static str>,
     /// The command-line flag that starts it ([`Control::flag`], [`Control::value_flag`]).
     pub flag: Option<Flag>,
-}
-
-/// A control's command-line flag: given, the scene starts with the control at the flag's value,
-/// set through the table once the scene is built, as its key or the panel would set it. Its help
-/// line is `help` and the key ("(key L)").
-#[derive(Clone, Copy)]
-pub struct Flag {
-    /// The flag without its dashes (`debug-lines`), also its argument's id.
-    pub long: &'static str,
-    pub help: &'static str,
-    pub takes: Takes,
-}
-
-/// What a flag takes, and how its control's start is read from the parsed command line.
-#[derive(Clone, Copy)]
-pub enum Takes {
-    /// No value (a toggle's): given, it starts the toggle `value` (`--debug-lines` on,
-    /// `--no-handedness` off).
-    Switch(bool),
-    /// A value named `value_name` in `--help`: `arg` gives the argument its parser (`None`: the
-    /// argument is another control's flag of the same name, of which this control takes a part, as
-    /// the colour view's component is part of `--view`), `read` the control's start from it.
-    Value {
-        value_name: &'static str,
-        arg: Option<fn(clap::Arg) -> clap::Arg>,
-        read: fn(&clap::ArgMatches, &str) -> Option<Start>,
-    },
-}
-
-/// A flag's start value for its control.
-#[derive(Clone)]
-pub enum Start {
-    Toggle(bool),
-    /// One of a choice's typed values (the `T` of its [`Choices`]).
-    Choice(std::sync::Arc<dyn std::any::Any + Send + Sync>),
-    /// A slider's value, which the table does not clamp: a flag may go past what a drag reaches
-    /// (`--normal-strength 8`); the panel's range is the sliders' room, not the scene's limit.
-    Slider(f32),
-}
-
-impl fmt::Debug for Start {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Start::Toggle(on) => write!(f, "Toggle({on})"),
-            Start::Choice(_) => f.write_str("Choice(..)"),
-            Start::Slider(value) => write!(f, "Slider({value})"),
-        }
-    }
-}
-
-impl Flag {
-    /// Its line in `--help`: what it does, and the key that does it later.
-    pub fn help_line(&self, key: Option<char>) -> String {
-        match key {
-            Some(key) => format!("{} (key {key})", self.help),
-            None => self.help.to_string(),
-        }
-    }
-
-    /// The value a toggle's flag starts it with (`None` for a flag that takes a value).
-    pub fn toggle_value(&self) -> Option<bool> {
-        match self.takes {
-            Takes::Switch(value) => Some(value),
-            Takes::Value { .. } => None,
-        }
-    }
-
-    /// Its clap argument, or `None` where another control's flag of the same name declares it.
-    pub fn arg(&self, key: Option<char>) -> Option<clap::Arg> {
-        let arg = clap::Arg::new(self.long)
-            .long(self.long)
-            .help(self.help_line(key));
-        match self.takes {
-            Takes::Switch(_) => Some(arg.action(clap::ArgAction::SetTrue)),
-            Takes::Value {
-                value_name,
-                arg: declare,
-                ..
-            } => declare.map(|declare| declare(arg.value_name(value_name))),
-        }
-    }
-
-    /// The start it gives its control, if it was given.
-    pub fn read(&self, matches: &clap::ArgMatches) -> Option<Start> {
-        match self.takes {
-            Takes::Switch(value) => {
-                let given = matches.try_get_one::<bool>(self.long).ok().flatten() == Some(&true);
-                given.then_some(Start::Toggle(value))
-            }
-            Takes::Value { read, .. } => read(matches, self.long),
-        }
-    }
-}
-
-/// Flags compare by name: two controls' flags of one name are one argument.
-impl PartialEq for Flag {
-    fn eq(&self, other: &Self) -> bool {
-        self.long == other.long
-    }
-}
-
-impl fmt::Debug for Flag {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "Flag(--{})", self.long)
-    }
-}
-
-/// [`Takes::Value`]'s `arg` of a choice whose values are a clap `ValueEnum` (their command-line
-/// names are the enum's).
-pub fn enum_arg<T: clap::ValueEnum + Send + Sync + 'static>(arg: clap::Arg) -> clap::Arg {
-    arg.value_parser(clap::builder::EnumValueParser::<T>::new())
-}
-
-/// [`Takes::Value`]'s `read` of a choice whose flag's value is the choice's own type `T`.
-pub fn read_choice<T: Clone + Send + Sync + 'static>(
-    matches: &clap::ArgMatches,
-    long: &str,
-) -> Option<Start> {
-    let value = matches.try_get_one::<T>(long).ok().flatten()?;
-    Some(Start::Choice(std::sync::Arc::new(value.clone())))
-}
-
-/// [`Takes::Value`]'s `read` of a slider, whose flag's value is an `f32`.
-pub fn read_slider(matches: &clap::ArgMatches, long: &str) -> Option<Start> {
-    let value = matches.try_get_one::<f32>(long).ok().flatten()?;
-    Some(Start::Slider(*value))
 }
 
 /// What a control is, and how it reads and sets its scene.

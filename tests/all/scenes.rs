@@ -266,7 +266,7 @@ fn each_flag_is_parsed_into_its_option() {
     use tutorial13::debug::lines::LineMode;
     use tutorial13::scenes::cube::{Cube, CubeOptions};
     use tutorial13::scenes::sprite::{Sprite, SpriteOptions};
-    use tutorial13::scenes::table::Start;
+    use tutorial13::scenes::Start;
     use tutorial13::scenes::{FlagStarts, SceneType};
     /// The index in `S`'s table of the control on `key`, which has a flag.
     fn flagged_control<S: SceneType>(key: char) -> usize {

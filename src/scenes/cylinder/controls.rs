@@ -10,9 +10,10 @@ use crate::debug::views::{ColorView, DebugVector, ShaderSwitches};
 use crate::mesh::MeshOptions;
 use clap::ValueEnum;
 
+use crate::scenes::flags::{read_slider, Start};
 use crate::scenes::table::{
-    key_count, key_help, light_slider, power_slider, read_slider, ChoiceValue, Choices, Control,
-    KeyHelp, PointLight, Start, LIGHT_RANGE,
+    key_count, key_help, light_slider, power_slider, ChoiceValue, Choices, Control, KeyHelp,
+    PointLight, LIGHT_RANGE,
 };
 use crate::tangents::TangentSource;
 use crate::Result;
