@@ -111,7 +111,8 @@ fn scene_args<S: SceneType>(command: clap::Command) -> clap::Command {
     let command = <S::Args as clap::Args>::augment_args(command);
     let flags = S::CONTROLS
         .iter()
-        .filter_map(|control| control.flag?.arg(control.key));
+        .filter_map(|control| Some(control.flag?.args(control.key)))
+        .flatten();
     command.args(flags)
 }
 
@@ -182,10 +183,15 @@ fn build<S: SceneType>(context: &SceneContext, options: &SceneOptions) -> Result
     for (index, start) in values.into_iter().chain(toggles) {
         S::CONTROLS[*index].start(&mut scene, start)?;
     }
+    // Once per flag: `--view` starts two controls.
+    let mut warned = Vec::new();
     for (index, _) in &starts {
         let control = &S::CONTROLS[*index];
         if let (Some(reason), Some(flag)) = ((control.inert)(&scene), control.flag) {
-            log::warn!("--{}: {reason}", flag.long);
+            if !warned.contains(&flag.long) {
+                log::warn!("--{}: {reason}", flag.long);
+                warned.push(flag.long);
+            }
         }
     }
     scene.started();

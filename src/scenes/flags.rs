@@ -13,6 +13,9 @@ pub struct Flag {
     pub long: &'static str,
     pub help: &'static str,
     pub takes: Takes,
+    /// A switch that only goes with this flag and changes the start it gives (`--compare-difference`
+    /// with `--compare`): its name without dashes and its help line. `read` reads it.
+    pub modifier: Option<(&'static str, &'static str)>,
 }
 
 /// What a flag takes, and how its control's start is read from the parsed command line.
@@ -69,19 +72,28 @@ impl Flag {
         }
     }
 
-    /// Its clap argument, or `None` where another control's flag of the same name declares it.
-    pub fn arg(&self, key: Option<char>) -> Option<clap::Arg> {
+    /// Its clap arguments: its own (none where another control's flag of the same name declares
+    /// it), then its modifier's.
+    pub fn args(&self, key: Option<char>) -> Vec<clap::Arg> {
         let arg = clap::Arg::new(self.long)
             .long(self.long)
             .help(self.help_line(key));
-        match self.takes {
+        let own = match self.takes {
             Takes::Switch(_) => Some(arg.action(clap::ArgAction::SetTrue)),
             Takes::Value {
                 value_name,
                 arg: declare,
                 ..
             } => declare.map(|declare| declare(arg.value_name(value_name))),
-        }
+        };
+        let modifier = self.modifier.map(|(long, help)| {
+            clap::Arg::new(long)
+                .long(long)
+                .help(help)
+                .action(clap::ArgAction::SetTrue)
+                .requires(self.long)
+        });
+        own.into_iter().chain(modifier).collect()
     }
 
     /// The start it gives its control, if it was given.

@@ -181,7 +181,12 @@ impl<S: 'static> Control<S> {
             "only a toggle takes a flag without a value"
         );
         let takes = Takes::Switch(value);
-        self.flag = Some(Flag { long, help, takes });
+        self.flag = Some(Flag {
+            long,
+            help,
+            takes,
+            modifier: None,
+        });
         self
     }
 
@@ -203,7 +208,22 @@ impl<S: 'static> Control<S> {
             arg,
             read,
         };
-        self.flag = Some(Flag { long, help, takes });
+        self.flag = Some(Flag {
+            long,
+            help,
+            takes,
+            modifier: None,
+        });
+        self
+    }
+
+    /// This control's flag with the switch `--long` beside it, which its `read` takes into account
+    /// ([`Flag::modifier`]).
+    pub const fn flag_modifier(mut self, long: &'static str, help: &'static str) -> Self {
+        match &mut self.flag {
+            Some(flag) => flag.modifier = Some((long, help)),
+            None => panic!("a modifier needs the control's flag first"),
+        }
         self
     }
 

@@ -146,7 +146,7 @@ fn a_flag_of_another_scene_is_an_error_naming_its_scene() {
             argv.extend(some_value(arg));
             // These two need --compare, which is then the first flag found out of place; and
             // --strength needs --height.
-            let named = if arg.get_id() == "split" || arg.get_id() == "compare_difference" {
+            let named = if arg.get_id() == "split" || arg.get_id() == "compare-difference" {
                 argv.extend(["--compare".into(), "tutorial,mikktspace".into()]);
                 "--compare".to_string()
             } else if arg.get_id() == "strength" {

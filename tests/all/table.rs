@@ -267,7 +267,7 @@ fn the_compare_view_compares_like_with_like() {
 }
 
 // Fails if the command line combines --tangents derivative with flags the per-pixel frame ignores
-// without a warning naming them, or if such a run does not draw the per-pixel frame of `lit` (exit
+// without a warning naming each once, or if such a run does not draw the per-pixel frame of `lit` (exit
 // 0, the same picture as without the flags); or if --compare of a colour view against the
 // per-pixel frame (which draws none) does not say so.
 #[test]
@@ -302,6 +302,9 @@ fn flags_the_per_pixel_frame_ignores_are_warned_of() {
         warning("--tangents derivative").contains("--green down"),
         "{stderr}"
     );
+    // Once, though --view starts two controls (the colour view and its component).
+    let views = stderr.lines().filter(|l| l.contains("--view: ")).count();
+    assert_eq!(views, 1, "{stderr}");
     let flags = image::open(&shot).unwrap().to_rgb8();
     assert!(flags == plain, "the flags changed the per-pixel frame");
     // A compare view of a colour view against the per-pixel frame says it compares unlike pictures.
@@ -626,6 +629,18 @@ fn each_value_flag_starts_its_control_through_the_table() {
             &["--compare", "tutorial,mikktspace", "--split", "0.3"],
             "compare split",
             Box::new(slider(0.3)),
+        ),
+        (
+            "cylinder",
+            &["--compare", "tutorial,mikktspace"],
+            "compare view",
+            Box::new(choice("side by side")),
+        ),
+        (
+            "cylinder",
+            &["--compare", "tutorial,mikktspace", "--compare-difference"],
+            "compare view",
+            Box::new(choice("difference")),
         ),
         (
             "wall",

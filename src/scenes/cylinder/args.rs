@@ -1,8 +1,7 @@
-//! The cylinder scene's command-line arguments: its files, and the comparison to start with. The
-//! flags of its switches, choices and sliders (`--debug-lines`, `--tangents`, `--view`, …) are its
-//! table's: see controls.rs.
+//! The cylinder scene's command-line arguments: its files (the model and its maps). The flags of
+//! its switches, choices and sliders (`--debug-lines`, `--tangents`, `--view`, `--compare`, …) are
+//! its table's: see controls.rs.
 
-use crate::debug::compare::{CompareMode, SPLIT_START};
 use crate::debug::views::{NormalMapConvention, ShaderSwitches};
 use std::path::PathBuf;
 
@@ -12,21 +11,11 @@ use crate::normalmap::Green;
 use crate::scenes::options::{SceneArgs, SharedArgs};
 use crate::tangents::TangentSource;
 
-use super::{CompareOptions, CylinderOptions};
+use super::CylinderOptions;
 
 #[derive(clap::Args, Debug, Clone)]
 #[command(next_help_heading = "Scene cylinder")]
 pub struct CylinderArgs {
-    /// Compare two tangent sources in one frame: A left of the split line, B right of it
-    /// (e.g. tutorial,mikktspace) (key K; A and D move the split)
-    #[arg(long, value_name = "A,B", value_parser = parse_pair)]
-    pub compare: Option<[TangentSource; 2]>,
-
-    /// With --compare: show the per-pixel difference as a heat map (its largest difference is
-    /// printed and in the title) instead of the two sides
-    #[arg(long, requires = "compare")]
-    pub compare_difference: bool,
-
     /// Your own model instead of the tutorial's cylinder, scaled onto it: a glTF 2.0 file (.gltf,
     /// .glb) with its textures, or an OBJ with UVs and the maps its .mtl names (docs/model.md says
     /// which and how). Dropping one on the window loads it too
@@ -82,15 +71,8 @@ impl SceneArgs for CylinderArgs {
             line_mode: None,
             // --tangents is the table's (key F); the scene reads it before it builds the mesh.
             tangents: default_tangents(self.model.as_deref()),
-            compare: self.compare.map(|sources| CompareOptions {
-                sources,
-                mode: if self.compare_difference {
-                    CompareMode::Difference
-                } else {
-                    CompareMode::Split
-                },
-                split: SPLIT_START,
-            }),
+            // --compare is the compare key's flag (controls.rs).
+            compare: None,
             model: self.model.clone(),
             maps: MapOverrides {
                 diffuse: self.diffuse.clone(),
@@ -115,12 +97,4 @@ pub fn default_tangents(model: Option<&std::path::Path>) -> TangentSource {
         true => TangentSource::File,
         false => TangentSource::Tutorial,
     }
-}
-
-fn parse_pair(s: &str) -> std::result::Result<[TangentSource; 2], String> {
-    let (a, b) = s
-        .split_once(',')
-        .ok_or_else(|| format!("'{s}' is not A,B, e.g. tutorial,mikktspace"))?;
-    let parse = |name: &str| <TangentSource as clap::ValueEnum>::from_str(name.trim(), false);
-    Ok([parse(a)?, parse(b)?])
 }

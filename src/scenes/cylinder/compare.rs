@@ -9,7 +9,48 @@ use crate::Result;
 
 use super::Cylinder;
 
+/// The compare key's value: off (`mode` `None`) or on in a mode, comparing `pair` where one is
+/// named (`--compare A,B`), else the pair the key picks (`Cylinder::sources_to_compare`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Comparing {
+    pub mode: Option<CompareMode>,
+    pub pair: Option<[TangentSource; 2]>,
+}
+
+impl Comparing {
+    /// Off, side by side, difference: what the key steps through, each with the pair it picks.
+    pub(super) const KEYS: [Comparing; 3] = [
+        Comparing::keyed(None),
+        Comparing::keyed(Some(CompareMode::Split)),
+        Comparing::keyed(Some(CompareMode::Difference)),
+    ];
+
+    const fn keyed(mode: Option<CompareMode>) -> Self {
+        Comparing { mode, pair: None }
+    }
+}
+
 impl Cylinder {
+    /// The compare view now: its mode and pair, or off.
+    pub(super) fn comparing(&self) -> Comparing {
+        Comparing {
+            mode: self.comparison.as_ref().map(|_| self.compare_view.mode),
+            pair: self.comparison.as_ref().map(|(sources, _)| *sources),
+        }
+    }
+
+    /// Sets the compare view to `comparing`. A pair it names is compared in its mode, even one of
+    /// unlike pictures (the learner named it; the table says why it misleads); otherwise as the
+    /// key does ([`Cylinder::set_compare`]).
+    pub(super) fn set_comparing(&mut self, comparing: Comparing) -> Result<()> {
+        if let (Some(pair), Some(mode)) = (comparing.pair, comparing.mode) {
+            self.compare_sources = Some(pair);
+            self.compare_view.mode = mode;
+            return self.start_comparison(pair);
+        }
+        self.set_compare(comparing.mode)
+    }
+
     /// Shows `sources` in the compare view (each drawn whole, the first left of the split).
     pub fn start_comparison(&mut self, sources: [TangentSource; 2]) -> Result<()> {
         self.mesh.built.extend(sources);

@@ -18,6 +18,7 @@ use crate::scenes::table::{
 use crate::tangents::TangentSource;
 use crate::Result;
 
+use super::compare::Comparing;
 use super::programs::Knobs;
 use super::{Cylinder, CylinderOptions, SoupSource};
 
@@ -143,10 +144,10 @@ impl ChoiceValue for (DebugVector, bool) {
     }
 }
 
-/// The compare view: off (`None`), or on in a mode.
-impl ChoiceValue for Option<CompareMode> {
+/// The compare view by its mode: off (`None`), or on in a mode.
+impl ChoiceValue for Comparing {
     fn choice_name(self) -> String {
-        match self {
+        match self.mode {
             None => "off",
             Some(CompareMode::Split) => "side by side",
             Some(CompareMode::Difference) => "difference",
@@ -332,16 +333,23 @@ pub(super) const CONTROLS: &[C] = &[
         "compare view",
         "compare two tangent frames: off, side by side, difference heat map",
         &Choice {
-            values: |_| {
-                vec![
-                    None,
-                    Some(CompareMode::Split),
-                    Some(CompareMode::Difference),
-                ]
-            },
-            get: |c| c.comparison.as_ref().map(|_| c.compare_view.mode),
-            set: Cylinder::set_compare,
+            values: |_| Comparing::KEYS.to_vec(),
+            get: Cylinder::comparing,
+            set: Cylinder::set_comparing,
         },
+    )
+    .value_flag(
+        "compare",
+        "A,B",
+        "Compare two tangent sources in one frame: A left of the split line, B right of it \
+         (e.g. tutorial,mikktspace; A and D move the split)",
+        Some(|arg| arg.value_parser(parse_pair)),
+        read_compare,
+    )
+    .flag_modifier(
+        COMPARE_DIFFERENCE,
+        "With --compare: show the per-pixel difference as a heat map (its largest difference is \
+         printed and in the title) instead of the two sides",
     )
     .inert_when(|c| c.unlike_comparison()),
     C::press(
@@ -446,6 +454,38 @@ pub(super) const CONTROLS: &[C] = &[
     )
     .inert_when(no_split),
 ];
+
+/// `--compare A,B`'s switch for the difference view.
+const COMPARE_DIFFERENCE: &str = "compare-difference";
+
+/// `--compare A,B [--compare-difference]`: the pair, compared side by side or as their difference.
+fn read_compare(matches: &clap::ArgMatches, long: &str) -> Option<Start> {
+    let pair = *matches
+        .try_get_one::<[TangentSource; 2]>(long)
+        .ok()
+        .flatten()?;
+    let difference = matches
+        .try_get_one::<bool>(COMPARE_DIFFERENCE)
+        .ok()
+        .flatten();
+    let mode = match difference {
+        Some(true) => CompareMode::Difference,
+        _ => CompareMode::Split,
+    };
+    let comparing = Comparing {
+        mode: Some(mode),
+        pair: Some(pair),
+    };
+    Some(Start::Choice(std::sync::Arc::new(comparing)))
+}
+
+fn parse_pair(s: &str) -> std::result::Result<[TangentSource; 2], String> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("'{s}' is not A,B, e.g. tutorial,mikktspace"))?;
+    let parse = |name: &str| <TangentSource as clap::ValueEnum>::from_str(name.trim(), false);
+    Ok([parse(a)?, parse(b)?])
+}
 
 fn parse_finite(s: &str) -> std::result::Result<f32, String> {
     s.trim()

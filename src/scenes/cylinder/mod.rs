@@ -237,14 +237,10 @@ impl SceneType for Cylinder {
         Ok(scene)
     }
 
-    /// Once the flags have set the table: a comparison of unlike pictures (`--view` with a side
-    /// drawn by the per-pixel frame) is warned of, and a model drawn with the tutorial's frame far
-    /// from MikkTSpace's (`--normalize-tbn` undoes the stretch; `--no-gram-schmidt` changes the
+    /// A model drawn with the tutorial's frame far from MikkTSpace's is warned of once the flags
+    /// have set the table (`--normalize-tbn` undoes the stretch; `--no-gram-schmidt` changes the
     /// mesh).
     fn started(&mut self) {
-        if let Some(reason) = self.comparison.as_ref().and(self.unlike_comparison()) {
-            log::warn!("--compare: {reason}");
-        }
         if let (SoupSource::Model(model), TangentSource::Tutorial) =
             (&self.mesh.soup, self.mesh.source)
         {
@@ -264,10 +260,19 @@ impl Cylinder {
         self.set_show_lines(cylinder.debug_lines)?;
         let flags = flags_without_effect(cylinder);
         if !flags.is_empty() {
+            let change = if flags.len() == 1 {
+                "changes"
+            } else {
+                "change"
+            };
             log::warn!(
-                "--tangents derivative: {PER_PIXEL}: {} change nothing",
+                "--tangents derivative: {PER_PIXEL}: {} {change} nothing",
                 flags.join(", ")
             );
+        }
+        // (The command line's --compare is the compare key's flag, which says this itself.)
+        if let Some(reason) = self.comparison.as_ref().and(self.unlike_comparison()) {
+            log::warn!("compare view: {reason}");
         }
         Ok(())
     }
