@@ -197,7 +197,8 @@ pub fn heat_colour(d: u8, max: u8) -> [u8; 4] {
 /// The heat map's passes, all on the GPU: a reduction by 4 × 4 blocks, from the two sides down to
 /// one texel holding the largest difference and the count of differing pixels (`CompareReduce`),
 /// then each pixel's colour from a ramp indexed by its difference and the largest
-/// (`CompareHeat`). The counts are integers in RG32UI textures, renderable in GL 3.3 and WebGL2
+/// (`CompareHeat`), drawn only over the 16 × 16 blocks where a pixel differs
+/// (`CompareHeatBlocks`) into a frame cleared to the colour of no difference. The counts are integers in RG32UI textures, renderable in GL 3.3 and WebGL2
 /// alike; the ramp is [`heat_colour`]'s table, so the picture is the same byte for byte on every
 /// GPU.
 struct HeatPasses {
@@ -229,20 +230,24 @@ crate::uniforms! {
 }
 
 crate::uniforms! {
-    /// `CompareView.vertexshader` + `CompareHeat.fragmentshader`.
+    /// `CompareHeatBlocks.vertexshader` + `CompareHeat.fragmentshader`.
     struct HeatProgram for Program {
         first: "First",
         second: "Second",
         flip_rows: "FlipRows",
         largest: "Largest",
         ramp: "Ramp",
+        level: "Level",
+        block_size: "BlockSize",
+        frame_size: "FrameSize",
     }
 }
 
 /// The passes' shader files (the crate's own; a `--shaders` folder does not replace them).
-pub const COMPARE_SHADERS: [&str; 3] = [
+pub const COMPARE_SHADERS: [&str; 4] = [
     "CompareView.vertexshader",
     "CompareReduce.fragmentshader",
+    "CompareHeatBlocks.vertexshader",
     "CompareHeat.fragmentshader",
 ];
 
@@ -250,14 +255,14 @@ const PART: &str = "compare view";
 
 impl HeatPasses {
     fn new(gl: &Gl) -> Result<Self> {
-        let [vertex, reduce, heat] = COMPARE_SHADERS;
+        let [vertex, reduce, blocks, heat] = COMPARE_SHADERS;
         let ramp: Vec<u8> = (0..=255u8)
             .flat_map(|largest| (0..=255u8).flat_map(move |d| heat_colour(d, largest)))
             .collect();
         let passes = HeatPasses {
             gl: gl.clone(),
             reduce: ReduceProgram::new(load_program(gl, vertex, reduce, None)?)?,
-            heat: HeatProgram::new(load_program(gl, vertex, heat, None)?)?,
+            heat: HeatProgram::new(load_program(gl, blocks, heat, None)?)?,
             vao: Owned::create(gl, PART)?,
             ramp: Owned::create(gl, PART)?,
             levels: Vec::new(),
@@ -389,7 +394,10 @@ impl HeatPasses {
     }
 
     /// The heat map of the sides (`largest`: the largest level's texture) drawn into
-    /// `destination`, its viewport `size`.
+    /// `destination`, its viewport `size`: cleared to black (the ramp's colour of no difference),
+    /// then coloured only in the blocks where a pixel differs (a reduction level's texels with a
+    /// count above 0), which on a software rasterizer saves most of a full-frame pass (the object
+    /// covers a fifth of the tutorial's frame).
     ///
     /// # Safety
     /// A current context with the passes' vertex array bound.
@@ -403,13 +411,30 @@ impl HeatPasses {
     ) {
         gl.bind_framebuffer(glow::FRAMEBUFFER, destination);
         gl.viewport(0, 0, size.0 as i32, size.1 as i32);
+        let [r, g, b, a] = heat_colour(0, 0).map(|c| f32::from(c) / 255.0);
+        let mut clear = [0.0f32; 4];
+        gl.get_parameter_f32_slice(glow::COLOR_CLEAR_VALUE, &mut clear);
+        gl.clear_color(r, g, b, a);
+        gl.clear(glow::COLOR_BUFFER_BIT);
+        gl.clear_color(clear[0], clear[1], clear[2], clear[3]);
+        // Blocks of 16 × 16 pixels (the second level), or the first level's 4 × 4 in a frame
+        // too small to have two.
+        let (level, block_size) = match self.levels.get(1) {
+            Some(level) => (level, 16),
+            None => (&self.levels[0], 4),
+        };
         gl.use_program(Some(self.heat.program.id));
         bind_unit(gl, 0, Some(first), self.heat.first.as_ref());
         bind_unit(gl, 1, Some(second), self.heat.second.as_ref());
         gl.uniform_1_i32(self.heat.flip_rows.as_ref(), flipped);
         bind_unit(gl, 2, largest, self.heat.largest.as_ref());
         bind_unit(gl, 3, Some(self.ramp.name()), self.heat.ramp.as_ref());
-        gl.draw_arrays(glow::TRIANGLES, 0, 3);
+        bind_unit(gl, 4, level.texture(), self.heat.level.as_ref());
+        gl.uniform_1_i32(self.heat.block_size.as_ref(), block_size);
+        let frame_size = self.heat.frame_size.as_ref();
+        gl.uniform_2_i32(frame_size, size.0 as i32, size.1 as i32);
+        let blocks = (level.width() * level.height()) as i32;
+        gl.draw_arrays_instanced(glow::TRIANGLES, 0, 6, blocks);
     }
 
     /// The numbers of the last heat map, if the GPU has written them (never waits).

@@ -74,12 +74,31 @@ fn each_half_is_its_source_drawn_alone() {
 
 // Fails if the difference mode does not show the heat map of the two sources' own frames, or reports
 // another largest difference than those frames have (read in the status line, as in the title).
+// Checked at the window's size and at one that is no multiple of 4 (the heat pass colours blocks of
+// 16 × 16 pixels where a pixel differs; a block clipped wrong at the frame's edge would show).
 #[test]
 fn the_heat_map_is_the_difference_of_the_sources_alone() {
+    assert_heat_map_is_the_difference((W, crate::common::H));
+    assert_heat_map_is_the_difference((1001, 749));
+}
+
+fn assert_heat_map_is_the_difference((width, height): (u32, u32)) {
     let sources = [TangentSource::Tutorial, TangentSource::MikkTSpace];
-    let mut r = compare_renderer(sources, CompareMode::Difference, 0.5);
+    let at_size = |set: &dyn Fn(&mut tutorial13::scenes::cylinder::CylinderOptions)| {
+        let mut options = options(own_assets(), Profile::Core);
+        (options.width, options.height) = (width, height);
+        set(crate::common::cylinder_options(&mut options));
+        renderer(&options)
+    };
+    let mut r = at_size(&|c| {
+        c.compare = Some(CompareOptions {
+            sources,
+            mode: CompareMode::Difference,
+            split: 0.5,
+        })
+    });
     let view = frame(&mut r);
-    let (a, b) = (alone(sources[0]), alone(sources[1]));
+    let [a, b] = sources.map(|source| frame(&mut at_size(&|c| c.tangents = source)));
     // Without the view's own function: each pixel's largest channel difference, and the colours the
     // ramp must give it (black where the sources agree, white at the largest difference, a dark
     // red of at least 96 for the smallest).
@@ -113,7 +132,8 @@ fn the_heat_map_is_the_difference_of_the_sources_alone() {
     let drawn = view.pixels().filter(|p| p.0 != [0, 0, 0]).count();
     let differing_sources = deltas.iter().filter(|&&d| d > 0).count();
     println!(
-        "checked {checked:?} pixels (same, smallest, largest); largest {max}, smallest {smallest}"
+        "{width} × {height}: checked {checked:?} pixels (same, smallest, largest); largest {max}, \
+         smallest {smallest}"
     );
     assert_eq!(drawn, differing_sources, "pixels lit in the heat map");
     assert!(checked.iter().all(|&n| n > 0), "{checked:?}");
