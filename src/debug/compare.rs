@@ -165,15 +165,13 @@ impl CompareView {
 
 /// A one-pixel white column at `x` of the bound framebuffer, `height` tall.
 fn draw_column(gl: &Gl, x: u32, height: u32) {
-    // SAFETY: state changes on the current context, each restored.
+    // SAFETY: state changes on the current context. The clear colour is not read back and restored
+    // (a query each frame): the host sets the scene's before the next frame.
     unsafe {
-        let mut clear = [0.0f32; 4];
-        gl.get_parameter_f32_slice(glow::COLOR_CLEAR_VALUE, &mut clear);
         gl.enable(glow::SCISSOR_TEST);
         gl.scissor(x as i32, 0, 1, height as i32);
         gl.clear_color(1.0, 1.0, 1.0, 1.0);
         gl.clear(glow::COLOR_BUFFER_BIT);
-        gl.clear_color(clear[0], clear[1], clear[2], clear[3]);
         gl.disable(glow::SCISSOR_TEST);
     }
 }
@@ -411,12 +409,10 @@ impl HeatPasses {
     ) {
         gl.bind_framebuffer(glow::FRAMEBUFFER, destination);
         gl.viewport(0, 0, size.0 as i32, size.1 as i32);
+        // The clear colour, like the tests below, is the host's to set again before the next frame.
         let [r, g, b, a] = heat_colour(0, 0).map(|c| f32::from(c) / 255.0);
-        let mut clear = [0.0f32; 4];
-        gl.get_parameter_f32_slice(glow::COLOR_CLEAR_VALUE, &mut clear);
         gl.clear_color(r, g, b, a);
         gl.clear(glow::COLOR_BUFFER_BIT);
-        gl.clear_color(clear[0], clear[1], clear[2], clear[3]);
         // Blocks of 16 × 16 pixels (the second level), or the first level's 4 × 4 in a frame
         // too small to have two.
         let (level, block_size) = match self.levels.get(1) {

@@ -45,6 +45,13 @@ pub enum Start {
     Slider(f32),
 }
 
+impl Start {
+    /// A choice's start: `value`, of the choice's own type.
+    pub fn choice<T: Send + Sync + 'static>(value: T) -> Start {
+        Start::Choice(std::sync::Arc::new(value))
+    }
+}
+
 impl fmt::Debug for Start {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -100,7 +107,7 @@ impl Flag {
     pub fn read(&self, matches: &clap::ArgMatches) -> Option<Start> {
         match self.takes {
             Takes::Switch(value) => {
-                let given = matches.try_get_one::<bool>(self.long).ok().flatten() == Some(&true);
+                let given = given::<bool>(matches, self.long) == Some(&true);
                 given.then_some(Start::Toggle(value))
             }
             Takes::Value { read, .. } => read(matches, self.long),
@@ -127,17 +134,23 @@ pub fn enum_arg<T: clap::ValueEnum + Send + Sync + 'static>(arg: clap::Arg) -> c
     arg.value_parser(clap::builder::EnumValueParser::<T>::new())
 }
 
+/// The value of the argument `id` as parsed, if it was given (and is a `T`).
+pub fn given<'a, T: Clone + Send + Sync + 'static>(
+    matches: &'a clap::ArgMatches,
+    id: &str,
+) -> Option<&'a T> {
+    matches.try_get_one::<T>(id).ok().flatten()
+}
+
 /// [`Takes::Value`]'s `read` of a choice whose flag's value is the choice's own type `T`.
 pub fn read_choice<T: Clone + Send + Sync + 'static>(
     matches: &clap::ArgMatches,
     long: &str,
 ) -> Option<Start> {
-    let value = matches.try_get_one::<T>(long).ok().flatten()?;
-    Some(Start::Choice(std::sync::Arc::new(value.clone())))
+    given::<T>(matches, long).map(|value| Start::choice(value.clone()))
 }
 
 /// [`Takes::Value`]'s `read` of a slider, whose flag's value is an `f32`.
 pub fn read_slider(matches: &clap::ArgMatches, long: &str) -> Option<Start> {
-    let value = matches.try_get_one::<f32>(long).ok().flatten()?;
-    Some(Start::Slider(*value))
+    given::<f32>(matches, long).map(|&value| Start::Slider(value))
 }

@@ -117,12 +117,20 @@ impl Shared {
     }
 }
 
-/// A light's power: a finite number, 0 or more.
-fn parse_power(s: &str) -> std::result::Result<f32, String> {
+/// A finite number (a flag's value: NaN and infinities refused).
+pub fn parse_finite(s: &str) -> std::result::Result<f32, String> {
     s.trim()
         .parse::<f32>()
         .ok()
-        .filter(|p| p.is_finite() && *p >= 0.0)
+        .filter(|f| f.is_finite())
+        .ok_or_else(|| format!("'{s}' is not a finite number"))
+}
+
+/// A light's power: a finite number, 0 or more.
+fn parse_power(s: &str) -> std::result::Result<f32, String> {
+    parse_finite(s)
+        .ok()
+        .filter(|p| *p >= 0.0)
         .ok_or_else(|| format!("'{s}' is not a finite number of 0 or more"))
 }
 
@@ -132,13 +140,11 @@ pub fn parse_vec3(s: &str) -> std::result::Result<glam::Vec3, String> {
     let [x, y, z] = parts[..] else {
         return Err(format!("'{s}' is not X,Y,Z, e.g. 0,0,4"));
     };
-    let parse = |v: &str| {
-        v.parse::<f32>()
-            .ok()
-            .filter(|n| n.is_finite())
-            .ok_or_else(|| format!("'{v}' is not a finite number"))
-    };
-    Ok(glam::Vec3::new(parse(x)?, parse(y)?, parse(z)?))
+    Ok(glam::Vec3::new(
+        parse_finite(x)?,
+        parse_finite(y)?,
+        parse_finite(z)?,
+    ))
 }
 
 /// A value a scene is built with (its options type): any plain data.

@@ -174,25 +174,18 @@ impl<S: 'static> Control<S> {
     }
 
     /// This toggle with the command-line flag `--long` (see [`Flag`]), which starts it `value`.
-    pub const fn flag(mut self, long: &'static str, value: bool, help: &'static str) -> Self {
+    pub const fn flag(self, long: &'static str, value: bool, help: &'static str) -> Self {
         // A table that gives a choice or a slider a toggle's flag does not compile.
         assert!(
             matches!(self.kind, Kind::Toggle { .. }),
             "only a toggle takes a flag without a value"
         );
-        let takes = Takes::Switch(value);
-        self.flag = Some(Flag {
-            long,
-            help,
-            takes,
-            modifier: None,
-        });
-        self
+        self.with_flag(long, help, Takes::Switch(value))
     }
 
     /// This choice or slider with the command-line flag `--long VALUE` (see [`Takes::Value`]).
     pub const fn value_flag(
-        mut self,
+        self,
         long: &'static str,
         value_name: &'static str,
         help: &'static str,
@@ -208,6 +201,10 @@ impl<S: 'static> Control<S> {
             arg,
             read,
         };
+        self.with_flag(long, help, takes)
+    }
+
+    const fn with_flag(mut self, long: &'static str, help: &'static str, takes: Takes) -> Self {
         self.flag = Some(Flag {
             long,
             help,

@@ -10,7 +10,8 @@ use crate::debug::views::{ColorView, DebugVector, ShaderSwitches};
 use crate::mesh::MeshOptions;
 use clap::ValueEnum;
 
-use crate::scenes::flags::{read_slider, Start};
+use crate::scenes::flags::{given, read_slider, Start};
+use crate::scenes::options::parse_finite;
 use crate::scenes::table::{
     key_count, key_help, light_slider, power_slider, ChoiceValue, Choices, Control, KeyHelp,
     PointLight, LIGHT_RANGE,
@@ -230,9 +231,8 @@ pub(super) const CONTROLS: &[C] = &[
          one component (key C) [default: lit]",
         Some(|arg| arg.value_parser(clap::value_parser!(ColorView))),
         |matches, long| {
-            let view = matches.try_get_one::<ColorView>(long).ok().flatten()?;
-            let vector = (view.vector, view.mapped);
-            Some(Start::Choice(std::sync::Arc::new(vector)))
+            let view = given::<ColorView>(matches, long)?;
+            Some(Start::choice((view.vector, view.mapped)))
         },
     )
     .in_title("view")
@@ -249,10 +249,8 @@ pub(super) const CONTROLS: &[C] = &[
     )
     // Its part of --view (normal01.y), which the colour view declares.
     .value_flag("view", "NAME", "", None, |matches, long| {
-        let view = matches.try_get_one::<ColorView>(long).ok().flatten()?;
-        Some(Start::Choice(std::sync::Arc::new(Component(
-            view.component,
-        ))))
+        let view = given::<ColorView>(matches, long)?;
+        Some(Start::choice(Component(view.component)))
     })
     .inert_when(per_pixel),
     mesh_toggle!(
@@ -460,23 +458,15 @@ const COMPARE_DIFFERENCE: &str = "compare-difference";
 
 /// `--compare A,B [--compare-difference]`: the pair, compared side by side or as their difference.
 fn read_compare(matches: &clap::ArgMatches, long: &str) -> Option<Start> {
-    let pair = *matches
-        .try_get_one::<[TangentSource; 2]>(long)
-        .ok()
-        .flatten()?;
-    let difference = matches
-        .try_get_one::<bool>(COMPARE_DIFFERENCE)
-        .ok()
-        .flatten();
-    let mode = match difference {
+    let pair = *given::<[TangentSource; 2]>(matches, long)?;
+    let mode = match given::<bool>(matches, COMPARE_DIFFERENCE) {
         Some(true) => CompareMode::Difference,
         _ => CompareMode::Split,
     };
-    let comparing = Comparing {
+    Some(Start::choice(Comparing {
         mode: Some(mode),
         pair: Some(pair),
-    };
-    Some(Start::Choice(std::sync::Arc::new(comparing)))
+    }))
 }
 
 fn parse_pair(s: &str) -> std::result::Result<[TangentSource; 2], String> {
@@ -485,14 +475,6 @@ fn parse_pair(s: &str) -> std::result::Result<[TangentSource; 2], String> {
         .ok_or_else(|| format!("'{s}' is not A,B, e.g. tutorial,mikktspace"))?;
     let parse = |name: &str| <TangentSource as clap::ValueEnum>::from_str(name.trim(), false);
     Ok([parse(a)?, parse(b)?])
-}
-
-fn parse_finite(s: &str) -> std::result::Result<f32, String> {
-    s.trim()
-        .parse::<f32>()
-        .ok()
-        .filter(|f| f.is_finite())
-        .ok_or_else(|| format!("'{s}' is not a finite number"))
 }
 
 fn parse_length(s: &str) -> std::result::Result<f32, String> {
