@@ -14,6 +14,7 @@ pub mod cube;
 pub mod cylinder;
 mod descriptor;
 pub mod flags;
+pub mod lights;
 mod options;
 mod scene;
 pub mod sprite;
@@ -22,8 +23,6 @@ pub mod wall;
 
 use clap::parser::ValueSource;
 
-// Where a scene's asset files are found: re-exported for the tests and tools that used them here.
-pub use crate::assets::{crate_assets_dir, find_assets, taken_from_crate, AssetFiles};
 pub use descriptor::{FlagStarts, SceneDescriptor, SceneType};
 pub use flags::{Flag, Start};
 pub use options::{

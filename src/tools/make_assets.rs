@@ -23,7 +23,10 @@ pub struct MakeAssetsOptions {
 pub fn make_assets(options: &MakeAssetsOptions) -> Result<()> {
     let files = scenes::generate_assets()?;
     // Where the program reads them unless told otherwise, wherever this is run from.
-    let out = options.out.clone().unwrap_or_else(scenes::crate_assets_dir);
+    let out = options
+        .out
+        .clone()
+        .unwrap_or_else(crate::assets::crate_assets_dir);
     let written = crate::assets::make_assets(&out, &files, options.force)?;
     for (what, paths) in [
         ("created", &written.created),

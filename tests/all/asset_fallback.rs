@@ -40,7 +40,7 @@ fn files_of(scene: &SceneDescriptor) -> Vec<&'static str> {
 
 /// How many times each of `scene`'s files in `dir` is among those taken from the crate so far.
 fn times_taken(scene: &SceneDescriptor, dir: &Path) -> Vec<usize> {
-    let taken = tutorial13::scenes::taken_from_crate();
+    let taken = tutorial13::assets::taken_from_crate();
     files_of(scene)
         .iter()
         .map(|name| taken.iter().filter(|p| **p == dir.join(name)).count())
@@ -193,7 +193,7 @@ fn a_file_missing_from_the_crate_too_names_the_one_asked_for() {
     let dir = common::scratch("missing_both");
     let no_crate = common::scratch("missing_both_crate");
     let names = ["sprite/diffuse.bmp", "sprite/normal.bmp"];
-    let error = tutorial13::scenes::find_assets(&dir, &no_crate, names).unwrap_err();
+    let error = tutorial13::assets::find_assets(&dir, &no_crate, names).unwrap_err();
     let message = error.to_string();
     println!("{message}");
     assert_eq!(error.path(), Some(dir.join(names[0]).as_path()));
@@ -208,7 +208,7 @@ fn a_file_missing_from_the_crate_too_names_the_one_asked_for() {
     std::fs::write(no_crate.join(names[0]), "x").unwrap();
     std::fs::create_dir_all(dir.join("sprite")).unwrap();
     std::fs::write(dir.join(names[1]), "y").unwrap();
-    let found = tutorial13::scenes::find_assets(&dir, &no_crate, names).unwrap();
+    let found = tutorial13::assets::find_assets(&dir, &no_crate, names).unwrap();
     assert_eq!(found.paths, [no_crate.join(names[0]), dir.join(names[1])]);
     assert_eq!(found.missing, [dir.join(names[0])]);
 }

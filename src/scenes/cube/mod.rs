@@ -28,11 +28,10 @@ use crate::Result;
 use assets::FILES;
 
 use super::descriptor::{SceneDescriptor, SceneType};
+use super::lights::{light_slider, power_slider, Light, WorldLight};
 use super::options::{SceneOptions, Shared};
 use super::scene::{DrawingProgram, FrameInput, Scene, SceneContext, ShaderSet};
-use super::table::{
-    key_count, key_help, light_slider, power_slider, Control, KeyHelp, Light, WorldLight,
-};
+use super::table::{key_count, key_help, Control, KeyHelp};
 pub use args::CubeOptions;
 
 /// The scene as the rest of the program knows it.

@@ -114,7 +114,7 @@ impl Cylinder {
         let current = self.mesh.source;
         let compared = self.comparison.as_ref().map(|(sources, _)| *sources);
         compared.or(self.compare_sources).unwrap_or_else(|| {
-            let sources = super::controls::tangent_sources(self);
+            let sources = self.mesh.soup.tangent_sources();
             let i = sources.iter().position(|&s| s == current);
             [current, sources[i.map_or(0, |i| (i + 1) % sources.len())]]
         })

@@ -8,14 +8,11 @@ use crate::debug::compare::{CompareMode, SPLIT_START};
 use crate::debug::lines::{LineMode, LINE_LENGTH};
 use crate::debug::views::{ColorView, DebugVector, ShaderSwitches};
 use crate::mesh::MeshOptions;
-use clap::ValueEnum;
 
 use crate::scenes::flags::{given, read_slider, Start};
+use crate::scenes::lights::{light_slider, power_slider, PointLight, LIGHT_RANGE};
 use crate::scenes::options::parse_finite;
-use crate::scenes::table::{
-    key_count, key_help, light_slider, power_slider, ChoiceValue, Choices, Control, KeyHelp,
-    PointLight, LIGHT_RANGE,
-};
+use crate::scenes::table::{key_count, key_help, ChoiceValue, Choices, Control, KeyHelp};
 use crate::tangents::TangentSource;
 use crate::Result;
 
@@ -313,7 +310,7 @@ pub(super) const CONTROLS: &[C] = &[
         "tangent frame",
         "tangent frame: tutorial, MikkTSpace, per-pixel derivatives, a glTF file's own",
         &Choice {
-            values: tangent_sources,
+            values: |c| c.mesh.soup.tangent_sources(),
             get: |c| c.mesh.source,
             set: Cylinder::set_tangent_source,
         },
@@ -491,15 +488,6 @@ fn parse_fraction(s: &str) -> std::result::Result<f32, String> {
         .ok_or_else(|| format!("'{s}' is not a number from 0 to 1"))
 }
 
-/// The tangent sources key F steps through: `file` only for a glTF model.
-pub(super) fn tangent_sources(cylinder: &Cylinder) -> Vec<TangentSource> {
-    let mut all = TangentSource::value_variants().to_vec();
-    if !cylinder.mesh.soup.is_gltf() {
-        all.retain(|&s| s != TangentSource::File);
-    }
-    all
-}
-
 /// A control of this scene, and a choice's values.
 type C = Control<Cylinder>;
 type Choice<T> = Choices<Cylinder, T>;
@@ -507,7 +495,7 @@ type Choice<T> = Choices<Cylinder, T>;
 /// The key list `--help` and the window print.
 pub const KEYS: &[KeyHelp] = &key_help::<Cylinder, { key_count(CONTROLS) }>(CONTROLS);
 
-/// Not a [`crate::scenes::table::WorldLight`] as the cube's and the wall's: the panel moves the light
+/// Not a [`crate::scenes::lights::WorldLight`] as the cube's and the wall's: the panel moves the light
 /// in the space `--light` uses (a model's own coordinates), which is placed into world space, with
 /// its box and start in that space and its power one of the shader's knobs.
 impl PointLight for Cylinder {

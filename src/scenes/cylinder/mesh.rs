@@ -141,6 +141,15 @@ impl SoupSource {
         matches!(self, SoupSource::Model(model) if crate::model::Format::is_gltf(&model.path))
     }
 
+    /// The tangent sources key F steps through: `file` only for a glTF model.
+    pub(super) fn tangent_sources(&self) -> Vec<TangentSource> {
+        let mut all = <TangentSource as clap::ValueEnum>::value_variants().to_vec();
+        if !self.is_gltf() {
+            all.retain(|&s| s != TangentSource::File);
+        }
+        all
+    }
+
     /// The mesh `source` draws with `options`.
     pub(super) fn mesh(
         &self,

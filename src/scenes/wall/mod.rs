@@ -27,12 +27,10 @@ use crate::Result;
 use assets::FILES;
 
 use super::descriptor::{SceneDescriptor, SceneType};
+use super::lights::{light_slider, power_slider, Light, WorldLight};
 use super::options::{SceneOptions, Shared};
 use super::scene::{DrawingProgram, FrameInput, Scene, SceneContext, ShaderSet};
-use super::table::{
-    key_count, key_help, light_slider, power_slider, ChoiceValue, Choices, Control, KeyHelp, Light,
-    WorldLight,
-};
+use super::table::{key_count, key_help, ChoiceValue, Choices, Control, KeyHelp};
 pub use args::WallOptions;
 
 /// The scene as the rest of the program knows it.
