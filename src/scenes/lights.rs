@@ -1,8 +1,10 @@
 //! The point light a scene's panel moves: [`PointLight`] (its position in the space `--light` uses,
-//! its power), the sliders it gives a scene's table ([`light_slider`], [`power_slider`]), and
-//! [`WorldLight`] for a scene whose light is one [`Light`] in world space.
+//! its power), the sliders it gives a scene's table ([`light_slider`], [`power_slider`], which
+//! `--light` and `--light-power` start), and [`WorldLight`] for a scene whose light is one [`Light`]
+//! in world space.
 
-use super::options::LightFlags;
+use super::flags::{given, read_slider, Shared, Start};
+use super::starts::{Handle, Setting};
 use super::table::Control;
 use crate::Result;
 
@@ -36,16 +38,6 @@ pub struct Light {
     pub position_worldspace: glam::Vec3,
     /// The light's power or intensity, as the scene's shader reads it.
     pub power: f32,
-}
-
-impl Light {
-    /// This light with `--light` and `--light-power` over it where they are given.
-    pub fn with_flags(self, flags: LightFlags) -> Light {
-        Light {
-            position_worldspace: flags.position.unwrap_or(self.position_worldspace),
-            power: flags.power.unwrap_or(self.power),
-        }
-    }
 }
 
 /// A scene whose point light is one [`Light`] field that the panel sets as it is (world space,
@@ -86,7 +78,8 @@ pub const LIGHT_AXES: [&str; 3] = ["light x", "light y", "light z"];
 /// The label of the light's power slider ([`power_slider`]).
 pub const LIGHT_POWER: &str = "light power";
 
-/// The slider of the light's axis `AXIS` (0, 1, 2: x, y, z), within [`PointLight::light_range`].
+/// The slider of the light's axis `AXIS` (0, 1, 2: x, y, z), within [`PointLight::light_range`],
+/// started by that coordinate of `--light`.
 pub const fn light_slider<S: PointLight + 'static, const AXIS: usize>() -> Control<S> {
     fn range<S: PointLight, const AXIS: usize>(scene: &S) -> (f32, f32) {
         let (lo, hi) = scene.light_range();
@@ -103,6 +96,9 @@ pub const fn light_slider<S: PointLight + 'static, const AXIS: usize>() -> Contr
         position[AXIS] = value;
         scene.set_light(position, power)
     }
+    fn read<const AXIS: usize>(matches: &clap::ArgMatches, id: &str) -> Option<Start> {
+        given::<glam::Vec3>(matches, id).map(|light| Start::Slider(light[AXIS]))
+    }
     Control::slider(
         LIGHT_AXES[AXIS],
         range::<S, AXIS>,
@@ -110,9 +106,11 @@ pub const fn light_slider<S: PointLight + 'static, const AXIS: usize>() -> Contr
         get::<S, AXIS>,
         set::<S, AXIS>,
     )
+    .shared_flag(Shared::Light, read::<AXIS>)
 }
 
-/// The slider of the light's power, from 0 to [`PointLight::POWER_MAX`].
+/// The slider of the light's power, from 0 to [`PointLight::POWER_MAX`], started by
+/// `--light-power`.
 pub const fn power_slider<S: PointLight + 'static>() -> Control<S> {
     fn range<S: PointLight>(_: &S) -> (f32, f32) {
         (0.0, S::POWER_MAX)
@@ -128,4 +126,19 @@ pub const fn power_slider<S: PointLight + 'static>() -> Control<S> {
         scene.set_light(position, power)
     }
     Control::slider(LIGHT_POWER, range::<S>, start::<S>, get::<S>, set::<S>)
+        .shared_flag(Shared::LightPower, read_slider)
+}
+
+/// The starts that put the light of a scene whose table is `controls` at `position` (in the space
+/// `--light` uses), as `--light` does: its three sliders'.
+pub fn light_at<S: 'static>(
+    controls: &'static [Control<S>],
+    position: glam::Vec3,
+) -> [Setting<S>; 3] {
+    [0, 1, 2].map(|axis| Handle::new(controls, LIGHT_AXES[axis]).to(position[axis]))
+}
+
+/// The handle on the light's power slider of a scene whose table is `controls`.
+pub const fn light_power<S: 'static>(controls: &'static [Control<S>]) -> Handle<S, f32> {
+    Handle::new(controls, LIGHT_POWER)
 }

@@ -1,7 +1,8 @@
 //! Scenes: the programs the front ends can run. Each is a folder that owns its meshes, textures,
-//! shaders, uniforms, GL state, command-line arguments, keys and status line, and describes itself in
-//! one [`SceneDescriptor`] (`SCENE`); [`SCENES`] lists them, and is all the rest of the program knows.
-//! The window, headless mode, `--bench` and the tests drive any of them through the [`Scene`] trait.
+//! shaders, uniforms, GL state, command-line arguments, keys and status line, and whose type says
+//! what it is ([`SceneType`]); [`SCENES`] lists their descriptors ([`SceneDescriptor::of`] each
+//! type), and is all the rest of the program knows. The window, headless mode, `--bench` and the
+//! tests drive any of them through the [`Scene`] trait.
 //!
 //! | scene      | program                                                | folder         |
 //! |------------|--------------------------------------------------------|----------------|
@@ -18,28 +19,41 @@ pub mod lights;
 mod options;
 mod scene;
 pub mod sprite;
+pub mod starts;
 pub mod table;
 pub mod wall;
 
 use clap::parser::ValueSource;
 
-pub use descriptor::{FlagStarts, SceneDescriptor, SceneType};
-pub use flags::{Flag, Start};
-pub use options::{
-    read_args, OwnOptions, PerScene, SceneArgs, SceneOption, SceneOptions, Shared, SharedArgs,
-};
+pub use descriptor::{SceneDescriptor, SceneType, SharedFlags};
+pub use flags::{Flag, Shared, SharedArgs, Start};
+pub use options::{OwnArgs, PerScene, SceneArgs, SceneOption, SceneOptions};
 pub use scene::{
     CompareLabels, DrawingProgram, FrameInput, MouseMode, Scene, SceneContext, ShaderSet,
 };
+pub use starts::{Handle, Setting, Starts};
 pub use table::{
-    control_for_key, key_count, key_help, Control, ControlState, ControlValue, KeyHelp, Kind,
-    SceneControls, SetTo,
+    control_for_key, Control, ControlState, ControlValue, KeyHelp, KeyList, Kind, SceneControls,
+    SetTo,
 };
 
 /// Every scene, in the order the Enter key steps through them; the first is the default. Adding a
-/// scene is its folder, one line here, and its tests.
-pub static SCENES: [&SceneDescriptor; 4] =
-    [&cylinder::SCENE, &sprite::SCENE, &cube::SCENE, &wall::SCENE];
+/// scene is its folder (its type's [`SceneType`]), one line here, and its tests.
+pub static SCENES: [&SceneDescriptor; 4] = [
+    &SceneDescriptor::of::<cylinder::Cylinder>(),
+    &SceneDescriptor::of::<sprite::Sprite>(),
+    &SceneDescriptor::of::<cube::Cube>(),
+    &SceneDescriptor::of::<wall::Wall>(),
+];
+
+/// The descriptor in [`SCENES`] of scene type `S`.
+pub fn descriptor<S: SceneType>() -> &'static SceneDescriptor {
+    SCENES
+        .iter()
+        .copied()
+        .find(|scene| scene.name == S::NAME)
+        .expect("the scene type is listed in SCENES")
+}
 
 /// The scene the program starts with when `--scene` is not given.
 pub fn default_scene() -> &'static SceneDescriptor {

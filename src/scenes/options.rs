@@ -1,58 +1,64 @@
-//! What a scene is built with: its command-line arguments ([`SceneArgs`], the flags several scenes
-//! share in [`SharedArgs`]) and the options they give, kept by type in [`SceneOptions`].
+//! What a scene is built with: its own command-line arguments ([`SceneArgs`], what no control of
+//! its table holds: files), the options they give, and the starts of its controls ([`Starts`]), all
+//! kept by type in [`SceneOptions`].
 
 use std::any::Any;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+use super::flags::{Shared, SharedArgs};
+use super::starts::{Setting, Starts};
 use crate::assets::{crate_assets_dir, find_assets, say_taken_from_crate};
 use crate::Result;
 
-/// A scene's command-line arguments (a `clap::Args` struct in its folder) and the options they give.
+/// A scene's own command-line arguments (a `clap::Args` struct in its folder): what no control of
+/// its table holds (the cylinder's `--model` and maps), and the options they give.
 pub trait SceneArgs: clap::Args + clap::FromArgMatches {
     /// What the scene is built with; its `Default` is the scene without any flag.
     type Options: SceneOption + Clone + Default;
+
+    /// The flags several scenes share that these arguments read (beside those its table's
+    /// controls read): the sprite's `--light`, whose X and Y no control holds.
+    const SHARED: &'static [Shared] = &[];
 
     /// The options these arguments (and the flags several scenes share) ask for, or why they
     /// cannot be (a value this scene cannot use: the message names the flag).
     fn options(&self, shared: &SharedArgs) -> std::result::Result<Self::Options, String>;
 }
 
-/// Arguments that are the scene's options as they are (a scene whose every switch is a flag).
-pub trait OwnOptions: clap::Args + clap::FromArgMatches + SceneOption + Clone + Default {
-    /// These options with the shared flags the scene reads: none unless it says.
-    fn with_shared(self, _shared: &SharedArgs) -> Self {
-        self
-    }
+/// A scene's own arguments as its type names them ([`super::SceneType::ARGS`]): none, or a
+/// [`SceneArgs`] struct's.
+#[derive(Clone, Copy)]
+pub struct OwnArgs {
+    /// Adds the arguments to the command.
+    pub(super) augment: fn(clap::Command) -> clap::Command,
+    /// Reads them (and the shared flags) into [`SceneOptions`].
+    pub(super) read:
+        fn(&clap::ArgMatches, &mut SceneOptions) -> std::result::Result<(), clap::Error>,
+    /// [`SceneArgs::SHARED`].
+    pub(super) shared: &'static [Shared],
 }
 
-impl<T: OwnOptions> SceneArgs for T {
-    type Options = T;
+impl OwnArgs {
+    /// No arguments of its own: every flag the scene reads is a control's.
+    pub const NONE: OwnArgs = OwnArgs {
+        augment: |command| command,
+        read: |_, _| Ok(()),
+        shared: &[],
+    };
 
-    fn options(&self, shared: &SharedArgs) -> std::result::Result<T, String> {
-        Ok(self.clone().with_shared(shared))
-    }
-}
-
-/// `--light` and `--light-power` as a scene with one point light in world space reads them;
-/// `None`: the scene's own.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct LightFlags {
-    pub position: Option<glam::Vec3>,
-    pub power: Option<f32>,
-}
-
-impl LightFlags {
-    pub fn of(shared: &SharedArgs) -> Self {
-        LightFlags {
-            position: shared.light,
-            power: shared.light_power,
+    /// The arguments of `A`.
+    pub const fn of<A: SceneArgs>() -> OwnArgs {
+        OwnArgs {
+            augment: <A as clap::Args>::augment_args,
+            read: read_args::<A>,
+            shared: A::SHARED,
         }
     }
 }
 
-/// [`super::SceneDescriptor::read_args`] for a scene whose arguments are `A`.
-pub fn read_args<A: SceneArgs>(
+/// [`OwnArgs::read`] for a scene whose arguments are `A`.
+fn read_args<A: SceneArgs>(
     matches: &clap::ArgMatches,
     options: &mut SceneOptions,
 ) -> std::result::Result<(), clap::Error> {
@@ -63,88 +69,6 @@ pub fn read_args<A: SceneArgs>(
     })?;
     options.set(value);
     Ok(())
-}
-
-// Flags that mean the same in several scenes: each scene's descriptor names those it reads, so that
-// one given to a scene that does not read it is an error, not ignored. (A plain comment: clap would
-// make a doc comment the program's `about`.)
-#[derive(clap::Args, Debug, Clone, Default)]
-#[command(next_help_heading = "Several scenes")]
-pub struct SharedArgs {
-    /// Normal map's green channel: up the picture (OpenGL, the tutorial's) or down (DirectX) (key Y)
-    #[arg(long, value_enum, value_name = "DIR", default_value_t = crate::normalmap::Green::Up)]
-    pub green: crate::normalmap::Green,
-
-    /// Where the light is. cylinder: X,Y,Z in world space [default: the tutorial's lightPos 0,0,4],
-    /// or in the model's own coordinates with --model [default: where the tutorial's light is
-    /// beside its cylinder, scaled to the model]. sprite: X,Y across the window (0 to 1, y up) and
-    /// the height Z > 0 [default: 0.4,0.6,0.075]; in the window the mouse takes over once it moves.
-    /// cube, wall: X,Y,Z in world space [default: the article's, -4,1.5,6 and 4,0,4]
-    #[arg(long, value_name = "X,Y,Z", value_parser = parse_vec3, allow_hyphen_values = true)]
-    pub light: Option<glam::Vec3>,
-
-    /// The light's power, as the panel's slider sets it [default: the tutorial's LightPower 40;
-    /// cube: a factor 1 on its light; wall: the article's intensity 50]
-    #[arg(long, value_name = "P", value_parser = parse_power)]
-    pub light_power: Option<f32>,
-}
-
-/// A flag of [`SharedArgs`], as a scene's descriptor names those it reads
-/// ([`super::SceneDescriptor::shared_args`]): a misspelt one does not compile, and a unit test
-/// checks that every field of [`SharedArgs`] has one.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Shared {
-    Green,
-    Light,
-    LightPower,
-}
-
-impl Shared {
-    pub const ALL: [Shared; 3] = [Shared::Green, Shared::Light, Shared::LightPower];
-
-    /// Its argument's id in [`SharedArgs`] (clap's: the field's name).
-    pub const fn id(self) -> &'static str {
-        match self {
-            Shared::Green => "green",
-            Shared::Light => "light",
-            Shared::LightPower => "light_power",
-        }
-    }
-
-    /// The flag whose argument id is `id`.
-    pub fn of_id(id: &str) -> Option<Shared> {
-        Shared::ALL.into_iter().find(|s| s.id() == id)
-    }
-}
-
-/// A finite number (a flag's value: NaN and infinities refused).
-pub fn parse_finite(s: &str) -> std::result::Result<f32, String> {
-    s.trim()
-        .parse::<f32>()
-        .ok()
-        .filter(|f| f.is_finite())
-        .ok_or_else(|| format!("'{s}' is not a finite number"))
-}
-
-/// A light's power: a finite number, 0 or more.
-fn parse_power(s: &str) -> std::result::Result<f32, String> {
-    parse_finite(s)
-        .ok()
-        .filter(|p| *p >= 0.0)
-        .ok_or_else(|| format!("'{s}' is not a finite number of 0 or more"))
-}
-
-/// `X,Y,Z` of three finite numbers.
-pub fn parse_vec3(s: &str) -> std::result::Result<glam::Vec3, String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    let [x, y, z] = parts[..] else {
-        return Err(format!("'{s}' is not X,Y,Z, e.g. 0,0,4"));
-    };
-    Ok(glam::Vec3::new(
-        parse_finite(x)?,
-        parse_finite(y)?,
-        parse_finite(z)?,
-    ))
 }
 
 /// A value a scene is built with (its options type): any plain data.
@@ -173,8 +97,8 @@ impl Clone for Box<dyn SceneOption> {
     }
 }
 
-/// Where the scenes' files come from, and each scene's options (by type: a scene that finds none of
-/// its type starts with its defaults). A new scene needs no field here.
+/// Where the scenes' files come from, each scene's options and the starts of its controls (by type:
+/// a scene that finds none of its type starts with its defaults). A new scene needs no field here.
 #[derive(Debug, Clone, Default)]
 pub struct SceneOptions {
     /// `--assets DIR`; `None` = the crate's own assets/ folder.
@@ -237,6 +161,22 @@ impl SceneOptions {
         self
     }
 
+    /// Starts a control of scene type `S` as `setting` says (a typed handle's value, see
+    /// [`super::starts::Handle::to`]), through its table once the scene is built, as its flag
+    /// would; it replaces an earlier start of the same control.
+    pub fn start<S: 'static>(&mut self, setting: Setting<S>) -> &mut Self {
+        self.get_mut::<Starts<S>>().set(setting);
+        self
+    }
+
+    /// These options with each of `settings` started ([`SceneOptions::start`]).
+    pub fn starting<S: 'static>(mut self, settings: impl IntoIterator<Item = Setting<S>>) -> Self {
+        for setting in settings {
+            self.start(setting);
+        }
+        self
+    }
+
     fn position<T: SceneOption>(&self) -> Option<usize> {
         self.per_scene
             .0
@@ -247,26 +187,5 @@ impl SceneOptions {
     fn find<T: SceneOption>(&self) -> Option<&T> {
         let i = self.position::<T>()?;
         (*self.per_scene.0[i]).option_any().downcast_ref()
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    // Fails if a field of SharedArgs has no `Shared` (a scene could not say it reads it) or a
-    // `Shared` names no argument of SharedArgs: the two lists must be the same, in order.
-    #[test]
-    fn every_shared_flag_has_its_name() {
-        let command = <SharedArgs as clap::Args>::augment_args(clap::Command::new("shared"));
-        let ids: Vec<String> = command
-            .get_arguments()
-            .map(|a| a.get_id().to_string())
-            .collect();
-        let named: Vec<&str> = Shared::ALL.iter().map(|s| s.id()).collect();
-        assert_eq!(ids, named);
-        for flag in Shared::ALL {
-            assert_eq!(Shared::of_id(flag.id()), Some(flag));
-        }
     }
 }

@@ -1,10 +1,13 @@
 //! A scene's controls, each declared once: its key, label, key-list line, kind (on / off, a choice of
-//! named values, a slider, a plain press), how it is read and set, its name in the title, and when
-//! it does nothing. The key handling, the key list (`--help`, the window, `docs/keys.md`), the
-//! panel's rows, the title's short status and the log's status line are all read from this one
-//! table.
+//! named values, a slider, a plain press), how it is read and set, its command-line flag, its name
+//! in the title, and when it does nothing. The key handling, the key list (`--help`, the window,
+//! `docs/keys.md`), the panel's rows, the title's short status, the log's status line and every
+//! start from outside (a flag, a library caller, a test: [`super::starts`]) are all read from this
+//! one table.
 
-use super::flags::{enum_arg, read_choice, Flag, Start, Takes};
+use std::any::TypeId;
+
+use super::flags::{enum_arg, read_choice, Flag, Shared, Start, Takes};
 use crate::Result;
 
 /// One control of scene type `S` (see the module's doc).
@@ -33,8 +36,8 @@ pub enum Kind<S: 'static> {
     },
     /// One of several named values; the key steps to the next in the order of its values. The
     /// scene reads and sets typed values ([`Choices`]); names exist only for the panel, the title
-    /// and the log.
-    Choice(&'static dyn AnyChoice<S>),
+    /// and the log. (`Sync`: a table is shared by every thread that starts a scene's controls.)
+    Choice(&'static (dyn AnyChoice<S> + Sync)),
     /// A value within `range`, starting at the tutorial's (or the article's) `start`.
     Slider {
         range: fn(&S) -> (f32, f32),
@@ -72,6 +75,8 @@ pub trait AnyChoice<S> {
     /// the scene offers it now (the flag's parser has checked it): `false` if it is of another
     /// type.
     fn set_any(&self, scene: &mut S, value: &dyn std::any::Any) -> Result<bool>;
+    /// The type of its values (what a typed handle on it must name).
+    fn value_type(&self) -> TypeId;
 }
 
 impl<S, T: ChoiceValue> AnyChoice<S> for Choices<S, T> {
@@ -97,6 +102,10 @@ impl<S, T: ChoiceValue> AnyChoice<S> for Choices<S, T> {
             None => Ok(false),
         }
     }
+
+    fn value_type(&self) -> TypeId {
+        TypeId::of::<T>()
+    }
 }
 
 /// A control that always applies.
@@ -121,7 +130,7 @@ impl<S: 'static> Control<S> {
         key: char,
         label: &'static str,
         help: &'static str,
-        choices: &'static dyn AnyChoice<S>,
+        choices: &'static (dyn AnyChoice<S> + Sync),
     ) -> Self {
         Self::keyed(key, label, help, Kind::Choice(choices))
     }
@@ -213,6 +222,22 @@ impl<S: 'static> Control<S> {
         self
     }
 
+    /// This toggle or slider with the flag several scenes share `flag` ([`Takes::Shared`]), whose
+    /// argument [`super::flags::SharedArgs`] declares; `read` gives the control's start from it.
+    pub const fn shared_flag(
+        mut self,
+        flag: Shared,
+        read: fn(&clap::ArgMatches, &str) -> Option<Start>,
+    ) -> Self {
+        self.flag = Some(Flag {
+            long: flag.long(),
+            help: "",
+            takes: Takes::Shared { flag, read },
+            modifier: None,
+        });
+        self
+    }
+
     /// This control's flag with the switch `--long` beside it, which its `read` takes into account
     /// ([`Flag::modifier`]).
     pub const fn flag_modifier(mut self, long: &'static str, help: &'static str) -> Self {
@@ -251,7 +276,6 @@ impl<S: 'static> Control<S> {
         self
     }
 
-    /// Its state in `scene` now.
     /// Its value as the title shows it ([`ControlValue::shown`] of its state), read without the
     /// rest of the state (a choice's list of names): the title asks every frame.
     pub(super) fn shown(&self, scene: &S) -> String {
@@ -316,7 +340,8 @@ impl<S: 'static> Control<S> {
         }
     }
 
-    /// Sets it in `scene` to a flag's `start` (a slider unclamped, see [`Start::Slider`]).
+    /// Sets it in `scene` to a start (a flag's or a typed handle's, see [`super::starts`]; a slider
+    /// unclamped, see [`Start::Slider`]).
     pub(super) fn start(&self, scene: &mut S, start: &Start) -> Result<()> {
         let set = match (&self.kind, start) {
             (Kind::Toggle { set, .. }, &Start::Toggle(on)) => set(scene, on).map(|()| true),
@@ -324,10 +349,11 @@ impl<S: 'static> Control<S> {
             (Kind::Slider { set, .. }, &Start::Slider(value)) => set(scene, value).map(|()| true),
             _ => Ok(false),
         }?;
-        // A table whose flag reads another type than its control's: each_flag_starts_its_control
-        // (tests/all/table.rs) finds it.
+        // A table whose flag reads another type than its control's:
+        // each_value_flag_starts_its_control_through_the_table (tests/all/table.rs) finds it (a
+        // typed handle of another type panics in `Handle::to`).
         if !set {
-            log::error!("{}: its flag's {start:?} is not of its kind", self.label);
+            log::error!("{}: the start {start:?} is not of its kind", self.label);
         }
         Ok(())
     }
@@ -355,40 +381,45 @@ pub struct KeyHelp {
     pub help: &'static str,
 }
 
-/// How many of `controls` have a key (the length of their [`key_help`]).
-pub const fn key_count<S: 'static>(controls: &[Control<S>]) -> usize {
-    let (mut i, mut n) = (0, 0);
-    while i < controls.len() {
-        if controls[i].key.is_some() {
-            n += 1;
-        }
-        i += 1;
-    }
-    n
+/// The most keys one scene's table may have (the key list is built with the crate, in an array of
+/// this size).
+const MAX_KEYS: usize = 32;
+
+/// The key list of a table, in its order (built when the crate is: `--help` lists a scene's keys
+/// without building it). Two controls on one key stop the build: the second could never be reached.
+pub struct KeyList {
+    keys: [KeyHelp; MAX_KEYS],
+    len: usize,
 }
 
-/// The key list of `controls`, in their order (a `const`, so that `--help` lists a scene's keys
-/// without building it). Two controls on one key stop the build: the second could never be reached.
-pub const fn key_help<S: 'static, const N: usize>(controls: &[Control<S>]) -> [KeyHelp; N] {
-    let mut keys = [KeyHelp { key: ' ', help: "" }; N];
-    let (mut i, mut n) = (0, 0);
-    while i < controls.len() {
-        if let Some(key) = controls[i].key {
-            let mut j = 0;
-            while j < n {
-                assert!(keys[j].key != key, "two controls share a key");
-                j += 1;
+impl KeyList {
+    /// The keys of `controls`.
+    pub const fn of<S: 'static>(controls: &[Control<S>]) -> KeyList {
+        let mut keys = [KeyHelp { key: ' ', help: "" }; MAX_KEYS];
+        let (mut i, mut n) = (0, 0);
+        while i < controls.len() {
+            if let Some(key) = controls[i].key {
+                let mut j = 0;
+                while j < n {
+                    assert!(keys[j].key != key, "two controls share a key");
+                    j += 1;
+                }
+                assert!(n < MAX_KEYS, "more keys than MAX_KEYS");
+                keys[n] = KeyHelp {
+                    key,
+                    help: controls[i].help,
+                };
+                n += 1;
             }
-            keys[n] = KeyHelp {
-                key,
-                help: controls[i].help,
-            };
-            n += 1;
+            i += 1;
         }
-        i += 1;
+        KeyList { keys, len: n }
     }
-    assert!(n == N, "N is not key_count(controls)");
-    keys
+
+    /// The list (of a list built with the crate).
+    pub const fn as_slice(&'static self) -> &'static [KeyHelp] {
+        self.keys.split_at(self.len).0
+    }
 }
 
 /// The index of the control on `key` (letters either case).

@@ -369,16 +369,16 @@ fn help_fits_the_width_it_is_given() {
 #[test]
 fn scene_help_lists_that_scenes_keys_and_flags_only() {
     use tutorial13::frontends::key_list;
-    use tutorial13::scenes::{cylinder, sprite};
+    use tutorial13::scenes::{cylinder::Cylinder, descriptor, sprite::Sprite};
     let help = help_text(&["--scene", "sprite", "--help"], None);
-    let (help_words, sprite_keys) = (words(&help), key_list(&sprite::SCENE));
+    let (help_words, sprite_keys) = (words(&help), key_list(descriptor::<Sprite>()));
     for row in sprite_keys.lines() {
         assert!(
             help_words.contains(&words(row)),
             "--scene sprite --help lacks the key row {row:?}:\n{help}"
         );
     }
-    for row in key_list(&cylinder::SCENE).lines() {
+    for row in key_list(descriptor::<Cylinder>()).lines() {
         if !sprite_keys.contains(row) {
             assert!(
                 !help_words.contains(&words(row)),
@@ -770,71 +770,80 @@ fn make_assets_reproduces_the_committed_assets() {
 }
 
 // Fails if a cylinder flag whose switch the library tests is not wired to it: the binary's headless
-// frame with the flag must equal bit for bit the frame of the options set in the library (and differ
-// from the plain frame, so that the flag is seen doing something).
+// frame with the flag must equal bit for bit the frame of the same controls started in the library
+// through their typed handles (and differ from the plain frame, so that the flag is seen doing
+// something).
 #[test]
 fn each_cylinder_flag_draws_the_frame_of_its_option() {
+    use glam::Vec3;
     use tutorial13::debug::compare::CompareMode;
-    use tutorial13::scenes::cylinder::{CompareOptions, CylinderOptions};
+    use tutorial13::scenes::cylinder::{self, Comparing, Cylinder};
+    use tutorial13::scenes::Setting;
     use tutorial13::tangents::TangentSource;
     let dir = common::scratch("cylinder_flags");
-    fn compare(mode: CompareMode, split: f32) -> CompareOptions {
-        CompareOptions {
-            sources: [TangentSource::Tutorial, TangentSource::MikkTSpace],
-            mode,
-            split,
-        }
-    }
-    type Set = fn(&mut CylinderOptions);
-    let cases: [(&[&str], Set); 15] = [
-        (&["--no-gram-schmidt"], |c| {
-            c.mesh.tangents.gram_schmidt = false
-        }),
-        (&["--no-handedness"], |c| c.mesh.tangents.handedness = false),
-        (&["--normalize-before-sum"], |c| {
-            c.mesh.indexing.normalize_before_sum = true
-        }),
-        (&["--no-specular-texture"], |c| {
-            c.switches.specular_texture = false
-        }),
-        (&["--normalize-tbn"], |c| c.switches.normalize_tbn = true),
-        (&["--exact-expansion"], |c| {
-            c.switches.convention.exact_expansion = true
-        }),
-        (&["--two-channel"], |c| {
-            c.switches.convention.two_channel = true
-        }),
-        (&["--green", "down"], |c| {
-            c.switches.convention.green_down = true
-        }),
-        (&["--view", "normal01.y"], |c| {
-            c.switches.view = "normal01.y".parse().unwrap()
-        }),
-        (&["--tangents", "mikktspace"], |c| {
-            c.tangents = TangentSource::MikkTSpace
-        }),
-        (&["--debug-lines"], |c| c.debug_lines = true),
+    let pair = [TangentSource::Tutorial, TangentSource::MikkTSpace];
+    let compare = |mode| cylinder::COMPARE.to(Comparing::pair(pair, mode));
+    // Each flag, and the starts of the typed handles that must give its frame.
+    let cases: [(&[&str], Vec<Setting<Cylinder>>); 17] = [
+        (
+            &["--no-gram-schmidt"],
+            vec![cylinder::GRAM_SCHMIDT.to(false)],
+        ),
+        (&["--no-handedness"], vec![cylinder::HANDEDNESS.to(false)]),
+        (
+            &["--normalize-before-sum"],
+            vec![cylinder::NORMALIZE_BEFORE_SUM.to(true)],
+        ),
+        (
+            &["--no-specular-texture"],
+            vec![cylinder::SPECULAR_TEXTURE.to(false)],
+        ),
+        (&["--normalize-tbn"], vec![cylinder::NORMALIZE_TBN.to(true)]),
+        (
+            &["--exact-expansion"],
+            vec![cylinder::EXACT_EXPANSION.to(true)],
+        ),
+        (&["--two-channel"], vec![cylinder::TWO_CHANNEL.to(true)]),
+        (&["--green", "down"], vec![cylinder::GREEN_DOWN.to(true)]),
+        (
+            &["--view", "normal01.y"],
+            cylinder::view("normal01.y".parse().unwrap()).to_vec(),
+        ),
+        (
+            &["--tangents", "mikktspace"],
+            vec![cylinder::TANGENTS.to(TangentSource::MikkTSpace)],
+        ),
+        (&["--debug-lines"], vec![cylinder::LINES.to(true)]),
         (
             &["--compare", "tutorial,mikktspace", "--split", "0.3"],
-            |c| c.compare = Some(compare(CompareMode::Split, 0.3)),
+            vec![compare(CompareMode::Split), cylinder::SPLIT.to(0.3)],
         ),
         (
             &["--compare", "tutorial,mikktspace", "--compare-difference"],
-            |c| c.compare = Some(compare(CompareMode::Difference, 0.5)),
+            vec![compare(CompareMode::Difference)],
         ),
-        (&["--normal-strength", "2.5"], |c| {
-            c.normal_strength = Some(2.5)
-        }),
-        (&["--debug-lines", "--line-length", "0.25"], |c| {
-            c.debug_lines = true;
-            c.line_length = Some(0.25)
-        }),
+        (
+            &["--normal-strength", "2.5"],
+            vec![cylinder::NORMAL_STRENGTH.to(2.5)],
+        ),
+        (
+            &["--debug-lines", "--line-length", "0.25"],
+            vec![cylinder::LINES.to(true), cylinder::TBN_LINE_LENGTH.to(0.25)],
+        ),
+        (
+            &["--light", "1,2,3"],
+            cylinder::light_at(Vec3::new(1.0, 2.0, 3.0)).to_vec(),
+        ),
+        (
+            &["--light-power", "80"],
+            vec![cylinder::LIGHT_POWER.to(80.0)],
+        ),
     ];
     let plain = common::headless_screenshot(&dir, "plain.png", &[]);
-    for (n, (args, set)) in cases.into_iter().enumerate() {
+    for (n, (args, settings)) in cases.into_iter().enumerate() {
         let flagged = common::headless_screenshot(&dir, &format!("{n}.png"), args);
         let mut options = tutorial13::frontends::headless::HeadlessOptions::default();
-        set(common::cylinder_options(&mut options));
+        options.scene = options.scene.starting(settings);
         let mut renderer = common::renderer(&options);
         let library = common::frame(&mut renderer);
         drop(renderer);

@@ -8,12 +8,15 @@ use image::RgbImage;
 use tutorial13::debug::compare::{heat_colour, CompareMode};
 use tutorial13::frontends::headless::HeadlessRenderer;
 use tutorial13::gl::Profile;
-use tutorial13::scenes::cylinder::{CompareOptions, Cylinder};
+use tutorial13::scenes::cylinder::{self, Comparing, Cylinder};
 use tutorial13::scenes::Scene;
+use tutorial13::scenes::SceneOptions;
 use tutorial13::tangents::TangentSource;
 
 fn alone(source: TangentSource) -> RgbImage {
-    cylinder_frame(own_assets(), |cylinder| cylinder.tangents = source)
+    cylinder_frame(own_assets(), |o| {
+        o.start(cylinder::TANGENTS.to(source));
+    })
 }
 
 /// The cylinder started in the compare view of `sources`.
@@ -22,12 +25,9 @@ fn compare_renderer(
     mode: CompareMode,
     split: f32,
 ) -> HeadlessRenderer {
-    cylinder_renderer(own_assets(), |cylinder| {
-        cylinder.compare = Some(CompareOptions {
-            sources,
-            mode,
-            split,
-        })
+    cylinder_renderer(own_assets(), |o| {
+        o.start(cylinder::COMPARE.to(Comparing::pair(sources, mode)));
+        o.start(cylinder::SPLIT.to(split));
     })
 }
 
@@ -84,21 +84,22 @@ fn the_heat_map_is_the_difference_of_the_sources_alone() {
 
 fn assert_heat_map_is_the_difference((width, height): (u32, u32)) {
     let sources = [TangentSource::Tutorial, TangentSource::MikkTSpace];
-    let at_size = |set: &dyn Fn(&mut tutorial13::scenes::cylinder::CylinderOptions)| {
+    let at_size = |set: &dyn Fn(&mut SceneOptions)| {
         let mut options = options(own_assets(), Profile::Core);
         (options.width, options.height) = (width, height);
-        set(crate::common::cylinder_options(&mut options));
+        set(&mut options.scene);
         renderer(&options)
     };
-    let mut r = at_size(&|c| {
-        c.compare = Some(CompareOptions {
-            sources,
-            mode: CompareMode::Difference,
-            split: 0.5,
-        })
+    let mut r = at_size(&|o| {
+        o.start(cylinder::COMPARE.to(Comparing::pair(sources, CompareMode::Difference)));
+        o.start(cylinder::SPLIT.to(0.5));
     });
     let view = frame(&mut r);
-    let [a, b] = sources.map(|source| frame(&mut at_size(&|c| c.tangents = source)));
+    let [a, b] = sources.map(|source| {
+        frame(&mut at_size(&|o| {
+            o.start(cylinder::TANGENTS.to(source));
+        }))
+    });
     // Without the view's own function: each pixel's largest channel difference, and the colours the
     // ramp must give it (black where the sources agree, white at the largest difference, a dark
     // red of at least 96 for the smallest).

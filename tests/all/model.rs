@@ -10,6 +10,7 @@ use tutorial13::frontends::headless::HeadlessRenderer;
 use tutorial13::gl::Profile;
 
 use crate::common;
+use tutorial13::scenes::cylinder;
 
 /// Writes a `size²` picture by `path`'s extension (PNG, JPEG at quality 95, BMP, or DXT3 DDS).
 fn write_picture(path: &Path, size: u32, texel: impl Fn(u32, u32) -> [u8; 3]) {
@@ -659,12 +660,14 @@ fn a_models_light_lands_where_it_is_put() {
     ];
     for (light, normalize_tbn) in cases {
         let mut options = HeadlessOptions::default();
-        let cylinder = common::cylinder_options(&mut options);
-        cylinder.model = Some(obj.clone());
-        cylinder.light = Some(light);
-        cylinder.light_power = Some(0.1);
-        cylinder.maps.specular = Some(dir.join("black.png"));
-        cylinder.switches.normalize_tbn = normalize_tbn;
+        let files = common::cylinder_files(&mut options);
+        files.model = Some(obj.clone());
+        files.maps.specular = Some(dir.join("black.png"));
+        let starts = cylinder::light_at(light).into_iter().chain([
+            cylinder::LIGHT_POWER.to(0.1),
+            cylinder::NORMALIZE_TBN.to(normalize_tbn),
+        ]);
+        options.scene = options.scene.starting(starts);
         let mut renderer = common::renderer(&options);
         let frame = common::frame(&mut renderer);
         let (view, projection) = (

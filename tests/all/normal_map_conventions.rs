@@ -12,13 +12,15 @@ use image::RgbImage;
 use tutorial13::assets::encode_bmp;
 use tutorial13::debug::views::NormalMapConvention;
 use tutorial13::gl::Profile;
-use tutorial13::scenes::cylinder::Cylinder;
+use tutorial13::scenes::cylinder::{self, Cylinder};
 use tutorial13::scenes::Scene;
 
 fn render(assets: PathBuf, convention: NormalMapConvention, view: &str) -> RgbImage {
-    cylinder_frame(assets, |cylinder| {
-        cylinder.switches.convention = convention;
-        cylinder.switches.view = view.parse().unwrap();
+    cylinder_frame(assets, |o| {
+        let settings = cylinder::convention(convention).into_iter();
+        for setting in settings.chain(cylinder::view(view.parse().unwrap())) {
+            o.start(setting);
+        }
     })
 }
 

@@ -7,6 +7,7 @@ use glam::Vec3;
 use tutorial13::debug::lines::LineMode;
 use tutorial13::gl::Profile;
 use tutorial13::pipeline::obj_parse::load_obj_threaded;
+use tutorial13::scenes::cylinder;
 
 // Fails if the program does not link in a 3.3 core context, any GL error is raised in a frame, the
 // clear colour is not the tutorial's (0, 0, 0.4), or the cylinder is missing.
@@ -163,9 +164,10 @@ fn assert_equals_cpp_original(profile: Profile, lines: bool, msaa: u32, cpp_fram
     let mut options = options(original.clone(), profile);
     options.msaa = msaa;
     if lines {
-        let cylinder = cylinder_options(&mut options);
-        cylinder.debug_lines = true;
-        cylinder.line_mode = Some(LineMode::Legacy);
+        options.scene.start(cylinder::LINES.to(true));
+        options
+            .scene
+            .start(cylinder::LINE_MODE.to(LineMode::Legacy));
     }
     let mut renderer = renderer(&options);
     if !on_reference_renderer(&test, renderer.context.info()) {

@@ -28,7 +28,7 @@ const AMBIENT: f32 = 0.09;
 
 fn cube_options(assets: PathBuf) -> HeadlessOptions {
     let mut options = options(assets, Profile::Core);
-    options.descriptor = &tutorial13::scenes::cube::SCENE;
+    options.descriptor = tutorial13::scenes::descriptor::<tutorial13::scenes::cube::Cube>();
     options
 }
 
@@ -106,7 +106,7 @@ fn assert_all_equal(
 
 // Fails if the article's flag does nothing on the lit faces (the normal map not sampled, or not
 // perturbing the normal), if the key N does not toggle it or the status line does not say so, or if
-// `--no-normal-map` (CubeOptions) draws anything but what the key gives. Tolerance: at least half of
+// the start `--no-normal-map` gives (cube::NORMAL_MAPPING off) draws anything but what the key gives. Tolerance: at least half of
 // the sampled pixels of the lit front and top faces must change, by at least 1.5 levels per channel on
 // average (measured on llvmpipe: front 88 % and 3.8 levels, top 92 % and 5.0 levels; the
 // stones' shoulders change by far more, their flat tops little).
@@ -144,8 +144,7 @@ fn normal_mapping_off_and_on_differ_on_lit_faces() {
     let mut flag_off = cube_options(own_assets());
     flag_off
         .scene
-        .get_mut::<tutorial13::scenes::cube::CubeOptions>()
-        .normal_mapping = false;
+        .start(tutorial13::scenes::cube::NORMAL_MAPPING.to(false));
     let mut second = common::renderer(&flag_off);
     assert_eq!(second.host.scene.short_status(), "normal mapping off");
     assert!(

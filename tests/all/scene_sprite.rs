@@ -11,9 +11,9 @@ use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::scenes::sprite::assets::rock_height_map;
 use tutorial13::scenes::sprite::{
     cursor_to_light, sprite_rect, Sprite, SpriteOptions, DEFAULT_LIGHT_Z, DIFFUSE_FILE,
-    NORMAL_FILE, Z_MAX, Z_MIN,
+    INDEPENDENT_FALLOFF, NORMAL_FILE, Z_MAX, Z_MIN,
 };
-use tutorial13::scenes::SceneOptions;
+use tutorial13::scenes::{SceneOptions, Setting};
 
 use crate::common;
 use crate::common::xvfb::{wait_for, Xvfb};
@@ -22,18 +22,35 @@ use crate::common::{assert_matches_golden, frame, own_assets, pixel_diff, scratc
 /// Side of the sprite's textures.
 const TEXELS: u32 = 512;
 
+/// The sprite with its light at `sprite`'s and its controls started by `starts`.
+struct SpriteStart {
+    sprite: SpriteOptions,
+    starts: Vec<Setting<Sprite>>,
+}
+
+impl From<SpriteOptions> for SpriteStart {
+    fn from(sprite: SpriteOptions) -> Self {
+        SpriteStart {
+            sprite,
+            starts: Vec::new(),
+        }
+    }
+}
+
 fn sprite_options(
     assets: Option<PathBuf>,
-    sprite: SpriteOptions,
+    start: impl Into<SpriteStart>,
     size: (u32, u32),
 ) -> HeadlessOptions {
+    let SpriteStart { sprite, starts } = start.into();
     HeadlessOptions {
-        descriptor: &tutorial13::scenes::sprite::SCENE,
+        descriptor: tutorial13::scenes::descriptor::<Sprite>(),
         scene: SceneOptions {
             assets,
             ..Default::default()
         }
-        .with(sprite),
+        .with(sprite)
+        .starting(starts),
         width: size.0,
         height: size.1,
         ..Default::default()
@@ -41,23 +58,28 @@ fn sprite_options(
 }
 
 fn light_at(light: Vec3) -> SpriteOptions {
-    SpriteOptions {
-        light,
-        ..Default::default()
+    SpriteOptions { light }
+}
+
+/// The light at `light`, the falloff resolution-independent or not.
+fn light_and_falloff(light: Vec3, independent: bool) -> SpriteStart {
+    SpriteStart {
+        sprite: SpriteOptions { light },
+        starts: vec![INDEPENDENT_FALLOFF.to(independent)],
     }
 }
 
 fn sprite_renderer(
     assets: Option<PathBuf>,
-    sprite: SpriteOptions,
+    start: impl Into<SpriteStart>,
     size: (u32, u32),
 ) -> HeadlessRenderer {
-    common::renderer(&sprite_options(assets, sprite, size))
+    common::renderer(&sprite_options(assets, start, size))
 }
 
 /// One frame of the project's own rock at 1024×768.
-fn render_rock(sprite: SpriteOptions) -> RgbImage {
-    frame(&mut sprite_renderer(None, sprite, (1024, 768)))
+fn render_rock(start: impl Into<SpriteStart>) -> RgbImage {
+    frame(&mut sprite_renderer(None, start, (1024, 768)))
 }
 
 fn luma(p: &Rgb<u8>) -> f64 {
@@ -285,11 +307,7 @@ fn brightness_follows_the_attenuation_formula() {
         let (cx, cy) = (left + side / 2, top + side / 2);
         let light = Vec3::new(0.5, 0.5, DEFAULT_LIGHT_Z);
         for independent in [false, true] {
-            let sprite = SpriteOptions {
-                light,
-                independent_falloff: independent,
-                ..Default::default()
-            };
+            let sprite = light_and_falloff(light, independent);
             let frame = frame(&mut sprite_renderer(Some(assets.clone()), sprite, size));
             let unit = independent.then_some(768.0 * f64::from(side) / f64::from(TEXELS));
             let offsets = [0i32, 3, 10, 25, 50, 100, 170, 255];
@@ -388,11 +406,7 @@ fn independent_falloff_does_not_change_with_the_window() {
                     (y0 as f32 + 300.5) / h as f32,
                     DEFAULT_LIGHT_Z,
                 );
-                let sprite = SpriteOptions {
-                    light,
-                    independent_falloff: independent,
-                    ..Default::default()
-                };
+                let sprite = light_and_falloff(light, independent);
                 sprite_crop(&frame(&mut sprite_renderer(None, sprite, (w, h))))
             })
             .collect()

@@ -22,11 +22,10 @@ fn options(
     space: LightingSpace,
 ) -> tutorial13::frontends::headless::HeadlessOptions {
     let mut options = common::options(assets, Profile::Core);
-    options.descriptor = &tutorial13::scenes::wall::SCENE;
+    options.descriptor = tutorial13::scenes::descriptor::<Wall>();
     options
         .scene
-        .get_mut::<tutorial13::scenes::wall::WallOptions>()
-        .space = space;
+        .start(tutorial13::scenes::wall::SPACE.to(space));
     options
 }
 

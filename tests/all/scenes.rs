@@ -6,8 +6,8 @@ use std::num::NonZeroU32;
 use glow::HasContext;
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::gl::Profile;
-use tutorial13::scenes::cylinder::CylinderOptions;
-use tutorial13::scenes::{SceneOptions, Shared, SCENES};
+use tutorial13::scenes::cylinder::{self, Cylinder, CylinderFiles};
+use tutorial13::scenes::{descriptor, SceneOptions, SceneType, Shared, Starts, SCENES};
 
 /// GL names in use, by kind, among the first 4096 (Mesa hands out small consecutive names).
 fn live_objects(gl: &glow::Context) -> [usize; 6] {
@@ -73,7 +73,7 @@ fn switching_scenes_leaks_no_gl_objects() {
 #[test]
 fn every_scene_draws_the_same_after_any_other() {
     let mut scene_options = SceneOptions::default();
-    scene_options.get_mut::<CylinderOptions>().debug_lines = true;
+    scene_options.start(cylinder::LINES.to(true));
     for profile in [Profile::Core, Profile::Compat] {
         let options = |descriptor| HeadlessOptions {
             descriptor,
@@ -191,7 +191,7 @@ fn a_flag_of_another_scene_is_an_error_naming_its_scene() {
 
 // Fails if a key is found in the wrong case only, an unbound key (or a slider, which has none)
 // finds a control, or a scene lists one key twice (the second control could never be reached;
-// `key_help` also refuses it when the crate is built).
+// `KeyList::of` also refuses it when the crate is built).
 #[test]
 fn keys_find_their_controls_in_either_case() {
     use tutorial13::scenes::{control_for_key, Control};
@@ -245,15 +245,25 @@ fn only_the_chosen_scene_refuses_a_shared_flags_value() {
     let matches = command.get_matches_from(["t", "--light", "0,0,-4"]);
     let options =
         |scene| tutorial13::scenes::scene_options(&matches, scene, SceneOptions::default());
-    let cylinder = options(&tutorial13::scenes::cylinder::SCENE).unwrap();
-    let light = cylinder
-        .get::<tutorial13::scenes::cylinder::CylinderOptions>()
-        .light;
-    assert_eq!(light, Some(glam::Vec3::new(0.0, 0.0, -4.0)));
+    let cylinder = options(descriptor::<Cylinder>()).unwrap();
     assert_eq!(
-        options(&tutorial13::scenes::sprite::SCENE).unwrap_err(),
+        light_started::<Cylinder>(&cylinder),
+        Some(glam::Vec3::new(0.0, 0.0, -4.0))
+    );
+    assert_eq!(
+        options(descriptor::<tutorial13::scenes::sprite::Sprite>()).unwrap_err(),
         "--light: Z = -4 must be above 0 (the light's height over the sprite)"
     );
+}
+
+/// Where the starts in `options` put the light of scene type `S` (its three sliders'), if they do.
+fn light_started<S: SceneType>(options: &SceneOptions) -> Option<glam::Vec3> {
+    use tutorial13::scenes::lights::LIGHT_AXES;
+    use tutorial13::scenes::Handle;
+    let starts = options.get::<Starts<S>>();
+    let axis = |label| starts.get(Handle::<S, f32>::new(S::CONTROLS, label));
+    let [x, y, z] = LIGHT_AXES.map(axis);
+    Some(glam::Vec3::new(x?, y?, z?))
 }
 
 // Fails if a scene flag is accepted but not parsed into its option as given: each flag of each scene
@@ -264,47 +274,42 @@ fn each_flag_is_parsed_into_its_option() {
     use glam::Vec3;
     use std::path::PathBuf;
     use tutorial13::debug::lines::LineMode;
-    use tutorial13::scenes::cube::{Cube, CubeOptions};
-    use tutorial13::scenes::sprite::{Sprite, SpriteOptions};
-    use tutorial13::scenes::Start;
-    use tutorial13::scenes::{FlagStarts, SceneType};
-    /// The index in `S`'s table of the control on `key`, which has a flag.
-    fn flagged_control<S: SceneType>(key: char) -> usize {
-        let index = S::CONTROLS.iter().position(|c| c.key == Some(key)).unwrap();
-        assert!(S::CONTROLS[index].flag.is_some(), "key {key} has no flag");
-        index
+    use tutorial13::scenes::cube::{self, Cube};
+    use tutorial13::scenes::lights::light_power;
+    use tutorial13::scenes::sprite::{self, Sprite, SpriteOptions};
+    use tutorial13::scenes::wall::{self, LightingSpace, Wall};
+    /// The starts the options hold for scene type `S`.
+    fn starts<S: SceneType>(o: &SceneOptions) -> Starts<S> {
+        o.get::<Starts<S>>()
     }
-    use tutorial13::scenes::cylinder::Cylinder;
-    use tutorial13::scenes::wall::{LightingSpace, Wall, WallOptions};
     type Check = fn(&SceneOptions) -> bool;
     let cases: [(&str, &[&str], Check); 16] = [
         ("cylinder", &["--light", "1,-2,3"], |o| {
-            o.get::<CylinderOptions>().light == Some(Vec3::new(1.0, -2.0, 3.0))
+            light_started::<Cylinder>(o) == Some(Vec3::new(1.0, -2.0, 3.0))
         }),
         ("cylinder", &["--light-power", "12.5"], |o| {
-            o.get::<CylinderOptions>().light_power == Some(12.5)
+            starts::<Cylinder>(o).get(cylinder::LIGHT_POWER) == Some(12.5)
         }),
         ("cylinder", &["--debug-lines-mode", "shader"], |o| {
-            let flags = o.get::<FlagStarts<Cylinder>>();
-            flags.choice::<LineMode>('M') == Some(LineMode::Shader)
+            starts::<Cylinder>(o).get(cylinder::LINE_MODE) == Some(LineMode::Shader)
         }),
         ("cylinder", &["--model", "a b.obj"], |o| {
-            o.get::<CylinderOptions>().model == Some(PathBuf::from("a b.obj"))
+            o.get::<CylinderFiles>().model == Some(PathBuf::from("a b.obj"))
         }),
         ("cylinder", &["--diffuse", "d.png"], |o| {
-            o.get::<CylinderOptions>().maps.diffuse == Some(PathBuf::from("d.png"))
+            o.get::<CylinderFiles>().maps.diffuse == Some(PathBuf::from("d.png"))
         }),
         ("cylinder", &["--normal-map", "n.png"], |o| {
-            o.get::<CylinderOptions>().maps.normal == Some(PathBuf::from("n.png"))
+            o.get::<CylinderFiles>().maps.normal == Some(PathBuf::from("n.png"))
         }),
         ("cylinder", &["--specular", "s.png"], |o| {
-            o.get::<CylinderOptions>().maps.specular == Some(PathBuf::from("s.png"))
+            o.get::<CylinderFiles>().maps.specular == Some(PathBuf::from("s.png"))
         }),
         (
             "cylinder",
             &["--height", "h.png", "--strength", "-3"],
             |o| {
-                let maps = o.get::<CylinderOptions>().maps;
+                let maps = o.get::<CylinderFiles>().maps;
                 maps.height == Some(PathBuf::from("h.png")) && maps.strength == Some(-3.0)
             },
         ),
@@ -312,30 +317,29 @@ fn each_flag_is_parsed_into_its_option() {
             o.get::<SpriteOptions>().light == Vec3::new(0.25, 0.75, 0.5)
         }),
         ("sprite", &["--green", "down"], |o| {
-            o.get::<SpriteOptions>().flip_green
+            starts::<Sprite>(o).get(sprite::GREEN_FLIPPED) == Some(true)
         }),
         ("sprite", &["--independent-falloff"], |o| {
-            let falloff = flagged_control::<Sprite>('I');
-            matches!(o.get::<FlagStarts<Sprite>>().0[..], [(i, Start::Toggle(true))] if i == falloff)
+            let starts = starts::<Sprite>(o);
+            starts.settings().len() == 1 && starts.get(sprite::INDEPENDENT_FALLOFF) == Some(true)
         }),
         ("cube", &["--no-normal-map"], |o| {
-            let normal_mapping = flagged_control::<Cube>('N');
-            let flags = o.get::<FlagStarts<Cube>>();
-            matches!(flags.0[..], [(i, Start::Toggle(false))] if i == normal_mapping)
+            let starts = starts::<Cube>(o);
+            starts.settings().len() == 1 && starts.get(cube::NORMAL_MAPPING) == Some(false)
         }),
         ("cube", &["--light", "1,2,3", "--light-power", "2"], |o| {
-            let light = o.get::<CubeOptions>().light;
-            light.position == Some(Vec3::new(1.0, 2.0, 3.0)) && light.power == Some(2.0)
+            let power = starts::<Cube>(o).get(light_power(Cube::CONTROLS));
+            light_started::<Cube>(o) == Some(Vec3::new(1.0, 2.0, 3.0)) && power == Some(2.0)
         }),
         ("wall", &["--space", "tangent"], |o| {
-            o.get::<FlagStarts<Wall>>().choice::<LightingSpace>('S') == Some(LightingSpace::Tangent)
+            starts::<Wall>(o).get(wall::SPACE) == Some(LightingSpace::Tangent)
         }),
         ("wall", &["--light", "0,1,2", "--light-power", "7"], |o| {
-            let light = o.get::<WallOptions>().light;
-            light.position == Some(Vec3::new(0.0, 1.0, 2.0)) && light.power == Some(7.0)
+            let power = starts::<Wall>(o).get(light_power(Wall::CONTROLS));
+            light_started::<Wall>(o) == Some(Vec3::new(0.0, 1.0, 2.0)) && power == Some(7.0)
         }),
         ("cylinder", &["--green", "down"], |o| {
-            o.get::<CylinderOptions>().switches.convention.green_down
+            starts::<Cylinder>(o).get(cylinder::GREEN_DOWN) == Some(true)
         }),
     ];
     for (name, args, check) in cases {

@@ -5,8 +5,8 @@
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::frontends::panel::PanelWidget;
 use tutorial13::gl::Profile;
-use tutorial13::scenes::cylinder::{Cylinder, CylinderOptions};
-use tutorial13::scenes::{ControlValue, SceneControls, SetTo, SCENES};
+use tutorial13::scenes::cylinder::{self, Cylinder};
+use tutorial13::scenes::{ControlValue, SceneControls, SceneOptions, SetTo, SCENES};
 use tutorial13::tangents::TangentSource;
 
 use crate::common::*;
@@ -158,11 +158,12 @@ fn click(renderer: &mut HeadlessRenderer, widget: PanelWidget) {
     }
 }
 
-fn derivative_options(set: impl FnOnce(&mut CylinderOptions)) -> HeadlessOptions {
+fn derivative_options(set: impl FnOnce(&mut SceneOptions)) -> HeadlessOptions {
     let mut options = options(own_assets(), Profile::Core);
-    let cylinder = cylinder_options(&mut options);
-    cylinder.tangents = TangentSource::Derivative;
-    set(cylinder);
+    options
+        .scene
+        .start(cylinder::TANGENTS.to(TangentSource::Derivative));
+    set(&mut options.scene);
     options
 }
 
@@ -267,8 +268,9 @@ fn the_compare_view_compares_like_with_like() {
 }
 
 // Fails if the command line combines --tangents derivative with flags the per-pixel frame ignores
-// without a warning naming each once, or if such a run does not draw the per-pixel frame of `lit` (exit
-// 0, the same picture as without the flags); or if --compare of a colour view against the
+// without a warning naming each once, with the reason its control's table gives (--green, which
+// several scenes share, as --view), or if such a run does not draw the per-pixel frame of `lit`
+// (exit 0, the same picture as without the flags); or if --compare of a colour view against the
 // per-pixel frame (which draws none) does not say so.
 #[test]
 fn flags_the_per_pixel_frame_ignores_are_warned_of() {
@@ -292,19 +294,19 @@ fn flags_the_per_pixel_frame_ignores_are_warned_of() {
         let line = stderr.lines().find(|l| l.contains(start));
         line.unwrap_or_else(|| panic!("no warning {start:?}: {stderr}"))
     };
-    // --view is the colour view's flag in the table, which says why it does nothing; --green,
-    // which several scenes share, is named by the scene.
-    assert!(
-        warning("--view: ").contains("the per-pixel frame (F = derivative) draws the lit picture"),
-        "{stderr}"
-    );
-    assert!(
-        warning("--tangents derivative").contains("--green down"),
-        "{stderr}"
-    );
-    // Once, though --view starts two controls (the colour view and its component).
-    let views = stderr.lines().filter(|l| l.contains("--view: ")).count();
-    assert_eq!(views, 1, "{stderr}");
+    // --view is the colour view's flag in the table, --green the green switch's: each says why it
+    // does nothing.
+    for flag in ["--view: ", "--green: "] {
+        assert!(
+            warning(flag).contains("the per-pixel frame (F = derivative) draws the lit picture"),
+            "{stderr}"
+        );
+    }
+    // Once each, though --view starts two controls (the colour view and its component).
+    for flag in ["--view", "--green"] {
+        let lines = stderr.lines().filter(|l| l.contains(flag)).count();
+        assert_eq!(lines, 1, "{flag}: {stderr}");
+    }
     let flags = image::open(&shot).unwrap().to_rgb8();
     assert!(flags == plain, "the flags changed the per-pixel frame");
     // A compare view of a colour view against the per-pixel frame says it compares unlike pictures.
@@ -327,7 +329,9 @@ fn flags_the_per_pixel_frame_ignores_are_warned_of() {
         "{stderr}"
     );
     // Green down alone, through the options: the same warning's cause, nothing else.
-    let options = derivative_options(|c| c.switches.convention.green_down = true);
+    let options = derivative_options(|o| {
+        o.start(cylinder::GREEN_DOWN.to(true));
+    });
     assert!(render(&options) == plain);
 }
 
@@ -348,9 +352,10 @@ fn a_models_light_sliders_are_in_the_space_of_light() {
     std::fs::write(&model, OFF_CENTRE_QUAD).unwrap();
     let with_light = |light: Option<[f32; 3]>| {
         let mut options = HeadlessOptions::default();
-        let cylinder = cylinder_options(&mut options);
-        cylinder.model = Some(model.clone());
-        cylinder.light = light.map(Into::into);
+        cylinder_files(&mut options).model = Some(model.clone());
+        if let Some(light) = light {
+            options.scene = options.scene.starting(cylinder::light_at(light.into()));
+        }
         options
     };
     // Rendered first: each renderer has a context of its own, current while it is built.
@@ -578,7 +583,8 @@ fn each_toggles_flag_starts_it_through_the_table() {
     assert_eq!(checked, 10);
 }
 
-// Fails if a choice's or a slider's command-line flag is not its table's: each such flag, given a
+// Fails if a command-line flag with a value is not its control's in the table: each such flag (a
+// choice's, a slider's, or a flag several scenes share: --green, --light, --light-power), given a
 // value, must start its control at exactly that value through the table (a slider's past the
 // panel's range too: --normal-strength 8 where the slider stops at 4), and every flag of that kind
 // in every table must be one of the cases (so a new one cannot go unchecked).
@@ -587,14 +593,16 @@ fn each_value_flag_starts_its_control_through_the_table() {
     /// What the control must start at: a choice's name, or a slider's value.
     #[derive(Debug)]
     enum Expect {
+        Toggle(bool),
         Choice(&'static str),
         Slider(f32),
     }
-    use Expect::{Choice, Slider};
+    use Expect::{Choice, Slider, Toggle};
     let pair = ["--compare", "tutorial,mikktspace"];
+    let light = ["--light", "1,2,3"];
     // One case a line: the scene, its flags, the control's label, the start expected.
     #[rustfmt::skip]
-    let cases: [(&str, &[&str], &str, Expect); 10] = [
+    let cases: [(&str, &[&str], &str, Expect); 24] = [
         ("cylinder", &["--debug-lines-mode", "shader"], "lines drawn with", Choice("line shader")),
         ("cylinder", &["--view", "normal01.y"], "colour view", Choice("normal01")),
         ("cylinder", &["--view", "normal01.y"], "component", Choice("y")),
@@ -605,8 +613,23 @@ fn each_value_flag_starts_its_control_through_the_table() {
         ("cylinder", &pair, "compare view", Choice("side by side")),
         ("cylinder", &[pair[0], pair[1], "--compare-difference"], "compare view", Choice("difference")),
         ("wall", &["--space", "tangent"], "lighting space", Choice("tangent")),
+        ("cylinder", &["--green", "down"], "green down (DirectX)", Toggle(true)),
+        ("sprite", &["--green", "down"], "green flipped", Toggle(true)),
+        ("cylinder", &light, "light x", Slider(1.0)),
+        ("cylinder", &light, "light y", Slider(2.0)),
+        ("cylinder", &light, "light z", Slider(3.0)),
+        ("cylinder", &["--light-power", "80"], "light power", Slider(80.0)),
+        ("cube", &light, "light x", Slider(1.0)),
+        ("cube", &light, "light y", Slider(2.0)),
+        ("cube", &light, "light z", Slider(3.0)),
+        ("cube", &["--light-power", "2"], "light power", Slider(2.0)),
+        ("wall", &light, "light x", Slider(1.0)),
+        ("wall", &light, "light y", Slider(2.0)),
+        ("wall", &light, "light z", Slider(3.0)),
+        ("wall", &["--light-power", "30"], "light power", Slider(30.0)),
     ];
     let check = |expect: &Expect, value: &ControlValue| match (expect, value) {
+        (Toggle(on), ControlValue::Toggle(value)) => value == on,
         (Choice(name), ControlValue::Choice { current, .. }) => current == name,
         (Slider(expected), ControlValue::Slider { value, .. }) => value == expected,
         _ => false,
@@ -667,7 +690,7 @@ fn a_models_tangents_flag_builds_its_mesh_once() {
     let model = model.to_str().unwrap();
     let command = tutorial13::scenes::command_line(clap::Command::new("t"));
     let matches = command.get_matches_from(["t", "--model", model, "--tangents", "mikktspace"]);
-    let scene = &tutorial13::scenes::cylinder::SCENE;
+    let scene = tutorial13::scenes::descriptor::<Cylinder>();
     let options = tutorial13::scenes::scene_options(&matches, scene, Default::default()).unwrap();
     let renderer = renderer(&HeadlessOptions {
         scene: options,

@@ -15,6 +15,7 @@ use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::mesh::MeshOptions;
 use tutorial13::pipeline::obj_parse::load_obj_threaded;
+use tutorial13::scenes::cylinder;
 use tutorial13::tangents::{mikktspace_tangents, TangentSource};
 
 /// The project's textures with `obj` as the mesh.
@@ -28,9 +29,11 @@ fn assets_with_mesh(name: &str, obj: &str) -> PathBuf {
 }
 
 fn render(assets: PathBuf, source: TangentSource, mesh: MeshOptions) -> RgbImage {
-    cylinder_frame(assets, |cylinder| {
-        cylinder.tangents = source;
-        cylinder.mesh = mesh;
+    cylinder_frame(assets, |o| {
+        o.start(cylinder::TANGENTS.to(source));
+        for setting in cylinder::pipeline(mesh) {
+            o.start(setting);
+        }
     })
 }
 
@@ -42,7 +45,9 @@ vt 0 1\nvt 1 1\nvt 1 0\nvt 0 0\nvn 0 0 1\n\
 f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n";
 
 fn render_normalized_tbn(assets: PathBuf) -> RgbImage {
-    cylinder_frame(assets, |cylinder| cylinder.switches.normalize_tbn = true)
+    cylinder_frame(assets, |o| {
+        o.start(cylinder::NORMALIZE_TBN.to(true));
+    })
 }
 
 // Fails if the three sources do not light a flat, unmirrored quad alike, with the tutorial's frame
@@ -242,7 +247,9 @@ fn mikktspace_and_the_tutorial_agree_on_the_cylinder_up_to_the_flip() {
 // to the tutorial's source does not give the tutorial's frame bit for bit (mesh and lines rebuilt).
 #[test]
 fn the_source_key_cycles_and_comes_back_to_the_tutorials_frame() {
-    let mut r = cylinder_renderer(own_assets(), |cylinder| cylinder.debug_lines = true);
+    let mut r = cylinder_renderer(own_assets(), |o| {
+        o.start(cylinder::LINES.to(true));
+    });
     let start = frame(&mut r);
     let mut seen = Vec::new();
     for _ in 0..3 {

@@ -15,7 +15,7 @@ use tutorial13::gl::Profile;
 use tutorial13::mesh::grid_cylinder_obj_text;
 use tutorial13::pipeline::obj_parse::load_obj_threaded;
 use tutorial13::scenes::cylinder::tutorial13::LIGHT_POS;
-use tutorial13::scenes::cylinder::Cylinder;
+use tutorial13::scenes::cylinder::{self, Cylinder};
 
 fn view(name: &str) -> ColorView {
     name.parse().unwrap()
@@ -348,9 +348,10 @@ fn every_switch_renders_without_gl_errors_in_both_profiles() {
 #[test]
 fn legacy_lines_in_a_core_context_fall_back_with_a_notice() {
     let mut options = options(own_assets(), Profile::Core);
-    let cylinder = cylinder_options(&mut options);
-    cylinder.debug_lines = true;
-    cylinder.line_mode = Some(LineMode::Legacy);
+    options.scene.start(cylinder::LINES.to(true));
+    options
+        .scene
+        .start(cylinder::LINE_MODE.to(LineMode::Legacy));
     let mut core = renderer(&options);
     assert_eq!(
         core.scene_mut::<Cylinder>().line_mode(),
@@ -363,11 +364,11 @@ fn legacy_lines_in_a_core_context_fall_back_with_a_notice() {
         .to_string();
     assert!(notice.contains("compatibility"), "{notice}");
     let with_lines = frame(&mut core);
-    cylinder_options(&mut options).debug_lines = false;
+    options.scene.start(cylinder::LINES.to(false));
     let without = frame(&mut renderer(&options));
     assert!(differing_pixels(&with_lines, &without) > 500);
     // In a compatibility context the same request draws in immediate mode, with the same pixels.
-    cylinder_options(&mut options).debug_lines = true;
+    options.scene.start(cylinder::LINES.to(true));
     options.profile = Profile::Compat;
     let mut compat = renderer(&options);
     assert_eq!(

@@ -10,7 +10,6 @@
 //! (`CubeBlinnPhong.*`) do the rest, as the article's do: the light, halfway and normal vectors are
 //! brought into tangent space per vertex, the lighting is done per fragment.
 
-pub mod args;
 pub mod assets;
 
 use std::path::PathBuf;
@@ -27,24 +26,12 @@ use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
 use assets::FILES;
 
-use super::descriptor::{SceneDescriptor, SceneType};
+use super::descriptor::SceneType;
 use super::lights::{light_slider, power_slider, Light, WorldLight};
-use super::options::{SceneOptions, Shared};
+use super::options::SceneOptions;
 use super::scene::{DrawingProgram, FrameInput, Scene, SceneContext, ShaderSet};
-use super::table::{key_count, key_help, Control, KeyHelp};
-pub use args::CubeOptions;
-
-/// The scene as the rest of the program knows it.
-pub static SCENE: SceneDescriptor = SceneDescriptor {
-    shared_args: &[Shared::Light, Shared::LightPower],
-    generate_assets: assets::generate,
-    asset_files: &assets::FILES.names(),
-    ..SceneDescriptor::of::<Cube>(
-        "cube",
-        "Article 003: a stone cube lit Blinn-Phong in tangent space",
-        KEYS,
-    )
-};
+use super::starts::{Handle, Starts};
+use super::table::Control;
 
 /// The scene's switch and sliders, in the order they are listed.
 const CONTROLS: &[C] = &[
@@ -73,8 +60,8 @@ const CONTROLS: &[C] = &[
 /// A control of this scene.
 type C = Control<Cube>;
 
-/// The key list `--help` and the window print.
-pub const KEYS: &[KeyHelp] = &key_help::<Cube, { key_count(CONTROLS) }>(CONTROLS);
+/// The article's flag (`--no-normal-map`, key N).
+pub const NORMAL_MAPPING: Handle<Cube, bool> = Handle::new(CONTROLS, "normal mapping");
 
 /// The scene's two shader files.
 pub const SHADERS: [&str; 2] = [
@@ -216,7 +203,7 @@ pub struct Cube {
     maps: Maps,
     buffers: MeshBuffers,
     gl: Gl,
-    /// The article's `flag`.
+    /// The article's `flag`: on, as in the article's first screenshot, unless started off.
     pub normal_mapping: bool,
     /// [`model_matrix`] unless a test moves the cube.
     pub model_matrix: Mat4,
@@ -228,30 +215,35 @@ pub struct Cube {
 }
 
 impl SceneType for Cube {
-    type Args = CubeOptions;
-
+    const NAME: &'static str = "cube";
+    const DESCRIPTION: &'static str = "Article 003: a stone cube lit Blinn-Phong in tangent space";
     /// Drawn in the tutorial's state, applied every frame (another scene may have drawn since).
     const GL_STATE: GlState = GlState::TUTORIAL;
     const CONTROLS: &'static [Control<Self>] = CONTROLS;
+    const ASSET_FILES: &'static [&'static str] = &FILES.names();
 
     /// Loads `cube/diffuse.bmp` and `cube/normal.bmp` from `assets` and the shaders from
     /// `shader_dir` (or the crate's), and builds the cube.
-    fn new(context: &SceneContext, files: &SceneOptions, options: CubeOptions) -> Result<Self> {
-        let shaders = ShaderSet::new(files.shader_dir(), [SHADERS]);
+    fn new(context: &SceneContext, options: &SceneOptions, _: &mut Starts<Self>) -> Result<Self> {
+        let shaders = ShaderSet::new(options.shader_dir(), [SHADERS]);
         let gl = context.gl;
         let program = CubeProgram::load(gl, &shaders)?;
-        let maps = Maps::load(gl, &files.asset_files(FILES.names())?)?;
+        let maps = Maps::load(gl, &options.asset_files(FILES.names())?)?;
         let buffers = MeshBuffers::new(gl, &cube_mesh())?;
         Ok(Cube {
             program,
             maps,
             buffers,
             gl: gl.clone(),
-            normal_mapping: options.normal_mapping,
+            normal_mapping: true,
             model_matrix: model_matrix(),
-            light: Self::LIGHT_START.with_flags(options.light),
+            light: Self::LIGHT_START,
             shaders,
         })
+    }
+
+    fn generate_assets() -> Result<crate::assets::GeneratedFiles> {
+        assets::generate()
     }
 }
 

@@ -1,20 +1,14 @@
-//! The cylinder scene's command-line arguments: its files (the model and its maps). The flags of
-//! its switches, choices and sliders (`--debug-lines`, `--tangents`, `--view`, `--compare`, …) are
-//! its table's: see controls.rs.
+//! The cylinder scene's own command-line arguments: its files (the model and its maps), which no
+//! control holds. The flags of its switches, choices and sliders (`--debug-lines`, `--tangents`,
+//! `--view`, `--compare`, …) are its table's: see controls.rs.
 
-use crate::debug::views::{NormalMapConvention, ShaderSwitches};
 use std::path::PathBuf;
 
-use crate::mesh::MeshOptions;
 use crate::model::MapOverrides;
-use crate::normalmap::Green;
-use crate::scenes::options::{SceneArgs, SharedArgs};
-use crate::tangents::TangentSource;
-
-use super::CylinderOptions;
+use crate::scenes::flags::SharedArgs;
+use crate::scenes::options::SceneArgs;
 
 #[derive(clap::Args, Debug, Clone)]
-#[command(next_help_heading = "Scene cylinder")]
 pub struct CylinderArgs {
     /// Your own model instead of the tutorial's cylinder, scaled onto it: a glTF 2.0 file (.gltf,
     /// .glb) with its textures, or an OBJ with UVs and the maps its .mtl names (docs/model.md says
@@ -51,28 +45,23 @@ pub struct CylinderArgs {
     pub strength: Option<f32>,
 }
 
-impl SceneArgs for CylinderArgs {
-    type Options = CylinderOptions;
+/// The cylinder's files, as the command line (or a dropped file) names them.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct CylinderFiles {
+    /// `--model FILE`: a learner's model (OBJ or glTF) in place of the tutorial's cylinder.
+    pub model: Option<PathBuf>,
+    /// `--diffuse`, `--normal-map`, `--specular`, `--height`: maps over the model's or the tutorial's.
+    pub maps: MapOverrides,
+}
 
-    fn options(&self, shared: &SharedArgs) -> Result<CylinderOptions, String> {
+impl SceneArgs for CylinderArgs {
+    type Options = CylinderFiles;
+
+    fn options(&self, _: &SharedArgs) -> Result<CylinderFiles, String> {
         if let Some(s) = self.strength.filter(|s| !s.is_finite()) {
             return Err(format!("--strength {s}: must be a finite number"));
         }
-        Ok(CylinderOptions {
-            // The toggles' flags (--debug-lines, --no-gram-schmidt, …) are the table's
-            // (controls.rs): they are set through it once the scene is built.
-            switches: ShaderSwitches {
-                convention: NormalMapConvention {
-                    green_down: shared.green == Green::Down,
-                    ..NormalMapConvention::default()
-                },
-                ..ShaderSwitches::default()
-            },
-            line_mode: None,
-            // --tangents is the table's (key F); the scene reads it before it builds the mesh.
-            tangents: default_tangents(self.model.as_deref()),
-            // --compare is the compare key's flag (controls.rs).
-            compare: None,
+        Ok(CylinderFiles {
             model: self.model.clone(),
             maps: MapOverrides {
                 diffuse: self.diffuse.clone(),
@@ -81,20 +70,6 @@ impl SceneArgs for CylinderArgs {
                 height: self.height.clone(),
                 strength: self.strength,
             },
-            light: shared.light,
-            light_power: shared.light_power,
-            normal_strength: None,
-            line_length: None,
-            mesh: MeshOptions::default(),
-            debug_lines: false,
         })
-    }
-}
-
-/// A glTF model's own tangents, as its specification says; the tutorial's otherwise.
-pub fn default_tangents(model: Option<&std::path::Path>) -> TangentSource {
-    match model.is_some_and(crate::model::Format::is_gltf) {
-        true => TangentSource::File,
-        false => TangentSource::Tutorial,
     }
 }

@@ -12,7 +12,7 @@ use super::Cylinder;
 /// The compare key's value: off (`mode` `None`) or on in a mode, comparing `pair` where one is
 /// named (`--compare A,B`), else the pair the key picks (`Cylinder::sources_to_compare`).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Comparing {
+pub struct Comparing {
     pub mode: Option<CompareMode>,
     pub pair: Option<[TangentSource; 2]>,
 }
@@ -24,6 +24,14 @@ impl Comparing {
         Comparing::keyed(Some(CompareMode::Split)),
         Comparing::keyed(Some(CompareMode::Difference)),
     ];
+
+    /// The view in `mode` comparing `pair`, as `--compare A,B` (with `--compare-difference`).
+    pub const fn pair(pair: [TangentSource; 2], mode: CompareMode) -> Self {
+        Comparing {
+            mode: Some(mode),
+            pair: Some(pair),
+        }
+    }
 
     const fn keyed(mode: Option<CompareMode>) -> Self {
         Comparing { mode, pair: None }

@@ -1,50 +1,27 @@
-//! The cylinder's table: every switch, choice and slider declared once, with when each does
-//! nothing (the per-pixel frame draws the lit picture only), and the light's sliders in the space
-//! `--light` uses.
+//! The cylinder's table: every switch, choice and slider declared once, with its flag, when it
+//! does nothing (the per-pixel frame draws the lit picture only), and the light's sliders in the
+//! space `--light` uses; the typed handles that start its controls ([`TANGENTS`], …).
 
 use glam::Vec3;
 
 use crate::debug::compare::{CompareMode, SPLIT_START};
 use crate::debug::lines::{LineMode, LINE_LENGTH};
-use crate::debug::views::{ColorView, DebugVector, ShaderSwitches};
+use crate::debug::views::{ColorView, DebugVector, NormalMapConvention, ShaderSwitches};
 use crate::mesh::MeshOptions;
 
-use crate::scenes::flags::{given, read_slider, Start};
+use crate::scenes::flags::{given, parse_finite, read_green_down, read_slider, Shared, Start};
 use crate::scenes::lights::{light_slider, power_slider, PointLight, LIGHT_RANGE};
-use crate::scenes::options::parse_finite;
-use crate::scenes::table::{key_count, key_help, ChoiceValue, Choices, Control, KeyHelp};
+use crate::scenes::starts::{Handle, Setting};
+use crate::scenes::table::{ChoiceValue, Choices, Control};
 use crate::tangents::TangentSource;
 use crate::Result;
 
-use super::compare::Comparing;
+pub use super::compare::Comparing;
 use super::programs::Knobs;
-use super::{Cylinder, CylinderOptions, SoupSource};
-
-/// The flags of `options` that the per-pixel frame (`--tangents derivative`, alone) does nothing
-/// with, as they were given.
-pub(super) fn flags_without_effect(options: &CylinderOptions) -> Vec<String> {
-    if options.tangents.has_vertex_tangents() || options.compare.is_some() {
-        return Vec::new();
-    }
-    // The toggles' flags are the table's: set through it, each says so itself when it does
-    // nothing (see `scene_args` in descriptor.rs).
-    let sw = options.switches;
-    let flags = [
-        (
-            sw.view != ColorView::default(),
-            format!("--view {}", sw.view),
-        ),
-        (sw.convention.green_down, "--green down".into()),
-    ];
-    flags
-        .into_iter()
-        .filter(|(given, _)| *given)
-        .map(|(_, flag)| flag)
-        .collect()
-}
+use super::{Cylinder, SoupSource};
 
 /// Why a switch of the colour views and shader experiments does nothing with the per-pixel frame.
-pub(super) const PER_PIXEL: &str =
+const PER_PIXEL: &str =
     "the per-pixel frame (F = derivative) draws the lit picture without the experiments";
 
 /// Whether the per-pixel frame draws (alone: the compare view draws each side's own).
@@ -116,7 +93,7 @@ fn mesh_switch(cylinder: &mut Cylinder, change: impl FnOnce(&mut MeshOptions)) -
 
 /// The colour view's component ([`ColorView::component`]): all, or x, y or z alone.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Component(Option<u8>);
+pub struct Component(pub Option<u8>);
 
 impl Component {
     const ALL: [Component; 4] = [
@@ -366,7 +343,8 @@ pub(super) const CONTROLS: &[C] = &[
         "green down (DirectX)",
         "normal map green up (OpenGL) / down (DirectX)",
         convention.green_down
-    ),
+    )
+    .shared_flag(Shared::Green, read_green_down),
     shader_toggle!(
         'E',
         "exact expansion",
@@ -460,10 +438,7 @@ fn read_compare(matches: &clap::ArgMatches, long: &str) -> Option<Start> {
         Some(true) => CompareMode::Difference,
         _ => CompareMode::Split,
     };
-    Some(Start::choice(Comparing {
-        mode: Some(mode),
-        pair: Some(pair),
-    }))
+    Some(Start::choice(Comparing::pair(pair, mode)))
 }
 
 fn parse_pair(s: &str) -> std::result::Result<[TangentSource; 2], String> {
@@ -492,8 +467,71 @@ fn parse_fraction(s: &str) -> std::result::Result<f32, String> {
 type C = Control<Cylinder>;
 type Choice<T> = Choices<Cylinder, T>;
 
-/// The key list `--help` and the window print.
-pub const KEYS: &[KeyHelp] = &key_help::<Cylinder, { key_count(CONTROLS) }>(CONTROLS);
+// The typed handles on the table's controls: what a caller starts them through
+// (`SceneOptions::start`), as their flags do.
+pub const LINES: Handle<Cylinder, bool> = Handle::new(CONTROLS, "TBN debug lines");
+pub const LINE_MODE: Handle<Cylinder, LineMode> = Handle::new(CONTROLS, "lines drawn with");
+pub const VIEW: Handle<Cylinder, (DebugVector, bool)> = Handle::new(CONTROLS, "colour view");
+pub const COMPONENT: Handle<Cylinder, Component> = Handle::new(CONTROLS, "component");
+pub const NORMALIZE_BEFORE_SUM: Handle<Cylinder, bool> =
+    Handle::new(CONTROLS, "normalize before summing");
+pub const GRAM_SCHMIDT: Handle<Cylinder, bool> = Handle::new(CONTROLS, "Gram-Schmidt");
+pub const HANDEDNESS: Handle<Cylinder, bool> = Handle::new(CONTROLS, "handedness fix");
+pub const SPECULAR_TEXTURE: Handle<Cylinder, bool> = Handle::new(CONTROLS, "specular texture");
+pub const NORMALIZE_TBN: Handle<Cylinder, bool> = Handle::new(CONTROLS, "normalized TBN (article)");
+pub const TANGENTS: Handle<Cylinder, TangentSource> = Handle::new(CONTROLS, "tangent frame");
+pub const COMPARE: Handle<Cylinder, Comparing> = Handle::new(CONTROLS, "compare view");
+pub const GREEN_DOWN: Handle<Cylinder, bool> = Handle::new(CONTROLS, "green down (DirectX)");
+pub const EXACT_EXPANSION: Handle<Cylinder, bool> = Handle::new(CONTROLS, "exact expansion");
+pub const TWO_CHANNEL: Handle<Cylinder, bool> = Handle::new(CONTROLS, "two channels");
+pub const NORMAL_STRENGTH: Handle<Cylinder, f32> = Handle::new(CONTROLS, "normal strength");
+pub const TBN_LINE_LENGTH: Handle<Cylinder, f32> = Handle::new(CONTROLS, "TBN line length");
+pub const SPLIT: Handle<Cylinder, f32> = Handle::new(CONTROLS, "compare split");
+pub const LIGHT_POWER: Handle<Cylinder, f32> = crate::scenes::lights::light_power(CONTROLS);
+
+/// The starts of the colour view `view` (its vector and mapping, and its component), as `--view`
+/// gives them.
+pub fn view(view: ColorView) -> [Setting<Cylinder>; 2] {
+    [
+        VIEW.to((view.vector, view.mapped)),
+        COMPONENT.to(Component(view.component)),
+    ]
+}
+
+/// The starts of the CPU pipeline's switches `options` (Gram-Schmidt, handedness, normalize before
+/// summing), as their flags give them.
+pub fn pipeline(options: MeshOptions) -> [Setting<Cylinder>; 3] {
+    [
+        GRAM_SCHMIDT.to(options.tangents.gram_schmidt),
+        HANDEDNESS.to(options.tangents.handedness),
+        NORMALIZE_BEFORE_SUM.to(options.indexing.normalize_before_sum),
+    ]
+}
+
+/// The starts of the normal map's convention `convention` (green down, exact expansion, two
+/// channels), as their flags give them.
+pub fn convention(convention: NormalMapConvention) -> [Setting<Cylinder>; 3] {
+    [
+        GREEN_DOWN.to(convention.green_down),
+        EXACT_EXPANSION.to(convention.exact_expansion),
+        TWO_CHANNEL.to(convention.two_channel),
+    ]
+}
+
+/// The starts of the light at `position` (world space, or a model's own coordinates), as `--light`
+/// gives them.
+pub fn light_at(position: Vec3) -> [Setting<Cylinder>; 3] {
+    crate::scenes::lights::light_at(CONTROLS, position)
+}
+
+/// The tangent source the scene starts with where no start gives one (`--tangents`): a glTF
+/// model's own tangents, as its specification says; the tutorial's otherwise.
+pub(super) fn default_tangents(model: Option<&std::path::Path>) -> TangentSource {
+    match model.is_some_and(crate::model::Format::is_gltf) {
+        true => TangentSource::File,
+        false => TangentSource::Tutorial,
+    }
+}
 
 /// Not a [`crate::scenes::lights::WorldLight`] as the cube's and the wall's: the panel moves the light
 /// in the space `--light` uses (a model's own coordinates), which is placed into world space, with

@@ -31,13 +31,19 @@ use crate::progress::Progress;
 use crate::tangents::TangentSource;
 use crate::Result;
 
-use super::descriptor::{FlagStarts, SceneDescriptor, SceneType};
-use super::options::{SceneOptions, Shared};
+use super::descriptor::SceneType;
+use super::options::{OwnArgs, SceneOptions};
 use super::scene::{CompareLabels, DrawingProgram, FrameInput, Scene, SceneContext, ShaderSet};
+use super::starts::Starts;
 use super::table::{Control, SceneControls};
-pub use args::CylinderArgs;
-pub use controls::KEYS;
-use controls::{flags_without_effect, CONTROLS, PER_PIXEL};
+pub use args::{CylinderArgs, CylinderFiles};
+pub use controls::{
+    convention, light_at, pipeline, view, Comparing, Component, COMPARE, COMPONENT,
+    EXACT_EXPANSION, GRAM_SCHMIDT, GREEN_DOWN, HANDEDNESS, LIGHT_POWER, LINES, LINE_MODE,
+    NORMALIZE_BEFORE_SUM, NORMALIZE_TBN, NORMAL_STRENGTH, SPECULAR_TEXTURE, SPLIT, TANGENTS,
+    TBN_LINE_LENGTH, TWO_CHANNEL, VIEW,
+};
+use controls::{default_tangents, CONTROLS};
 use lines::TbnLines;
 use maps::{model_texture_sets, override_tutorial_maps};
 use mesh::{say_merged_corners, warn_of_far_frame, MeshState, SoupSource};
@@ -48,73 +54,6 @@ use tutorial13::{NormalMappingProgram, Tutorial13, CLEAR_COLOR, SHADERS};
 /// Every shader the scene reads: the tutorial's program, the debugging and per-pixel ones, the
 /// line shader.
 const ALL_SHADERS: [[&str; 2]; 4] = [SHADERS, DEBUG_SHADERS, DERIVATIVE_SHADERS, LINE_SHADERS];
-
-/// The scene as the rest of the program knows it.
-pub static SCENE: SceneDescriptor = SceneDescriptor {
-    shared_args: &[Shared::Green, Shared::Light, Shared::LightPower],
-    generate_assets: crate::assets::generate_cylinder_assets,
-    asset_files: &crate::assets::ASSET_FILES,
-    open_file: open_model,
-    ..SceneDescriptor::of::<Cylinder>(
-        "cylinder",
-        "Tutorial 13: the normal-mapped cylinder, with its debugging aids as keys (the \
-                  default)",
-        KEYS,
-    )
-};
-
-/// A dropped `.obj`, `.gltf` or `.glb` file is opened as `--model` (the other options stay as they
-/// were, but the tangent source, when it is the default of the model it replaces, becomes the new
-/// model's default; one given by `--tangents` stays).
-fn open_model(path: &Path, options: &mut SceneOptions) -> bool {
-    let opened = crate::model::Format::of(path).is_some();
-    if opened {
-        let cylinder = options.get_mut::<CylinderOptions>();
-        if cylinder.tangents == args::default_tangents(cylinder.model.as_deref()) {
-            cylinder.tangents = args::default_tangents(Some(path));
-        }
-        cylinder.model = Some(path.to_path_buf());
-    }
-    opened
-}
-
-/// What the compare view starts with (`--compare A,B`).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CompareOptions {
-    /// Left of the split, and right of it (or subtracted from each other).
-    pub sources: [TangentSource; 2],
-    pub mode: CompareMode,
-    /// Fraction of the width left of the split.
-    pub split: f32,
-}
-
-/// The cylinder's switches, as the command line sets them.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct CylinderOptions {
-    /// The CPU pipeline's switches (Gram-Schmidt, handedness, normalize before summing).
-    pub mesh: MeshOptions,
-    /// The shader's switches and the colour view.
-    pub switches: ShaderSwitches,
-    /// Start with the TBN debug lines on.
-    pub debug_lines: bool,
-    /// `None`: immediate mode where the context allows it, else the line shader.
-    pub line_mode: Option<LineMode>,
-    /// Where the tangent frame comes from (`--tangents`).
-    pub tangents: TangentSource,
-    /// Start in the compare view.
-    pub compare: Option<CompareOptions>,
-    /// `--model FILE`: a learner's model (OBJ or glTF) in place of the tutorial's cylinder.
-    pub model: Option<PathBuf>,
-    /// `--diffuse`, `--normal-map`, `--specular`, `--height`: maps over the model's or the tutorial's.
-    pub maps: MapOverrides,
-    /// `--light X,Y,Z`: world space for the tutorial's cylinder, the file's coordinates for a model.
-    pub light: Option<Vec3>,
-    /// `--light-power`, `--normal-strength`, `--line-length`: the panel's sliders of the same
-    /// names; `None` = the tutorial's.
-    pub light_power: Option<f32>,
-    pub normal_strength: Option<f32>,
-    pub line_length: Option<f32>,
-}
 
 /// Tutorial 13 and the state of its debugging aids.
 pub struct Cylinder {
@@ -156,32 +95,34 @@ pub struct Cylinder {
 }
 
 impl SceneType for Cylinder {
-    type Args = CylinderArgs;
-
+    const NAME: &'static str = "cylinder";
+    const DESCRIPTION: &'static str =
+        "Tutorial 13: the normal-mapped cylinder, with its debugging aids as keys (the default)";
     /// The tutorial's state (`init_gl_state`), applied at the start of every frame: another scene may
     /// have drawn on this context since the cylinder was built.
     const GL_STATE: GlState = GlState::opaque_3d(CLEAR_COLOR);
     const CONTROLS: &'static [Control<Self>] = CONTROLS;
+    const ARGS: OwnArgs = OwnArgs::of::<CylinderArgs>();
+    const ASSET_FILES: &'static [&'static str] = &crate::assets::ASSET_FILES;
 
-    /// Loads the tutorial's four files from `assets` and the shaders from `shader_dir` (or the
-    /// crate's), and starts with `cylinder`'s switches.
+    /// Loads the tutorial's four files (or `--model`) and the shaders from `--shaders` (or the
+    /// crate's), with the tutorial's switches; its starts set the rest once it is built.
     fn new(
         context: &SceneContext,
-        files: &SceneOptions,
-        mut cylinder: CylinderOptions,
+        options: &SceneOptions,
+        starts: &mut Starts<Self>,
     ) -> Result<Self> {
-        // `--tangents` (key F's flag): the mesh is built for it straight away, not for the default
-        // and then again when the table sets it (seconds on a large model).
-        let flags = files.get::<FlagStarts<Cylinder>>();
-        if let Some(tangents) = flags.choice::<TangentSource>('F') {
-            cylinder.tangents = tangents;
-        }
-        let shaders = ShaderSet::new(files.shader_dir(), ALL_SHADERS);
+        let files = options.get::<CylinderFiles>();
+        // `--tangents` (key F's start): the mesh is built for it straight away, not for the
+        // default and then again when the table sets it (seconds on a large model).
+        let tangents =
+            (starts.take(TANGENTS)).unwrap_or_else(|| default_tangents(files.model.as_deref()));
+        let shaders = ShaderSet::new(options.shader_dir(), ALL_SHADERS);
         let shader_dir = shaders.dir();
         let gl = context.gl;
-        let (mut tutorial, soup_source) = match &cylinder.model {
-            None => load_tutorial(gl, files, shader_dir, &cylinder)?,
-            Some(path) => load_model_scene(gl, shader_dir, path, &cylinder)?,
+        let (tutorial, soup_source) = match &files.model {
+            None => load_tutorial(gl, options, shader_dir, &files.maps)?,
+            Some(path) => load_model_scene(gl, shader_dir, path, &files.maps, tangents)?,
         };
         // The panel shows the light where `--light` puts it: in the model's own coordinates. Its
         // start is the tutorial's light, in those coordinates too.
@@ -190,54 +131,55 @@ impl SceneType for Cylinder {
             SoupSource::Model(model) => model.placement.to_file(light_start_world),
             SoupSource::Tutorial(_) => light_start_world,
         };
-        if let Some(light) = cylinder.light {
-            tutorial.light_position_worldspace = soup_source.to_world(light);
-        }
         let mut scene = Cylinder {
-            lines: TbnLines::Wanted(cylinder.line_mode),
+            lines: TbnLines::Wanted(None),
             programs: Programs::load(gl, &shaders)?,
-            knobs: Knobs {
-                light_power: cylinder.light_power.unwrap_or(Knobs::TUTORIAL.light_power),
-                normal_strength: cylinder
-                    .normal_strength
-                    .unwrap_or(Knobs::TUTORIAL.normal_strength),
-            },
-            light: cylinder.light.unwrap_or(light_start),
+            knobs: Knobs::TUTORIAL,
+            light: light_start,
             light_start,
             light_start_world,
-            line_length: cylinder.line_length.unwrap_or(LINE_LENGTH),
+            line_length: LINE_LENGTH,
             mesh: MeshState {
                 // A model's mesh is already the chosen source's; the tutorial's cylinder's is the
                 // tutorial's until the source is set below.
                 source: match &soup_source {
-                    SoupSource::Model(_) => cylinder.tangents,
+                    SoupSource::Model(_) => tangents,
                     SoupSource::Tutorial(_) => TangentSource::Tutorial,
                 },
                 soup: soup_source,
-                options: cylinder.mesh,
+                options: MeshOptions::default(),
                 built: Vec::new(),
             },
             comparison: None,
-            compare_sources: cylinder.compare.map(|c| c.sources),
-            compare_view: CompareView::new(
-                gl,
-                context.extensions,
-                cylinder.compare.map_or(CompareMode::Split, |c| c.mode),
-                cylinder.compare.map_or(SPLIT_START, |c| c.split),
-            ),
+            compare_sources: None,
+            compare_view: CompareView::new(gl, context.extensions, CompareMode::Split, SPLIT_START),
             tutorial,
             gl: gl.clone(),
-            switches: cylinder.switches,
+            switches: ShaderSwitches::default(),
             use_debug_program: false,
             show_lines: false,
             legacy: context.extensions.legacy.clone(),
             shaders,
         };
-        scene.start_with(&cylinder)?;
+        scene.set_tangent_source(tangents)?;
         Ok(scene)
     }
 
-    /// A model drawn with the tutorial's frame far from MikkTSpace's is warned of once the flags
+    /// A dropped `.obj`, `.gltf` or `.glb` file is opened as `--model` (the other options and
+    /// starts stay as they were; without `--tangents`, the new model's default source).
+    fn open_file(path: &Path, options: &mut SceneOptions) -> bool {
+        let opened = crate::model::Format::of(path).is_some();
+        if opened {
+            options.get_mut::<CylinderFiles>().model = Some(path.to_path_buf());
+        }
+        opened
+    }
+
+    fn generate_assets() -> Result<crate::assets::GeneratedFiles> {
+        crate::assets::generate_cylinder_assets()
+    }
+
+    /// A model drawn with the tutorial's frame far from MikkTSpace's is warned of once the starts
     /// have set the table (`--normalize-tbn` undoes the stretch; `--no-gram-schmidt` changes the
     /// mesh).
     fn started(&mut self) {
@@ -249,60 +191,32 @@ impl SceneType for Cylinder {
     }
 }
 
-impl Cylinder {
-    /// Applies `cylinder`'s starting tangent source, comparison and lines, and warns of the options
-    /// that the per-pixel frame ignores.
-    fn start_with(&mut self, cylinder: &CylinderOptions) -> Result<()> {
-        self.set_tangent_source(cylinder.tangents)?;
-        if let Some(compare) = cylinder.compare {
-            self.start_comparison(compare.sources)?;
-        }
-        self.set_show_lines(cylinder.debug_lines)?;
-        let flags = flags_without_effect(cylinder);
-        if !flags.is_empty() {
-            let change = if flags.len() == 1 {
-                "changes"
-            } else {
-                "change"
-            };
-            log::warn!(
-                "--tangents derivative: {PER_PIXEL}: {} {change} nothing",
-                flags.join(", ")
-            );
-        }
-        // (The command line's --compare is the compare key's flag, which says this itself.)
-        if let Some(reason) = self.comparison.as_ref().and(self.unlike_comparison()) {
-            log::warn!("compare view: {reason}");
-        }
-        Ok(())
-    }
-}
-
-/// The tutorial's cylinder from its four files (in `files`' assets folder, or the crate's), with
-/// `cylinder`'s maps over the tutorial's.
+/// The tutorial's cylinder from its four files (in `options`' assets folder, or the crate's), with
+/// `maps` over the tutorial's.
 fn load_tutorial(
     gl: &Gl,
-    files: &SceneOptions,
+    options: &SceneOptions,
     shader_dir: Option<&Path>,
-    cylinder: &CylinderOptions,
+    maps: &MapOverrides,
 ) -> Result<(Tutorial13, SoupSource)> {
-    let assets = files.asset_files(crate::assets::ASSET_FILES)?;
-    let mut tutorial = Tutorial13::new(gl, &assets, shader_dir, cylinder.mesh)?;
-    override_tutorial_maps(gl, &mut tutorial.texture_sets[0], &cylinder.maps)?;
+    let assets = options.asset_files(crate::assets::ASSET_FILES)?;
+    let mut tutorial = Tutorial13::new(gl, &assets, shader_dir, MeshOptions::default())?;
+    override_tutorial_maps(gl, &mut tutorial.texture_sets[0], maps)?;
     let [obj, ..] = assets;
     Ok((tutorial, SoupSource::Tutorial(obj)))
 }
 
-/// The model at `path` with `cylinder`'s maps, its mesh built with `cylinder`'s tangent source.
+/// The model at `path` with `maps`, its mesh built with `tangents`.
 fn load_model_scene(
     gl: &Gl,
     shader_dir: Option<&Path>,
     path: &Path,
-    cylinder: &CylinderOptions,
+    maps: &MapOverrides,
+    tangents: TangentSource,
 ) -> Result<(Tutorial13, SoupSource)> {
     let _progress = Progress::start(format!("loading {}", path.display()));
     let start = crate::clock::Instant::now();
-    let model = load_model(path, &cylinder.maps)?;
+    let model = load_model(path, maps)?;
     let parsed = start.elapsed();
     let sets = model_texture_sets(gl, &model)?;
     // Once the file and its maps are read: a refused file gets its one line alone.
@@ -321,9 +235,10 @@ fn load_model_scene(
     );
     let model = Rc::new(model);
     let soup_source = SoupSource::Model(Rc::clone(&model));
-    let tutorial = match cylinder.tangents {
+    let mesh_options = MeshOptions::default();
+    let tutorial = match tangents {
         TangentSource::Tutorial => {
-            let tutorial = Tutorial13::from_soup(gl, shader_dir, &model.soup, cylinder.mesh, sets)?;
+            let tutorial = Tutorial13::from_soup(gl, shader_dir, &model.soup, mesh_options, sets)?;
             say_merged_corners(&model, &tutorial.mesh);
             tutorial
         }
@@ -331,7 +246,7 @@ fn load_model_scene(
         // nothing (seconds on a large model).
         source => {
             let start = crate::clock::Instant::now();
-            let mesh = soup_source.mesh(source, cylinder.mesh)?;
+            let mesh = soup_source.mesh(source, mesh_options)?;
             log::debug!(
                 "{source} tangents and indexing: {:.1} ms",
                 start.elapsed().as_secs_f64() * 1000.0

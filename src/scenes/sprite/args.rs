@@ -1,16 +1,18 @@
-//! The sprite scene's command-line arguments.
+//! The sprite scene's command-line arguments: none of its own, but `--light`, whose X and Y no
+//! control holds (the mouse moves them). Its switches' flags (`--green`, `--independent-falloff`)
+//! are its table's.
 
-use crate::normalmap::Green;
-use crate::scenes::options::{SceneArgs, SharedArgs};
+use crate::scenes::flags::{Shared, SharedArgs};
+use crate::scenes::options::SceneArgs;
 
 use super::SpriteOptions;
 
 #[derive(clap::Args, Debug, Clone)]
-#[command(next_help_heading = "Scene sprite")]
 pub struct SpriteArgs {}
 
 impl SceneArgs for SpriteArgs {
     type Options = SpriteOptions;
+    const SHARED: &'static [Shared] = &[Shared::Light];
 
     /// `--light` (shared with the cylinder, which reads it as a position in space) must be above
     /// the sprite here.
@@ -22,11 +24,6 @@ impl SceneArgs for SpriteArgs {
                 light.z
             ));
         }
-        Ok(SpriteOptions {
-            light,
-            flip_green: shared.green == Green::Down,
-            // `--independent-falloff` is the table's (key I), set once the sprite is built.
-            independent_falloff: false,
-        })
+        Ok(SpriteOptions { light })
     }
 }

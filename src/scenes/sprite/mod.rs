@@ -37,25 +37,13 @@ use crate::gl::state::GlState;
 use crate::gl::{Gl, Maps};
 use crate::Result;
 
-use super::descriptor::{SceneDescriptor, SceneType};
-use super::options::{SceneOptions, Shared};
+use super::descriptor::SceneType;
+use super::flags::{read_green_down, Shared};
+use super::options::{OwnArgs, SceneOptions};
 use super::scene::{DrawingProgram, FrameInput, MouseMode, Scene, SceneContext, ShaderSet};
-use super::table::{key_count, key_help, Control, KeyHelp};
+use super::starts::{Handle, Starts};
+use super::table::Control;
 pub use args::SpriteArgs;
-
-/// The scene as the rest of the program knows it.
-pub static SCENE: SceneDescriptor = SceneDescriptor {
-    mouse_mode: MouseMode::Cursor,
-    mouse_help: MOUSE_HELP,
-    generate_assets: assets::generate,
-    asset_files: &assets::FILES.names(),
-    shared_args: &[Shared::Green, Shared::Light],
-    ..SceneDescriptor::of::<Sprite>(
-        "sprite",
-        "Article 001: a 2D normal-mapped rock lit by a light on the mouse",
-        KEYS,
-    )
-};
 
 /// The article's `DEFAULT_LIGHT_Z`: the light's height, where a click puts it back.
 pub const DEFAULT_LIGHT_Z: f32 = 0.075;
@@ -87,23 +75,17 @@ pub const TEXELS_PER_UNIT: f32 = 768.0;
 /// The scene's two shader files.
 pub const SHADERS: [&str; 2] = ["Sprite.vertexshader", "Sprite.fragmentshader"];
 
-/// The sprite's switches, as the command line sets them.
+/// Where the sprite's light starts, as `--light` sets it (its switches start through its table).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpriteOptions {
     /// `--light X,Y,Z`: x and y from 0 to 1 across the window (y up), z the height.
     pub light: Vec3,
-    /// `--green down`: read the normal map's green channel the other way up (as a "green down" map).
-    pub flip_green: bool,
-    /// `--independent-falloff`: measure the light's distance in the sprite's own pixels.
-    pub independent_falloff: bool,
 }
 
 impl Default for SpriteOptions {
     fn default() -> Self {
         SpriteOptions {
             light: DEFAULT_LIGHT,
-            flip_green: false,
-            independent_falloff: false,
         }
     }
 }
@@ -119,7 +101,8 @@ const CONTROLS: &[C] = &[
             sprite.flip_green = on;
             Ok(())
         },
-    ),
+    )
+    .shared_flag(Shared::Green, read_green_down),
     C::toggle(
         'I',
         "resolution-independent falloff",
@@ -164,8 +147,13 @@ pub const MOUSE_HELP: &[(&str, &str)] = &[
 /// A control of this scene.
 type C = Control<Sprite>;
 
-/// The key list `--help` and the window print.
-pub const KEYS: &[KeyHelp] = &key_help::<Sprite, { key_count(CONTROLS) }>(CONTROLS);
+/// The normal map's green channel read flipped (`--green down`, key Y).
+pub const GREEN_FLIPPED: Handle<Sprite, bool> = Handle::new(CONTROLS, "green flipped");
+/// The falloff measured in the sprite's own pixels (`--independent-falloff`, key I).
+pub const INDEPENDENT_FALLOFF: Handle<Sprite, bool> =
+    Handle::new(CONTROLS, "resolution-independent falloff");
+/// The light's height (the wheel's and a click's too).
+pub const LIGHT_HEIGHT: Handle<Sprite, f32> = Handle::new(CONTROLS, "light height");
 
 /// Where the sprite is drawn in a `width × height` window: its lower-left corner and side, in whole
 /// pixels (y up).
@@ -232,16 +220,22 @@ pub struct Sprite {
 }
 
 impl SceneType for Sprite {
-    type Args = SpriteArgs;
-
+    const NAME: &'static str = "sprite";
+    const DESCRIPTION: &'static str =
+        "Article 001: a 2D normal-mapped rock lit by a light on the mouse";
     /// A flat sprite needs neither depth nor culling; the background is the tutorial's dark blue, as in
     /// every scene. Applied at the start of every frame.
     const GL_STATE: GlState = GlState::flat([0.0, 0.0, 0.4, 0.0]);
     const CONTROLS: &'static [Control<Self>] = CONTROLS;
+    const MOUSE_MODE: MouseMode = MouseMode::Cursor;
+    const MOUSE_HELP: &'static [(&'static str, &'static str)] = MOUSE_HELP;
+    const ARGS: OwnArgs = OwnArgs::of::<SpriteArgs>();
+    const ASSET_FILES: &'static [&'static str] = &FILES.names();
 
     /// Loads `sprite/diffuse.bmp` and `sprite/normal.bmp` from `assets`, and the shaders from
     /// `shader_dir` (or the crate's).
-    fn new(context: &SceneContext, files: &SceneOptions, options: SpriteOptions) -> Result<Self> {
+    fn new(context: &SceneContext, files: &SceneOptions, _: &mut Starts<Self>) -> Result<Self> {
+        let options = files.get::<SpriteOptions>();
         let shaders = ShaderSet::new(files.shader_dir(), [SHADERS]);
         let gl = context.gl;
         let program = SpriteProgram::load(gl, &shaders)?;
@@ -278,11 +272,15 @@ impl SceneType for Sprite {
             gl: gl.clone(),
             shaders,
             light: options.light,
-            flip_green: options.flip_green,
-            independent_falloff: options.independent_falloff,
+            flip_green: false,
+            independent_falloff: false,
             following: false,
             last_cursor: None,
         })
+    }
+
+    fn generate_assets() -> Result<crate::assets::GeneratedFiles> {
+        assets::generate()
     }
 }
 

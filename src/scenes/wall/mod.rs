@@ -9,7 +9,6 @@
 //! that holds exactly in arithmetic when the TBN matrix is a rotation (unit, orthogonal T, B, N, as on
 //! this square), and the tests measure how close the two programs' frames are in floating point.
 
-pub mod args;
 pub mod assets;
 
 use std::path::PathBuf;
@@ -26,24 +25,12 @@ use crate::mesh::{build_mesh, MeshOptions};
 use crate::Result;
 use assets::FILES;
 
-use super::descriptor::{SceneDescriptor, SceneType};
+use super::descriptor::SceneType;
 use super::lights::{light_slider, power_slider, Light, WorldLight};
-use super::options::{SceneOptions, Shared};
+use super::options::SceneOptions;
 use super::scene::{DrawingProgram, FrameInput, Scene, SceneContext, ShaderSet};
-use super::table::{key_count, key_help, ChoiceValue, Choices, Control, KeyHelp};
-pub use args::WallOptions;
-
-/// The scene as the rest of the program knows it.
-pub static SCENE: SceneDescriptor = SceneDescriptor {
-    shared_args: &[Shared::Light, Shared::LightPower],
-    generate_assets: assets::generate,
-    asset_files: &assets::FILES.names(),
-    ..SceneDescriptor::of::<Wall>(
-        "wall",
-        "Article 004: a stone wall lit in view space or in tangent space",
-        KEYS,
-    )
-};
+use super::starts::{Handle, Starts};
+use super::table::{ChoiceValue, Choices, Control};
 
 /// The article's light.
 pub const LIGHT_POSITION_WORLDSPACE: Vec3 = Vec3::new(4.0, 0.0, 4.0);
@@ -126,8 +113,8 @@ const CONTROLS: &[C] = &[
 /// A control of this scene.
 type C = Control<Wall>;
 
-/// The key list `--help` and the window print.
-pub const KEYS: &[KeyHelp] = &key_help::<Wall, { key_count(CONTROLS) }>(CONTROLS);
+/// Where the wall is lit (`--space`, key S).
+pub const SPACE: Handle<Wall, LightingSpace> = Handle::new(CONTROLS, "lighting space");
 
 crate::uniforms! {
     /// One of the three programs and its uniforms (the same names in all three).
@@ -149,6 +136,7 @@ pub struct Wall {
     gl: Gl,
     /// One per [`LightingSpace`], in declaration order (indexed by `space as usize`).
     programs: Vec<WallProgram>,
+    /// View space (the article's first program) unless started otherwise.
     pub space: LightingSpace,
     /// The diffuse and normal maps.
     maps: Maps,
@@ -161,32 +149,38 @@ pub struct Wall {
 }
 
 impl SceneType for Wall {
-    type Args = WallOptions;
-
+    const NAME: &'static str = "wall";
+    const DESCRIPTION: &'static str =
+        "Article 004: a stone wall lit in view space or in tangent space";
     /// The article's wall in the tutorial's frame: its state, set before each frame.
     const GL_STATE: GlState = GlState::TUTORIAL;
     const CONTROLS: &'static [Control<Self>] = CONTROLS;
+    const ASSET_FILES: &'static [&'static str] = &FILES.names();
 
     /// Loads the stone wall's two maps from `assets`/wall/ and the three programs.
-    fn new(context: &SceneContext, files: &SceneOptions, options: WallOptions) -> Result<Self> {
+    fn new(context: &SceneContext, options: &SceneOptions, _: &mut Starts<Self>) -> Result<Self> {
         let spaces = LightingSpace::value_variants().iter();
-        let shaders = ShaderSet::new(files.shader_dir(), spaces.map(|space| space.shaders()));
+        let shaders = ShaderSet::new(options.shader_dir(), spaces.map(|space| space.shaders()));
         let gl = context.gl;
         let programs = load_programs(gl, &shaders)?;
-        let maps = Maps::load(gl, &files.asset_files(FILES.names())?)?;
+        let maps = Maps::load(gl, &options.asset_files(FILES.names())?)?;
         // The tutorial's CPU pipeline gives the square its tangents: T = +x (dP/du), B = +y (dP/dv).
         let mesh = build_mesh(&square(), MeshOptions::default());
         let buffers = MeshBuffers::new(gl, &mesh)?;
         Ok(Wall {
             gl: gl.clone(),
             programs,
-            space: options.space,
+            space: LightingSpace::default(),
             maps,
             buffers,
             model_matrix: Mat4::IDENTITY,
             shaders,
-            light: Self::LIGHT_START.with_flags(options.light),
+            light: Self::LIGHT_START,
         })
+    }
+
+    fn generate_assets() -> Result<crate::assets::GeneratedFiles> {
+        assets::generate()
     }
 }
 

@@ -20,7 +20,7 @@ use tutorial13::common::vboindexer::{self, IndexOptions, IndexedMesh};
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::gl::{ContextInfo, Profile};
 use tutorial13::pipeline::indexer::{index_vbo_hashed, index_vbo_tbn_hashed};
-use tutorial13::scenes::cylinder::CylinderOptions;
+use tutorial13::scenes::cylinder::CylinderFiles;
 use tutorial13::scenes::SceneOptions;
 
 pub const W: u32 = 1024;
@@ -239,23 +239,21 @@ pub fn renderer(options: &HeadlessOptions) -> HeadlessRenderer {
     HeadlessRenderer::new(options).expect("headless renderer")
 }
 
-/// The cylinder scene's own options in `options` (the scene [`options`] draws).
-pub fn cylinder_options(options: &mut HeadlessOptions) -> &mut CylinderOptions {
-    options.scene.get_mut::<CylinderOptions>()
+/// The cylinder scene's files in `options` (the scene [`options`] draws): `--model` and the maps.
+pub fn cylinder_files(options: &mut HeadlessOptions) -> &mut CylinderFiles {
+    options.scene.get_mut::<CylinderFiles>()
 }
 
-/// A core-profile renderer of the cylinder scene on `assets`, its options changed by `set` first.
-pub fn cylinder_renderer(
-    assets: PathBuf,
-    set: impl FnOnce(&mut CylinderOptions),
-) -> HeadlessRenderer {
+/// A core-profile renderer of the cylinder scene on `assets`, its options changed by `set` first
+/// (its controls started through their typed handles: `|o| { o.start(LINES.to(true)); }`).
+pub fn cylinder_renderer(assets: PathBuf, set: impl FnOnce(&mut SceneOptions)) -> HeadlessRenderer {
     let mut options = options(assets, Profile::Core);
-    set(cylinder_options(&mut options));
+    set(&mut options.scene);
     renderer(&options)
 }
 
 /// The first frame of [`cylinder_renderer`].
-pub fn cylinder_frame(assets: PathBuf, set: impl FnOnce(&mut CylinderOptions)) -> RgbImage {
+pub fn cylinder_frame(assets: PathBuf, set: impl FnOnce(&mut SceneOptions)) -> RgbImage {
     frame(&mut cylinder_renderer(assets, set))
 }
 
