@@ -337,3 +337,135 @@ impl<S> fmt::Debug for Starts<S> {
         f.debug_list().entries(&self.settings).finish()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scenes::table::Choices;
+
+    /// A lamp: on or off, at a level, in a colour, noting the order its controls are set in.
+    #[derive(Default)]
+    struct Lamp {
+        on: bool,
+        level: f32,
+        warm: bool,
+        set: Vec<&'static str>,
+    }
+
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    enum Colour {
+        Cold,
+        Warm,
+    }
+
+    impl ChoiceValue for Colour {
+        fn choice_name(self) -> String {
+            format!("{self:?}")
+        }
+    }
+
+    /// A value type of no control of the lamp's.
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    struct Shade;
+
+    impl ChoiceValue for Shade {
+        fn choice_name(self) -> String {
+            "shade".into()
+        }
+    }
+
+    const LAMP: &[Control<Lamp>] = &[
+        Control::toggle(
+            'O',
+            "on",
+            "on / off",
+            |l| l.on,
+            |l, on| {
+                l.on = on;
+                l.set.push("on");
+                Ok(())
+            },
+        ),
+        Control::slider(
+            "level",
+            |_| (0.0, 1.0),
+            |_| 0.0,
+            |l| l.level,
+            |l, level| {
+                l.level = level;
+                l.set.push("level");
+                Ok(())
+            },
+        ),
+        Control::choice(
+            'C',
+            "colour",
+            "cold / warm",
+            &Choices {
+                values: |_| vec![Colour::Cold, Colour::Warm],
+                get: |l: &Lamp| match l.warm {
+                    true => Colour::Warm,
+                    false => Colour::Cold,
+                },
+                set: |l: &mut Lamp, colour| {
+                    l.warm = colour == Colour::Warm;
+                    l.set.push("colour");
+                    Ok(())
+                },
+            },
+        ),
+    ];
+    const ON: Handle<Lamp, bool> = Handle::new(LAMP, "on");
+    const LEVEL: Handle<Lamp, f32> = Handle::new(LAMP, "level");
+    const COLOUR: Handle<Lamp, Colour> = Handle::new(LAMP, "colour");
+
+    // Fails if a later start of a control does not replace an earlier one, if a start is read back
+    // as another value, if a slider's start is held to its range, if the values are not set before
+    // the toggles (in the table's order), or if a start the scene took is set again.
+    #[test]
+    fn each_start_is_set_once_values_first() {
+        let mut starts = Starts::default();
+        starts.set(ON.to(true));
+        starts.set(COLOUR.to(Colour::Warm));
+        starts.set(LEVEL.to(0.5));
+        starts.set(LEVEL.to(2.0));
+        assert_eq!(starts.settings().len(), 3);
+        assert_eq!(
+            (starts.get(ON), starts.get(LEVEL), starts.get(COLOUR)),
+            (Some(true), Some(2.0), Some(Colour::Warm))
+        );
+        let mut lamp = Lamp::default();
+        starts.apply(&mut lamp).unwrap();
+        assert_eq!((lamp.on, lamp.level, lamp.warm), (true, 2.0, true));
+        assert_eq!(lamp.set, ["colour", "level", "on"]);
+
+        let mut taken = starts.clone();
+        assert_eq!(taken.take(COLOUR), Some(Colour::Warm));
+        let mut lamp = Lamp::default();
+        taken.apply(&mut lamp).unwrap();
+        assert_eq!(lamp.set, ["level", "on"]);
+    }
+
+    // Fails if a handle whose type is not its choice's values' is accepted (it would start
+    // nothing).
+    #[test]
+    #[should_panic(expected = "a handle of another type than its values")]
+    fn a_handle_of_another_type_than_its_choice_is_refused() {
+        let _ = Handle::<Lamp, Shade>::new(LAMP, "colour").to(Shade);
+    }
+
+    // Fails if a handle of another kind than its control's (an f32 on a toggle) is accepted (in a
+    // `const`, this stops the build).
+    #[test]
+    #[should_panic(expected = "the control is not of the handle's kind")]
+    fn a_handle_of_another_kind_is_refused() {
+        let _ = Handle::<Lamp, f32>::new(LAMP, "on");
+    }
+
+    // Fails if a handle on a label no control has is accepted.
+    #[test]
+    #[should_panic(expected = "no control has this label")]
+    fn a_handle_on_no_control_is_refused() {
+        let _ = Handle::<Lamp, bool>::new(LAMP, "off");
+    }
+}
