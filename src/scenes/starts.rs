@@ -210,15 +210,6 @@ impl<S: 'static> Setting<S> {
         self.controls[self.index].start(scene, &self.start)
     }
 
-    /// [`Setting::apply`] to a scene seen as `dyn Scene`: `Ok(false)` if it is not an `S`.
-    pub fn apply_to(&self, scene: &mut dyn Scene) -> Result<bool> {
-        let any: &mut dyn std::any::Any = scene;
-        match any.downcast_mut::<S>() {
-            Some(scene) => self.apply(scene).map(|()| true),
-            None => Ok(false),
-        }
-    }
-
     /// Why its control does nothing in `scene` now, named as the user gave it: `--flag` or the
     /// control's label.
     fn inert(&self, scene: &S) -> Option<(String, &'static str)> {
@@ -311,6 +302,27 @@ impl<S: 'static> Starts<S> {
             }
         }
         Ok(())
+    }
+
+    /// [`Starts::apply`] to a running scene seen as `dyn Scene` (a step of a tour: "L on, F =
+    /// mikktspace, normal strength 2"): `Ok(false)` if it is not an `S`.
+    pub fn apply_to(&self, scene: &mut dyn Scene) -> Result<bool> {
+        let any: &mut dyn std::any::Any = scene;
+        match any.downcast_mut::<S>() {
+            Some(scene) => self.apply(scene).map(|()| true),
+            None => Ok(false),
+        }
+    }
+}
+
+/// The starts of `settings`, a later one of a control in place of an earlier one.
+impl<S: 'static> FromIterator<Setting<S>> for Starts<S> {
+    fn from_iter<I: IntoIterator<Item = Setting<S>>>(settings: I) -> Self {
+        let mut starts = Starts::default();
+        for setting in settings {
+            starts.set(setting);
+        }
+        starts
     }
 }
 

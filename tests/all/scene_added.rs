@@ -142,8 +142,10 @@ fn a_scene_types_descriptor_is_made_from_it() {
 }
 
 // Fails if the headless front end does not run a scene made from its type alone, or if its controls
-// started by their flags, by their typed handles, and by its key and table do not all draw the same
-// frame: green at the slider's start (0.5: level 128), blue at 0.25 (level 64) once switched.
+// started by their flags, by their typed handles (before the scene is built, or on the running
+// scene, as a step of a tour would), and by its key and table do not all draw the same frame: green
+// at the slider's start (0.5: level 128), blue at 0.25 (level 64) once switched. Starts of another
+// scene type must leave it alone.
 #[test]
 fn a_scene_types_controls_start_from_its_flags_and_handles() {
     assert!(all(&solid_frame(SceneOptions::default()), [0, 128, 0]));
@@ -158,6 +160,25 @@ fn a_scene_types_controls_start_from_its_flags_and_handles() {
     assert!(all(&solid_frame(started), [0, 0, 64]), "its handles");
 
     let mut renderer = renderer(&HeadlessOptions {
+        descriptor: &SOLID,
+        width: 64,
+        height: 48,
+        ..Default::default()
+    });
+    let step: Starts<Solid> = [BLUE.to(true), LEVEL.to(0.25)].into_iter().collect();
+    let other = Starts::<tutorial13::scenes::cube::Cube>::default();
+    assert!(!other.apply_to(&mut *renderer.host.scene).unwrap());
+    assert!(
+        all(&frame(&mut renderer), [0, 128, 0]),
+        "another scene's starts"
+    );
+    assert!(step.apply_to(&mut *renderer.host.scene).unwrap());
+    assert!(
+        all(&frame(&mut renderer), [0, 0, 64]),
+        "a step on the running scene"
+    );
+
+    let mut renderer = crate::common::renderer(&HeadlessOptions {
         descriptor: &SOLID,
         width: 64,
         height: 48,
