@@ -45,6 +45,8 @@ pub enum PanelWidget {
     Choice(char, usize),
     /// The "tutorial's values" button.
     StartValues,
+    /// The once-a-second "ms/frame" figure (a label).
+    Figure,
 }
 
 /// Besides the scene, what the panel shows: the front end's own figures.
@@ -379,10 +381,11 @@ impl SceneView {
         ui.heading(format!("scene {}", d.name));
         ui.small(d.description);
         // Always one line, so that the layout is the same before the first figure and headless.
-        match info.ms_per_frame {
+        let figure = match info.ms_per_frame {
             Some(ms) => ui.label(format!("{ms:.3} ms/frame")),
             None => ui.label("– ms/frame"),
         };
+        record.widgets.push((PanelWidget::Figure, figure.rect));
         // The keys and sliders first, at rows that never move (what changes length comes after
         // them), so that a click on one never shifts the next one a learner aims at.
         ui.separator();

@@ -34,6 +34,7 @@ mod panel;
 mod photometric;
 mod pipeline;
 mod render;
+mod runner;
 mod scene_cube;
 mod scene_sprite;
 mod scene_wall;
