@@ -57,7 +57,7 @@ pub enum Request {
     /// the panel over it where `with_panel` (Ctrl+P: the window as shown).
     Screenshot { with_panel: bool },
     /// Make `scene`'s files readable (the page fetches them; on disk they are there), then give the
-    /// host `then` ([`super::host::SceneHost::fetched`]).
+    /// host `then` (`SceneHost::fetched`).
     Fetch {
         scene: &'static SceneDescriptor,
         then: AfterFetch,
