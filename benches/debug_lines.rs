@@ -66,11 +66,11 @@ fn lines(c: &mut Criterion) {
     let mesh = &renderer.scene_ref::<Cylinder>().tutorial.mesh;
     let triangles = mesh.indices.len() / 3;
     assert!(triangles >= 150_000, "{triangles} triangles");
-    let context = &renderer.context;
+    let context = renderer.host.gl();
     let make = |mode| {
         let lines = DebugLines::new(
-            context.gl(),
-            context.extensions(),
+            &context.gl,
+            &context.extensions,
             mesh,
             LIGHT_POS,
             Some(mode),
@@ -82,7 +82,7 @@ fn lines(c: &mut Criterion) {
     };
     let (legacy, shader) = (make(LineMode::Legacy), make(LineMode::Shader));
 
-    let gl = renderer.context.gl().clone();
+    let gl = renderer.host.gl().gl.clone();
     let model = renderer.scene_ref::<Cylinder>().tutorial.model_matrix;
     let mut group = c.benchmark_group(format!("debug_lines_{}k_triangles", triangles / 1000));
     group
@@ -96,7 +96,7 @@ fn lines(c: &mut Criterion) {
         ("whole_cylinder", Vec3::new(0.0, 5.0, 30.0)),
     ] {
         renderer.host.controls.position = position;
-        renderer.render();
+        renderer.render().unwrap();
         let (projection, view) = (
             renderer.host.controls.projection_matrix(),
             renderer.host.controls.view_matrix(),

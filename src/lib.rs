@@ -4,7 +4,7 @@
 //!
 //! | layer               | module        | what lives there                                              |
 //! |---------------------|---------------|---------------------------------------------------------------|
-//! | errors and files  | [`error`], [`files`], [`progress`] | the crate's error type; atomic file writing; a line for a long load |
+//! | errors and files  | [`error`], [`files`], [`progress`], [`clock`], [`statistics`] | the crate's error type; atomic file writing; a line for a long load; the clock; min and median of timings |
 //! | the tutorial's `common/` | [`common`] | objloader, tangentspace, vboindexer, texture, shader, controls |
 //! | the fast pipeline   | [`pipeline`]  | the OBJ parse on every core and the linear-time indexers: the `common/` ports' results, to the bit, for a learner's large model |
 //! | CPU helpers         | [`mesh`], [`normalmap`], [`photo`], [`photometric`], [`assets`], [`model`], [`bake`], [`combine`] | the CPU pipeline's switches, mesh generators, height map → normal map, photos → normal map (one photo's guess, photometric stereo), the project's own assets, a learner's OBJ with its MTL maps, a detailed model's normals baked into a simple one's UVs, two normal maps combined |
@@ -37,6 +37,7 @@ pub mod photometric;
 pub mod pipeline;
 pub mod progress;
 pub mod scenes;
+pub mod statistics;
 pub mod tangents;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod tools;

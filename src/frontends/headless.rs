@@ -1,16 +1,18 @@
 //! Rendering without a window: an EGL context on Mesa, an offscreen framebuffer, any scene's frame
-//! exactly as the window draws it. Used by `--headless`, `--bench` and the tests.
+//! exactly as the window draws it, through the same host (its clock ticks, so its panel shows the
+//! ms/frame figure). Used by `--headless`, `--bench` and the tests.
 
 use std::time::Instant;
 
 use glow::HasContext;
 
+use super::events::{Event, FrameTime, Request};
 use super::host::SceneHost;
-use super::FrontEnd;
-use crate::gl::context::HeadlessContext;
+use super::keys::FrontEnd;
+use crate::gl::context::{EglContext, HeadlessContext};
 use crate::gl::offscreen::OffscreenTarget;
 use crate::gl::{check_gl_errors, Profile};
-use crate::scenes::{Scene, SceneContext, SceneDescriptor, SceneOptions};
+use crate::scenes::{Scene, SceneDescriptor, SceneOptions};
 use crate::Result;
 
 /// What to render headless.
@@ -42,38 +44,40 @@ impl Default for HeadlessOptions {
     }
 }
 
-/// A ready-to-draw headless set-up: context, target, and the [`SceneHost`] with the scene and its
-/// camera at the start. Tests and tools reach the scene, its camera, the cursor and the panel
-/// through [`HeadlessRenderer::host`], as the window's own front end does.
+/// A ready-to-draw headless set-up: the EGL context, the target, and the [`SceneHost`] with the
+/// scene and its camera at the start, its time frozen. Tests and tools reach the scene, its camera,
+/// the cursor, the panel and the GL context through [`HeadlessRenderer::host`], as the window's own
+/// front end does, and give it input as the window does ([`HeadlessRenderer::event`]).
 pub struct HeadlessRenderer {
     // Field order is drop order: GL objects go before the context that owns them.
     pub host: SceneHost,
     pub target: OffscreenTarget,
-    pub context: HeadlessContext,
+    /// The EGL context the host's [`GlContext`](crate::gl::current::GlContext) draws on.
+    pub context: EglContext,
 }
 
 impl HeadlessRenderer {
     pub fn new(options: &HeadlessOptions) -> Result<Self> {
         let context = HeadlessContext::new(options.profile, options.prefer_hardware)?;
         log::debug!("headless context: {}", context.info());
-        let gl = context.gl().clone();
         // Stored like a window's buffers, so that the headless frame is the window's frame.
+        let size = (options.width, options.height);
         let target = OffscreenTarget::with_window_orientation(
-            &gl,
-            (options.width, options.height),
+            context.gl(),
+            size,
             options.msaa,
             context.extensions(),
         )?;
-        let size = (options.width, options.height);
-        let host = with_scene_context(&context, |c| {
-            SceneHost::new(
-                c,
-                options.descriptor,
-                &options.scene,
-                size,
-                FrontEnd::Window,
-            )
-        })?;
+        let (gl, context) = context.split();
+        let mut host = SceneHost::new(
+            gl,
+            options.descriptor,
+            &options.scene,
+            size,
+            FrontEnd::Window,
+        )?;
+        // The original's screenshot test: time frozen at 0, no input moves the camera.
+        host.set_time(FrameTime::Frozen);
         Ok(HeadlessRenderer {
             host,
             target,
@@ -98,22 +102,42 @@ impl HeadlessRenderer {
             .unwrap_or_else(|| panic!("the renderer holds scene {name}, not the one asked for"))
     }
 
-    /// One frame with time frozen at 0 and no input, as the original's screenshot test; the panel
-    /// over it if it is shown (with the events of [`SceneHost::panel_event`] as its input).
-    pub fn render(&mut self) {
+    /// Gives the host one event, as a window gives it one of its own, and returns what the host
+    /// asked for, having done what headless rendering can: the files are on disk, so a fetch is done
+    /// at once (the others are for a window: quit, the cursor, a screenshot, the title, the key
+    /// list).
+    pub fn event(&mut self, event: Event) -> Result<Vec<Request>> {
+        self.host.event(event)?;
+        self.requests()
+    }
+
+    /// What the host asked for since the last call, a fetch done (see [`HeadlessRenderer::event`]).
+    pub fn requests(&mut self) -> Result<Vec<Request>> {
+        let mut asked = Vec::new();
+        while let Some(request) = self.host.next_request() {
+            if let Request::Fetch { then, .. } = &request {
+                self.host.fetched(then.clone())?;
+            }
+            asked.push(request);
+        }
+        Ok(asked)
+    }
+
+    /// One frame into the target, the panel over it if it is shown (with the events given since
+    /// the last frame as its input). Fails if GL reported an error.
+    pub fn render(&mut self) -> Result<()> {
         self.target.bind();
-        let size = (self.target.width(), self.target.height());
-        self.host.set_size(size);
-        self.host.draw(0.0, 0.0, true);
-        let panel_input = self.host.panel_input(None);
-        self.host.draw_panel(panel_input);
+        self.host.frame(true)?;
+        // Nothing a frame asks for is headless rendering's to do (the title).
+        while self.host.next_request().is_some() {}
+        Ok(())
     }
 
     /// Renders `frames` frames (at least one) and returns the last, top row first. Fails if GL
     /// reported any error along the way.
     pub fn render_frames(&mut self, frames: u32) -> Result<image::RgbaImage> {
         for _ in 0..frames.max(1) {
-            self.render();
+            self.render()?;
         }
         let image = self.target.read_rgba();
         self.check_errors()?;
@@ -122,16 +146,16 @@ impl HeadlessRenderer {
 
     /// Drains GL's error flags: an error is a bug in this program, so it is reported, not ignored.
     pub fn check_errors(&self) -> Result<()> {
-        check_gl_errors(self.context.gl(), "frame")
+        check_gl_errors(&self.host.gl().gl, "frame")
     }
 
     /// Milliseconds per frame for `frames` frames, each timed to completion (`glFinish`).
     pub fn bench(&mut self, frames: u32) -> Result<Vec<f64>> {
-        let gl = self.context.gl().clone();
+        let gl = self.host.gl().gl.clone();
         let mut times = Vec::with_capacity(frames as usize);
         for _ in 0..frames {
             let start = Instant::now();
-            self.render();
+            self.render()?;
             // SAFETY: waits for the current context's queued work.
             unsafe { gl.finish() };
             times.push(start.elapsed().as_secs_f64() * 1000.0);
@@ -139,13 +163,4 @@ impl HeadlessRenderer {
         self.check_errors()?;
         Ok(times)
     }
-}
-
-/// `f` with the scene context of the headless `context`.
-fn with_scene_context<T>(context: &HeadlessContext, f: impl FnOnce(&SceneContext) -> T) -> T {
-    f(&SceneContext {
-        gl: context.gl(),
-        info: context.info(),
-        extensions: context.extensions(),
-    })
 }

@@ -5,14 +5,13 @@
 //! rectangle is the scene's frame as it was. The window shows it (F1 hides it); `--panel` puts it
 //! into headless screenshots. It knows nothing of any one scene: it reads the descriptor's keys, the
 //! scene's table of controls ([`crate::scenes::SceneControls`]), [`Scene::drawing_programs`] and
-//! [`Scene::compare_labels`]; what is clicked on it comes back as [`PanelAction`]s, which the host
-//! does to the scene as its keys and its table's `set` do ([`SceneHost::draw_panel`]).
+//! [`Scene::compare_labels`]; what is clicked on it comes back as [`PanelAction`]s, which the scene
+//! host does to the scene as its keys and its table's `set` do. It takes its input (a frame's
+//! `egui::RawInput`) from the host, and knows nothing of the host.
 
 use glow::HasContext;
 
-#[cfg(doc)]
-use super::host::SceneHost;
-use super::{panel_key_rows, FrontEnd};
+use super::keys::{panel_key_rows, FrontEnd};
 use crate::gl::extensions::GlExtensions;
 use crate::gl::offscreen::{ColorBuffer, OffscreenTarget};
 use crate::gl::Gl;
@@ -46,6 +45,8 @@ pub enum PanelWidget {
     Choice(char, usize),
     /// The "tutorial's values" button.
     StartValues,
+    /// The once-a-second "ms/frame" figure (a label).
+    Figure,
 }
 
 /// Besides the scene, what the panel shows: the front end's own figures.
@@ -139,17 +140,6 @@ impl Panel {
         &self.ctx
     }
 
-    /// The input of a headless frame of `size` pixels: no pointer, no keys, one pixel per point.
-    pub fn headless_input(size: (u32, u32)) -> egui::RawInput {
-        egui::RawInput {
-            screen_rect: Some(egui::Rect::from_min_size(
-                egui::Pos2::ZERO,
-                egui::vec2(size.0 as f32, size.1 as f32),
-            )),
-            ..Default::default()
-        }
-    }
-
     /// `input`'s screen and scale without its events (a pass that must not click anything).
     fn headless_input_like(input: &egui::RawInput) -> egui::RawInput {
         egui::RawInput {
@@ -174,7 +164,7 @@ impl Panel {
     }
 
     /// Lays the panel out for one frame of `input` over `scene`. Returns what to paint (see
-    /// [`Panel::paint`]) and what was clicked, for the host to do ([`SceneHost::draw_panel`]). With
+    /// [`Panel::paint`]) and what was clicked, for the host to do. With
     /// no input, nothing new to show and no animation running, the last layout stands and nothing
     /// is laid out.
     pub fn run(
@@ -391,10 +381,11 @@ impl SceneView {
         ui.heading(format!("scene {}", d.name));
         ui.small(d.description);
         // Always one line, so that the layout is the same before the first figure and headless.
-        match info.ms_per_frame {
+        let figure = match info.ms_per_frame {
             Some(ms) => ui.label(format!("{ms:.3} ms/frame")),
             None => ui.label("– ms/frame"),
         };
+        record.widgets.push((PanelWidget::Figure, figure.rect));
         // The keys and sliders first, at rows that never move (what changes length comes after
         // them), so that a click on one never shifts the next one a learner aims at.
         ui.separator();

@@ -19,6 +19,7 @@ use glutin::context::{
 };
 use glutin::display::GlDisplay;
 
+use super::current::GlContext;
 use super::extensions::GlExtensions;
 use super::{context_info, ContextInfo, Gl, Profile};
 use crate::{Error, Result};
@@ -28,16 +29,22 @@ const SOFTWARE_DEVICE_EXTENSION: &str = "EGL_MESA_device_software";
 
 const INSTALL_HINT: &str = "install Debian's libegl1 libegl-mesa0 libgl1-mesa-dri";
 
-/// An OpenGL context with no window, current on the thread that created it.
+/// An OpenGL context with no window, current on the thread that created it: what draws with it
+/// ([`GlContext`]) and the EGL context and display that keep it alive ([`EglContext`]).
 ///
 /// Not `Send`: an EGL context is current on one thread (glutin's current context is not `Send`, nor is
 /// glow's function table). Objects made through
 /// [`HeadlessContext::gl`] (and offscreen targets) must be dropped before the context is.
 pub struct HeadlessContext {
-    // Field order is drop order: the function table, then the context, then the display.
-    gl: Gl,
-    info: ContextInfo,
-    extensions: GlExtensions,
+    // Field order is drop order: the function table, then the context and its display.
+    gl: GlContext,
+    egl: EglContext,
+}
+
+/// The EGL side of a [`HeadlessContext`]: the context and the display it is current on, kept alive
+/// by whoever draws (the headless front end, once the scene host owns the [`GlContext`]).
+pub struct EglContext {
+    // Field order is drop order: the context, then the display.
     device: String,
     context: PossiblyCurrentContext,
     display: Display,
@@ -159,14 +166,18 @@ impl HeadlessContext {
         let info = context_info(&gl);
         let extensions = GlExtensions::load(&info, |s| display.get_proc_address(s));
         let headless = HeadlessContext {
-            gl: std::sync::Arc::new(gl),
-            info,
-            extensions,
-            device: name,
-            context,
-            display,
+            gl: GlContext {
+                gl: std::sync::Arc::new(gl),
+                info,
+                extensions,
+            },
+            egl: EglContext {
+                device: name,
+                context,
+                display,
+            },
         };
-        let info = &headless.info;
+        let info = &headless.gl.info;
         if !info.at_least(3, 3) {
             return Err(Error::Context(format!(
                 "OpenGL 3.3 is needed, {} gives {}.{}",
@@ -185,25 +196,44 @@ impl HeadlessContext {
                 ),
             }));
         }
-        log::debug!("{}: {}", headless.device, headless.info);
+        log::debug!("{}: {}", headless.egl.device, headless.gl.info);
         Ok(headless)
     }
 
     /// The GL function table; clone it into objects that must delete themselves.
     pub fn gl(&self) -> &Gl {
-        &self.gl
+        &self.gl.gl
     }
 
     /// What the context is (version, profile, renderer), as read back from GL.
     pub fn info(&self) -> &ContextInfo {
-        &self.info
+        &self.gl.info
     }
 
     /// The entry points glow does not load, looked up when the context was made.
     pub fn extensions(&self) -> &GlExtensions {
-        &self.extensions
+        &self.gl.extensions
     }
 
+    /// A short description of the EGL device the context runs on.
+    pub fn device(&self) -> &str {
+        self.egl.device()
+    }
+
+    /// Looks up a GL entry point, e.g. the legacy immediate-mode ones glow does not load.
+    /// Null when the driver does not have it.
+    pub fn get_proc_address(&self, name: &CStr) -> *const c_void {
+        self.egl.get_proc_address(name)
+    }
+
+    /// What draws with the context, for the scene host to own, and the EGL context that keeps it
+    /// alive (to be dropped after every GL object).
+    pub fn split(self) -> (GlContext, EglContext) {
+        (self.gl, self.egl)
+    }
+}
+
+impl EglContext {
     /// A short description of the EGL device the context runs on.
     pub fn device(&self) -> &str {
         &self.device
@@ -216,7 +246,7 @@ impl HeadlessContext {
     }
 }
 
-impl Drop for HeadlessContext {
+impl Drop for EglContext {
     fn drop(&mut self) {
         // EGL only frees a context once no thread has it current: release it now rather than when
         // the thread exits, but only if it is still the current one (not a context made after it).
@@ -229,8 +259,8 @@ impl Drop for HeadlessContext {
 impl fmt::Debug for HeadlessContext {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("HeadlessContext")
-            .field("device", &self.device)
-            .field("info", &format_args!("{}", self.info))
+            .field("device", &self.egl.device)
+            .field("info", &format_args!("{}", self.gl.info))
             .finish_non_exhaustive()
     }
 }

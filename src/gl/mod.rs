@@ -1,10 +1,12 @@
 //! GL helpers every scene and front end shares: the `Gl` handle, what the context is ([`ContextInfo`]),
-//! GL error draining, mesh buffers ([`buffers`]), pixel read-back and image files ([`image`]), and the
-//! headless EGL context with its offscreen targets ([`context`]).
+//! GL error draining, mesh buffers ([`buffers`]), pixel read-back and image files ([`image`]), the
+//! headless EGL context with its offscreen targets ([`context`]), and what a made context draws
+//! with ([`current::GlContext`]).
 
 pub mod buffers;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod context;
+pub mod current;
 pub mod extensions;
 pub mod image;
 pub mod objects;

@@ -6,7 +6,7 @@ use std::ffi::OsString;
 
 use clap::Command;
 
-use crate::frontends::key_list;
+use crate::frontends::keys::key_list;
 use crate::scenes::{self, SceneDescriptor, SharedArgs, SCENES};
 
 /// The widest `--help` is laid out, however wide the terminal: longer lines are hard to follow.

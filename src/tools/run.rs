@@ -4,11 +4,11 @@
 use std::path::{Path, PathBuf};
 
 use crate::frontends::headless::{HeadlessOptions, HeadlessRenderer};
-use crate::frontends::min_median;
 use crate::frontends::window::{run_window, WindowOptions};
 use crate::gl::image::{write_screenshot, ImageFormat};
 use crate::gl::Profile;
 use crate::scenes::{self, SceneDescriptor, SceneOptions};
+use crate::statistics::min_median;
 use crate::{Error, Result};
 
 // The global flags; each scene's own arguments are added by `scenes::command_line`, under a heading
@@ -157,7 +157,7 @@ fn run_headless(options: &RunOptions, scene: SceneOptions) -> Result<()> {
         prefer_hardware: options.prefer_hardware,
         msaa: options.msaa.into(),
     })?;
-    log::info!("{}", renderer.context.info());
+    log::info!("{}", renderer.host.gl().info);
     if options.panel {
         renderer.host.show_panel()?;
     }

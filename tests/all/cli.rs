@@ -364,11 +364,11 @@ fn help_fits_the_width_it_is_given() {
 }
 
 // Fails if `--scene NAME --help` does not end with that scene's keys as the window prints them
-// (tutorial13::frontends::key_list), shows another scene's keys or flags, or drops a flag the scene
+// (tutorial13::frontends::keys::key_list), shows another scene's keys or flags, or drops a flag the scene
 // reads; or if the window's own keys (the arrow keys, Esc) are no longer listed there.
 #[test]
 fn scene_help_lists_that_scenes_keys_and_flags_only() {
-    use tutorial13::frontends::key_list;
+    use tutorial13::frontends::keys::key_list;
     use tutorial13::scenes::{cylinder::Cylinder, descriptor, sprite::Sprite};
     let help = help_text(&["--scene", "sprite", "--help"], None);
     let (help_words, sprite_keys) = (words(&help), key_list(descriptor::<Sprite>()));

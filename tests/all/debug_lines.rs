@@ -36,10 +36,10 @@ fn renderer(assets: PathBuf, profile: Profile) -> HeadlessRenderer {
 /// The lines of the renderer's scene. The shaders come from the crate's folder, which has them
 /// whether or not the embedded copies do.
 fn lines(r: &HeadlessRenderer, requested: Option<LineMode>) -> DebugLines {
-    let context = &r.context;
+    let context = r.host.gl();
     DebugLines::new(
-        context.gl(),
-        context.extensions(),
+        &context.gl,
+        &context.extensions,
         &r.scene_ref::<Cylinder>().tutorial.mesh,
         LIGHT_POS,
         requested,
@@ -50,7 +50,7 @@ fn lines(r: &HeadlessRenderer, requested: Option<LineMode>) -> DebugLines {
 
 /// One frame (time frozen at 0), then the lines if given, read back; asserts no GL error.
 fn frame(r: &mut HeadlessRenderer, lines: Option<&DebugLines>) -> RgbaImage {
-    r.render();
+    r.render().unwrap();
     if let Some(lines) = lines {
         lines.draw(
             r.host.controls.projection_matrix(),
@@ -59,7 +59,7 @@ fn frame(r: &mut HeadlessRenderer, lines: Option<&DebugLines>) -> RgbaImage {
         );
     }
     let image = r.target.read_rgba();
-    let errors = gl_errors(r.context.gl());
+    let errors = gl_errors(&r.host.gl().gl);
     assert!(errors.is_empty(), "GL errors: {errors:x?}");
     image
 }
@@ -526,10 +526,10 @@ struct FixedFunction(i32, [i32; 2], [f32; 4], [f32; 16], [f32; 16]);
 
 fn state(r: &HeadlessRenderer) -> State {
     use glow::HasContext;
-    let gl = r.context.gl();
+    let gl = &r.host.gl().gl;
     // SAFETY: queries on the current context; the fixed-function ones only in a compatibility one.
     unsafe {
-        let fixed_function = (r.context.info().profile == Profile::Compat).then(|| {
+        let fixed_function = (r.host.gl().info.profile == Profile::Compat).then(|| {
             let mut color = [0.0; 4];
             let mut projection = [0.0; 16];
             let mut model_view = [0.0; 16];
@@ -616,7 +616,7 @@ fn lines_leave_the_state_and_the_next_frame_as_they_found_them() {
 fn core_context_falls_back_to_the_line_shader_with_a_notice() {
     let mut core = renderer(own_assets(), Profile::Core);
     let context = &core.context;
-    let refused = LegacyGl::load(context.info(), |name| context.get_proc_address(name))
+    let refused = LegacyGl::load(&core.host.gl().info, |name| context.get_proc_address(name))
         .expect_err("no immediate mode in a core context");
     assert!(refused.to_string().contains("compatibility"), "{refused}");
 
@@ -660,7 +660,8 @@ fn core_context_falls_back_to_the_line_shader_with_a_notice() {
 fn missing_entry_point_is_an_error_naming_it() {
     let r = renderer(own_assets(), Profile::Compat);
     let context = &r.context;
-    let error = LegacyGl::load(context.info(), |name| {
+    let info = &r.host.gl().info;
+    let error = LegacyGl::load(info, |name| {
         if name == c"glVertex3fv" {
             std::ptr::null()
         } else {
@@ -669,7 +670,7 @@ fn missing_entry_point_is_an_error_naming_it() {
     })
     .expect_err("null glVertex3fv");
     assert!(error.to_string().contains("glVertex3fv"), "{error}");
-    assert!(LegacyGl::load(context.info(), |name| context.get_proc_address(name)).is_ok());
+    assert!(LegacyGl::load(info, |name| context.get_proc_address(name)).is_ok());
 }
 
 // Fails if rebuild keeps the old lines (in either path), or draws the new mesh other than lines made
@@ -690,10 +691,10 @@ fn rebuild_takes_the_new_mesh() {
         let old = frame(&mut r, Some(&rebuilt));
         rebuilt.rebuild(&other).unwrap();
         let new = frame(&mut r, Some(&rebuilt));
-        let context = &r.context;
+        let context = r.host.gl();
         let fresh = DebugLines::new(
-            context.gl(),
-            context.extensions(),
+            &context.gl,
+            &context.extensions,
             &other,
             LIGHT_POS,
             Some(mode),
@@ -725,11 +726,11 @@ fn rebuild_takes_the_new_mesh() {
 #[test]
 fn inconsistent_mesh_is_refused() {
     let r = renderer(own_assets(), Profile::Compat);
-    let context = &r.context;
+    let context = r.host.gl();
     let make = |mesh: tutorial13::common::vboindexer::IndexedMesh| {
         DebugLines::new(
-            context.gl(),
-            context.extensions(),
+            &context.gl,
+            &context.extensions,
             &std::rc::Rc::new(mesh),
             LIGHT_POS,
             None,

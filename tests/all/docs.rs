@@ -49,7 +49,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use tutorial13::frontends::keys_markdown;
+use tutorial13::frontends::keys::{key_rows, FrontEnd};
 use tutorial13::scenes::SCENES;
 
 use crate::common;
@@ -109,6 +109,32 @@ const OTHER_CRATES: &[(&str, &str)] = &[
     ("KeyCode::Escape", "winit"),
     ("WindowEvent::CloseRequested", "winit"),
 ];
+
+/// `docs/keys.md`: every scene of `SCENES`, in their order, with its description and a table of
+/// the rows `key_list` prints for it (the window's). [`keys_md_matches_the_code`] fails when the
+/// committed file differs from this.
+pub fn keys_markdown() -> String {
+    let cell = |text: &str| text.replace('|', "\\|");
+    let mut text = String::from(
+        "# Keys, scene by scene\n\n\
+         *Generated from the scenes' key bindings by `keys_markdown` (tests/all/docs.rs); do not \
+         edit: the test `docs::keys_md_matches_the_code` (tests/all/docs.rs) fails when this file \
+         differs, and rewrites it when run with `TUTORIAL13_UPDATE_DOCS=1`.*\n\n\
+         The window prints the same list when a scene starts, and `--scene NAME --help` prints that scene's.\n",
+    );
+    for scene in SCENES {
+        text.push_str(&format!(
+            "\n## {}\n\n`--scene {}`: {}\n\n| key | does |\n|---|---|\n",
+            scene.name,
+            scene.name,
+            cell(scene.description)
+        ));
+        for (key, help) in key_rows(scene, FrontEnd::Window) {
+            text.push_str(&format!("| {} | {} |\n", cell(&key), cell(help)));
+        }
+    }
+    text
+}
 
 // Fails if docs/keys.md is not exactly what `keys_markdown` makes from the scenes' bindings now: a
 // key added, removed or reworded in the code but not in the file, a scene added to SCENES, or the

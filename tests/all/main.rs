@@ -34,6 +34,7 @@ mod panel;
 mod photometric;
 mod pipeline;
 mod render;
+mod runner;
 mod scene_added;
 mod scene_cube;
 mod scene_sprite;

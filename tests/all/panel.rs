@@ -3,9 +3,10 @@
 //! say. Clicks are real pointer events given to egui (the same input the window's egui-winit glue
 //! produces), aimed at where the panel drew each widget.
 
+use tutorial13::frontends::events::Event;
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
+use tutorial13::frontends::keys::{panel_key_rows, FrontEnd};
 use tutorial13::frontends::panel::PanelWidget;
-use tutorial13::frontends::{panel_key_rows, FrontEnd};
 use tutorial13::scenes::{ControlState, ControlValue, SceneDescriptor, SetTo, SCENES};
 
 use crate::common::{self, frame};
@@ -25,17 +26,12 @@ fn click(renderer: &mut HeadlessRenderer, widget: PanelWidget) {
 }
 
 fn click_at(renderer: &mut HeadlessRenderer, pos: egui::Pos2) {
-    renderer.host.panel_event(egui::Event::PointerMoved(pos));
-    renderer.render();
-    let button = |pressed| egui::Event::PointerButton {
-        pos,
-        button: egui::PointerButton::Primary,
-        pressed,
-        modifiers: Default::default(),
-    };
+    let at = glam::Vec2::new(pos.x, pos.y);
+    renderer.event(Event::PointerMoved(at)).unwrap();
+    renderer.render().unwrap();
     for pressed in [true, false] {
-        renderer.host.panel_event(button(pressed));
-        renderer.render();
+        renderer.event(Event::Button { pressed }).unwrap();
+        renderer.render().unwrap();
     }
 }
 

@@ -170,7 +170,7 @@ fn assert_equals_cpp_original(profile: Profile, lines: bool, msaa: u32, cpp_fram
             .start(cylinder::LINE_MODE.to(LineMode::Legacy));
     }
     let mut renderer = renderer(&options);
-    if !on_reference_renderer(&test, renderer.context.info()) {
+    if !on_reference_renderer(&test, &renderer.host.gl().info) {
         return;
     }
     let frame = frame(&mut renderer);

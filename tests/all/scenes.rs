@@ -43,7 +43,7 @@ fn switching_scenes_leaks_no_gl_objects() {
         })
         .unwrap();
         let first = renderer.render_frames(1).unwrap();
-        let before = live_objects(renderer.context.gl());
+        let before = live_objects(&renderer.host.gl().gl);
         assert!(
             before[0] >= 6 && before[1] >= 3,
             "{before:?}: the scene holds no objects?"
@@ -57,7 +57,7 @@ fn switching_scenes_leaks_no_gl_objects() {
             renderer.host.descriptor(),
             tutorial13::scenes::default_scene()
         );
-        assert_eq!(live_objects(renderer.context.gl()), before, "{profile}");
+        assert_eq!(live_objects(&renderer.host.gl().gl), before, "{profile}");
         assert!(
             renderer.render_frames(1).unwrap() == first,
             "{profile}: frame changed"

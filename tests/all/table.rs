@@ -2,6 +2,7 @@
 //! (building only what that value needs), and a control that does nothing in the scene's state
 //! says why instead of being shown as on.
 
+use tutorial13::frontends::events::Event;
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::frontends::panel::PanelWidget;
 use tutorial13::gl::Profile;
@@ -28,7 +29,7 @@ fn the_key_list_is_the_tables() {
             .collect();
         let listed: Vec<(char, &str)> = scene.keys.iter().map(|k| (k.key, k.help)).collect();
         assert_eq!(listed, keyed, "{scene}");
-        let markdown = tutorial13::frontends::keys_markdown();
+        let markdown = crate::docs::keys_markdown();
         for (key, help) in keyed {
             assert!(
                 markdown.contains(&format!("| {key} | {help} |")),
@@ -145,15 +146,11 @@ fn click(renderer: &mut HeadlessRenderer, widget: PanelWidget) {
         .widget_rect(&widget)
         .unwrap_or_else(|| panic!("the panel shows no {widget:?}"))
         .center();
-    renderer.host.panel_event(egui::Event::PointerMoved(pos));
+    let at = glam::Vec2::new(pos.x, pos.y);
+    renderer.event(Event::PointerMoved(at)).unwrap();
     renderer.render_frames(1).unwrap();
     for pressed in [true, false] {
-        renderer.host.panel_event(egui::Event::PointerButton {
-            pos,
-            button: egui::PointerButton::Primary,
-            pressed,
-            modifiers: Default::default(),
-        });
+        renderer.event(Event::Button { pressed }).unwrap();
         renderer.render_frames(1).unwrap();
     }
 }
@@ -411,10 +408,11 @@ fn hovered_and_plain(
         .context()
         .global_style_mut(|style| style.interaction.tooltip_delay = 0.0);
     let plain = frame(renderer);
-    renderer.host.panel_event(egui::Event::PointerMoved(pos));
-    renderer.render();
+    let at = glam::Vec2::new(pos.x, pos.y);
+    renderer.event(Event::PointerMoved(at)).unwrap();
+    renderer.render().unwrap();
     let hovered = frame(renderer);
-    renderer.host.panel_event(egui::Event::PointerGone);
+    renderer.event(Event::PointerLeft).unwrap();
     (hovered, plain)
 }
 

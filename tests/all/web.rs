@@ -13,7 +13,7 @@ use std::process::Command;
 use glam::{Vec2, Vec3};
 use image::RgbImage;
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
-use tutorial13::frontends::host::Arrow;
+use tutorial13::frontends::keys::Arrow;
 use tutorial13::frontends::page_contract::FROZEN_STEP_S;
 use tutorial13::frontends::panel::PanelWidget;
 use tutorial13::scenes::{self, SceneDescriptor, SCENES};

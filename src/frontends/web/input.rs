@@ -1,5 +1,6 @@
-//! The page's input: the DOM's key, mouse, wheel and drop events, turned into what the window's
-//! front end gives the host and the panel.
+//! The page's input: the DOM's key, mouse, wheel and drop events, translated into the host's events
+//! (key names and wheel deltas by [`crate::frontends::page_input`]); what the host asks back is done
+//! after each ([`Page::honour`]).
 
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -9,48 +10,18 @@ use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;
 use web_sys::{DragEvent, HtmlCanvasElement, KeyboardEvent, MouseEvent, WheelEvent};
 
-use super::{mouse_mode, show_error, Page};
-use crate::frontends::host::Arrow;
-use crate::frontends::{FrontEnd, HostAction, HostKey};
-use crate::scenes::{MouseMode, SceneOptions};
-
-/// An arrow key by its DOM `key`.
-pub fn arrow(key: &str) -> Option<Arrow> {
-    match key {
-        "ArrowUp" => Some(Arrow::Up),
-        "ArrowDown" => Some(Arrow::Down),
-        "ArrowLeft" => Some(Arrow::Left),
-        "ArrowRight" => Some(Arrow::Right),
-        _ => None,
-    }
-}
-
-/// A scene key by its DOM `key`: a letter (upper-case, as the scenes' lists give them) or a digit.
-pub fn key_char(key: &str) -> Option<char> {
-    let mut chars = key.chars();
-    match (chars.next(), chars.next()) {
-        (Some(c), None) if c.is_ascii_alphanumeric() => Some(c.to_ascii_uppercase()),
-        _ => None,
-    }
-}
-
-/// What a DOM `key` does on the page, if it is one of the front ends' own keys the page has
-/// ([`crate::frontends::HOST_KEYS`]).
-pub fn host_action(key: &str) -> Option<HostAction> {
-    let name = match key {
-        "Escape" => "Esc",
-        "r" => "R",
-        "p" => "P",
-        other => other,
-    };
-    HostKey::find(name, FrontEnd::Page)
-}
+use super::{clear_error, show_error, Page};
+use crate::frontends::events::Event;
+use crate::frontends::keys::Key;
+use crate::frontends::page_input;
 
 /// Where a mouse event is, in canvas pixels (x right, y down).
 fn at(event: &MouseEvent) -> Vec2 {
     Vec2::new(event.offset_x() as f32, event.offset_y() as f32)
 }
 
+/// Listens to `kind` on `target`: `handle` gets the page and the event, then the page does what the
+/// host asked.
 fn on<E: JsCast + 'static>(
     target: &web_sys::EventTarget,
     kind: &str,
@@ -61,8 +32,9 @@ fn on<E: JsCast + 'static>(
     let closure = Closure::<dyn FnMut(web_sys::Event)>::new(move |event: web_sys::Event| {
         if let Ok(event) = event.dyn_into::<E>() {
             // A handler never runs inside a frame (one thread, one event at a time).
-            if let Ok(mut page) = page.try_borrow_mut() {
-                handle(&mut page, event);
+            if let Ok(mut shown) = page.try_borrow_mut() {
+                handle(&mut shown, event);
+                shown.honour(&page);
             }
         }
     });
@@ -85,100 +57,70 @@ pub fn listen(
     listen_to_drops(canvas, page)
 }
 
-/// The keys: arrows to the host as held, the page's own keys by the table, the rest to the scene.
+/// The host's key event for a DOM key event, if the key is one the lists name.
+fn key_event(event: &KeyboardEvent, pressed: bool) -> Option<(Key, Event)> {
+    let key = page_input::key(&event.key())?;
+    let event = Event::Key {
+        key,
+        pressed,
+        repeat: event.repeat(),
+        ctrl: event.ctrl_key(),
+    };
+    Some((key, event))
+}
+
+/// The keys, for the host.
 fn listen_to_keys(window: &web_sys::Window, page: &Rc<RefCell<Page>>) -> Result<(), String> {
-    let switching = page.clone();
-    on(
-        window,
-        "keydown",
-        page,
-        move |page, event: KeyboardEvent| {
-            let key = event.key();
-            let action = host_action(&key);
-            // The page must not scroll or reload on the keys the scenes use.
-            if arrow(&key).is_some() || action.is_some() {
-                event.prevent_default();
-            }
-            if action == Some(HostAction::NextScene) && !event.repeat() {
-                // The next scene once its files are in (fetched the first time it opens).
-                let from = page.host.descriptor();
-                let next = crate::scenes::next(from);
-                let page = switching.clone();
-                wasm_bindgen_futures::spawn_local(async move {
-                    match super::fetch_assets(next).await {
-                        Ok(()) => page.borrow_mut().switch_scene(from, next),
-                        Err(e) => show_error(&e),
-                    }
-                });
-            } else if !event.repeat() || arrow(&key).is_some() {
-                page.key(&key, true);
-            }
-        },
-    )?;
+    on(window, "keydown", page, |page, event: KeyboardEvent| {
+        let translated = key_event(&event, true);
+        let arrow = matches!(translated, Some((Key::Arrow(_), _)));
+        // The last message goes with a new press; what this key brings (an error, a notice)
+        // replaces it.
+        if !arrow && !event.repeat() {
+            clear_error();
+        }
+        let Some((key, translated)) = translated else {
+            return;
+        };
+        // The page must not scroll or reload on the keys the scenes use.
+        if arrow || page.host.host_key(key).is_some() {
+            event.prevent_default();
+        }
+        page.event(translated);
+    })?;
     on(window, "keyup", page, |page, event: KeyboardEvent| {
-        page.key(&event.key(), false);
+        if let Some((_, translated)) = key_event(&event, false) {
+            page.event(translated);
+        }
     })
 }
 
-/// The mouse and the wheel: the panel's where the pointer is over it, else a drag looks around (or
-/// the scene's free cursor follows) and the wheel goes to the scene.
+/// The mouse and the wheel, each where it happened.
 fn listen_to_mouse(canvas: &HtmlCanvasElement, page: &Rc<RefCell<Page>>) -> Result<(), String> {
-    let button = |pos: Vec2, pressed: bool| egui::Event::PointerButton {
-        pos: egui::pos2(pos.x, pos.y),
-        button: egui::PointerButton::Primary,
-        pressed,
-        modifiers: egui::Modifiers::default(),
-    };
-    on(canvas, "mousedown", page, move |page, event: MouseEvent| {
-        let pos = at(&event);
-        if page.host.over_panel(pos) {
-            page.host.panel_event(button(pos, true));
-            return;
-        }
-        match mouse_mode(page) {
-            MouseMode::Look => page.dragging = Some(pos),
-            MouseMode::Cursor => page.host.click(),
-        }
+    on(canvas, "mousedown", page, |page, event: MouseEvent| {
+        page.event(Event::PointerMoved(at(&event)));
+        page.event(Event::Button { pressed: true });
     })?;
-    on(canvas, "mouseup", page, move |page, event: MouseEvent| {
-        page.dragging = None;
-        page.host.panel_event(button(at(&event), false));
+    on(canvas, "mouseup", page, |page, event: MouseEvent| {
+        page.event(Event::PointerMoved(at(&event)));
+        page.event(Event::Button { pressed: false });
     })?;
     on(canvas, "mousemove", page, |page, event: MouseEvent| {
-        let pos = at(&event);
-        (page.host).panel_event(egui::Event::PointerMoved(egui::pos2(pos.x, pos.y)));
-        if let Some(from) = page.dragging {
-            page.dragging = Some(pos);
-            let moved = pos - from;
-            page.host.look((f64::from(moved.x), f64::from(moved.y)));
-        }
-        page.host.cursor = (!page.host.over_panel(pos)).then_some(pos);
+        page.event(Event::PointerMoved(at(&event)));
     })?;
     on(canvas, "mouseleave", page, |page, _: MouseEvent| {
-        page.dragging = None;
-        page.host.cursor = None;
-        page.host.panel_event(egui::Event::PointerGone);
+        page.event(Event::PointerLeft);
     })?;
     on(canvas, "wheel", page, |page, event: WheelEvent| {
         event.prevent_default();
-        let pos = Vec2::new(event.offset_x() as f32, event.offset_y() as f32);
-        if page.host.over_panel(pos) {
-            page.host.panel_event(egui::Event::MouseWheel {
-                unit: egui::MouseWheelUnit::Point,
-                delta: egui::vec2(-event.delta_x() as f32, -event.delta_y() as f32),
-                modifiers: egui::Modifiers::default(),
-                phase: egui::TouchPhase::Move,
-                source: egui::MouseWheelSource::Unknown,
-            });
-        } else {
-            // A notch is about 100 pixels of DOM delta; positive away from the user, as winit's.
-            page.host.scroll((-event.delta_y() / 100.0) as f32);
-        }
+        let notches =
+            page_input::wheel_notches(event.delta_x(), event.delta_y(), event.delta_mode());
+        page.event(Event::PointerMoved(at(&event)));
+        page.event(Event::Wheel(notches));
     })
 }
 
-/// Files dropped on the canvas: read, kept where the loaders find them, and the model among them
-/// opened once the scene that opens it has its files.
+/// Files dropped on the canvas: read, kept where the loaders find them, and given to the host.
 fn listen_to_drops(canvas: &HtmlCanvasElement, page: &Rc<RefCell<Page>>) -> Result<(), String> {
     on(canvas, "dragover", page, |_, event: DragEvent| {
         event.prevent_default();
@@ -200,18 +142,11 @@ fn listen_to_drops(canvas: &HtmlCanvasElement, page: &Rc<RefCell<Page>>) -> Resu
                     Err(_) => return show_error(&format!("{name}: cannot be read")),
                 }
             }
-            let Some(model) = Page::keep_dropped(read) else {
-                return;
-            };
-            // The scene that opens it needs its own files too (the cylinder's maps under a model
-            // without its own), which a page started on another scene has not fetched yet.
-            let opens = crate::scenes::open_file(&model, &mut SceneOptions::default());
-            if let Ok(scene) = opens {
-                if let Err(e) = super::fetch_assets(scene).await {
-                    return show_error(&e);
-                }
-            }
-            page.borrow_mut().open_file(&model);
+            let paths = Page::keep_dropped(read);
+            let mut shown = page.borrow_mut();
+            clear_error();
+            shown.event(Event::DroppedFiles(paths));
+            shown.honour(&page);
         });
     })
 }

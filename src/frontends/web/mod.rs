@@ -7,8 +7,10 @@
 //!
 //! The keys are the window's (scene keys, arrows, R, Enter, F1); a drag on the frame looks around
 //! (a page cannot grab the cursor the way the window does without the user's leave). A dropped OBJ
-//! with its MTL and maps opens as a dropped file does in the window. Errors are one line on the
-//! page, the same line the native program prints.
+//! with its MTL and maps opens as a dropped file does in the window. The page translates the DOM's
+//! events for the host ([`input`]), presents the host's frames on the canvas and does what the host
+//! asks of it: fetch a scene's files before it switches ([`Page::honour`]). Errors are one line on
+//! the page, the same line the native program prints.
 
 mod input;
 
@@ -16,21 +18,23 @@ use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
-use glam::Vec2;
 use glow::HasContext;
 use wasm_bindgen::prelude::*;
 use wasm_bindgen::JsCast;
 use web_sys::{HtmlCanvasElement, WebGl2RenderingContext};
 
+use super::events::{AfterFetch, Event, FrameTime, Request};
 use super::host::SceneHost;
+use super::keys::FrontEnd;
 use super::page_contract::{PageContract, FROZEN_STEP_S};
-use super::{FrontEnd, HostAction};
 use crate::clock::Instant;
 use crate::common::texture::WEBGL_S3TC_EXTENSION;
+use crate::gl::current::GlContext;
 use crate::gl::extensions::GlExtensions;
 use crate::gl::offscreen::OffscreenTarget;
 use crate::gl::{ContextInfo, Gl, Profile};
-use crate::scenes::{MouseMode, SceneContext, SceneDescriptor, SceneOptions};
+use crate::scenes::{SceneDescriptor, SceneOptions};
+use crate::statistics::min_median;
 
 /// The canvas's size: the tutorial's window.
 pub const WIDTH: u32 = 1024;
@@ -47,13 +51,8 @@ struct Page {
     /// canvas's own framebuffer back as a binding (it panics on WebGL's null framebuffer), and the
     /// panel and the compare view ask which framebuffer is bound.
     target: OffscreenTarget,
-    gl: Gl,
-    /// Frames still to draw with time frozen (`frames=N`); `None`: run.
+    /// Frames still to draw with time stepped (`frames=N`); `None`: run.
     frames_left: Option<u32>,
-    /// The pointer, in canvas pixels, while the left button drags the camera.
-    dragging: Option<Vec2>,
-    /// Frames drawn so far (the page's `data-frames`, which the tests wait for).
-    drawn: u32,
     /// With `frames=N`, each frame's time, drawn to completion (a one-texel read-back), in ms: the
     /// page's `data-frame-ms` is their median, as `--bench` times the native frames. The last
     /// [`FRAME_MS_KEPT`] only: the median is taken every frame, and a page may stay open for hours.
@@ -64,30 +63,22 @@ impl Page {
     /// One frame on the canvas, the panel over it if shown.
     fn frame(&mut self) {
         let start = Instant::now();
-        let tick = self.host.clock.tick();
-        let frozen = self.frames_left.is_some();
         self.target.bind();
-        // `frames=N`: time stays at 0, but input still moves the camera (unlike `--frames N`, which
-        // has none), each frame a step of FROZEN_STEP_S, so that a test's drag or arrow key gives
-        // a frame the host predicts.
-        let time = if frozen {
-            self.host.draw(FROZEN_STEP_S, 0.0, false);
-            0.0
-        } else {
-            self.host.draw(tick.delta_time, tick.time, false);
-            tick.time
-        };
-        let panel_input = self.host.panel_input(Some(f64::from(time)));
-        self.host.draw_panel(panel_input);
+        // The host asks for GL errors (a sync point here too) every frame of `frames=N`, else once
+        // in a while.
+        if let Err(e) = self.host.frame(true) {
+            show_error(&e.to_string());
+        }
         self.target.blit_columns_to(None, 0, WIDTH);
         // `frames=N` (the tests' and web/bench.py's frames) waits for each frame to be drawn, to
         // time it whole: WebGL's finish returns at once, a read-back cannot. A page that runs
         // never waits for the GPU: its panel shows the time between frames.
-        if frozen {
+        if let Some(left) = &mut self.frames_left {
+            *left = left.saturating_sub(1);
             let mut texel = [0u8; 4];
             // SAFETY: one texel of the bound target, into a buffer of its size.
             unsafe {
-                self.gl.read_pixels(
+                self.host.gl().gl.read_pixels(
                     0,
                     0,
                     1,
@@ -102,88 +93,60 @@ impl Page {
             }
             self.frame_ms.push(start.elapsed().as_secs_f64() * 1000.0);
         }
-        // Asking for errors waits for the GPU in a browser too: every frame with `frames=N`, else
-        // once every ERROR_CHECK_FRAMES frames (about two seconds).
-        if frozen || self.drawn % ERROR_CHECK_FRAMES == 0 {
-            if let Err(e) = crate::gl::check_gl_errors(&self.gl, "frame") {
-                show_error(&e.to_string());
-            }
-        }
-        self.drawn += 1;
-        if let Some(left) = &mut self.frames_left {
-            *left = left.saturating_sub(1);
-        }
     }
 
-    /// A key went down (`pressed`) or up: the window's keys, through the host.
-    fn key(&mut self, key: &str, pressed: bool) {
-        if let Some(arrow) = input::arrow(key) {
-            return self.host.arrow(arrow, pressed);
-        }
-        if !pressed {
-            return;
-        }
-        // The last message goes; what this key brings (an error, a notice) replaces it.
-        clear_error();
-        let done = match input::host_action(key) {
-            Some(HostAction::TogglePanel) => {
-                self.host.toggle_panel();
-                Ok(())
-            }
-            Some(HostAction::ResetCamera) => {
-                self.host.reset_camera();
-                Ok(())
-            }
-            // Enter fetches the next scene's files first (see `input::listen`); the page has none
-            // of the others (`HostKey::on_page`).
-            Some(_) => Ok(()),
-            None => match input::key_char(key) {
-                Some(c) => self.host.scene_key(c).map(|_| ()),
-                None => Ok(()),
-            },
-        };
-        if let Err(e) = done {
+    /// An event for the host: an error goes on the page as its one line.
+    fn event(&mut self, event: Event) {
+        if let Err(e) = self.host.event(event) {
             show_error(&e.to_string());
         }
     }
 
-    /// Enter, once `next`'s files are fetched: the next scene, if the page still shows `from` (a
-    /// second Enter while the files came in switched already).
-    fn switch_scene(&mut self, from: &'static SceneDescriptor, next: &'static SceneDescriptor) {
-        if self.host.descriptor() != from {
-            return;
+    /// Does what the host asked of the page (`page` is this page, shared, for what comes back
+    /// later): a scene's files fetched before it switches or opens a dropped model. The others are
+    /// keys the page does not have (`HostKey::on_page`), a title it has no bar for, and a key list
+    /// for a terminal.
+    fn honour(&mut self, page: &Rc<RefCell<Page>>) {
+        while let Some(request) = self.host.next_request() {
+            match request {
+                Request::Fetch { scene, then } => {
+                    let page = page.clone();
+                    wasm_bindgen_futures::spawn_local(async move {
+                        match fetch_assets(scene).await {
+                            Ok(()) => page.borrow_mut().fetched(then),
+                            Err(e) => show_error(&e),
+                        }
+                    });
+                }
+                Request::Quit
+                | Request::GrabCursor(_)
+                | Request::Screenshot { .. }
+                | Request::SetTitle(_)
+                | Request::NewScene(_) => {}
+            }
         }
+    }
+
+    /// The files a fetch asked for are in: the host does what waited for them (the last message
+    /// goes; what this brings replaces it).
+    fn fetched(&mut self, then: AfterFetch) {
         clear_error();
-        if let Err(e) = self.host.switch_scene(next) {
+        if let Err(e) = self.host.fetched(then) {
             show_error(&e.to_string());
         }
     }
 
-    /// Files dropped on the page: kept where the scenes' loaders read them; the model among them
-    /// (an `.obj`, `.gltf` or `.glb`, else the first file) returned, for [`Page::open_file`].
-    fn keep_dropped(files: Vec<(String, Vec<u8>)>) -> Option<PathBuf> {
+    /// Files dropped on the page: kept where the scenes' loaders read them; their paths returned,
+    /// for the host to open the model among them.
+    fn keep_dropped(files: Vec<(String, Vec<u8>)>) -> Vec<PathBuf> {
         let folder = Path::new("dropped");
-        let mut model: Option<PathBuf> = None;
+        let mut paths = Vec::new();
         for (name, bytes) in files {
             let path = folder.join(&name);
-            let is_model = crate::model::Format::of(&path).is_some();
-            if is_model || model.is_none() {
-                model = Some(path.clone())
-                    .filter(|_| is_model)
-                    .or(model)
-                    .or(Some(path.clone()));
-            }
             crate::files::provide(&path, bytes);
+            paths.push(path);
         }
-        model
-    }
-
-    /// A dropped file opened as the window opens one (its scene's assets fetched already).
-    fn open_file(&mut self, model: &Path) {
-        clear_error();
-        if let Err(e) = self.host.open_file(model) {
-            show_error(&e.to_string());
-        }
+        paths
     }
 }
 
@@ -310,28 +273,31 @@ async fn run() -> Result<(), String> {
     let (info, extensions) = webgl2_extensions(&gl, &contract)?;
     let target = OffscreenTarget::new(&gl, WIDTH, HEIGHT).map_err(|e| e.to_string())?;
     target.bind();
-    let context = SceneContext {
-        gl: &gl,
-        info: &info,
-        extensions: &extensions,
+    let context = GlContext {
+        gl,
+        info,
+        extensions,
     };
     let mut host = SceneHost::new(
-        &context,
+        context,
         descriptor,
         &SceneOptions::default(),
         (WIDTH, HEIGHT),
         FrontEnd::Page,
     )
     .map_err(|e| e.to_string())?;
+    // `frames=N`: time stays at 0, but input still moves the camera (unlike `--frames N`, which
+    // has none), each frame a step of FROZEN_STEP_S, so that a test's drag or arrow key gives a
+    // frame the host predicts.
+    if contract.frames.is_some() {
+        host.set_time(FrameTime::Stepped(FROZEN_STEP_S));
+    }
     host.show_panel().map_err(|e| e.to_string())?;
     host.set_panel_shown(contract.panel);
     let page = Rc::new(RefCell::new(Page {
         host,
         target,
-        gl,
         frames_left: contract.frames,
-        dragging: None,
-        drawn: 0,
         frame_ms: Vec::new(),
     }));
     FROZEN.with(|frozen| frozen.set(contract.frames.is_some()));
@@ -445,6 +411,7 @@ type FrameCallback = Closure<dyn FnMut()>;
 fn animate(page: Rc<RefCell<Page>>) {
     let callback: Rc<RefCell<Option<FrameCallback>>> = Rc::new(RefCell::new(None));
     let again = callback.clone();
+    let shared = page.clone();
     *callback.borrow_mut() = Some(Closure::new(move || {
         let Ok(mut page) = page.try_borrow_mut() else {
             // An input handler holds the page (it cannot, one thread running one event at a
@@ -455,6 +422,7 @@ fn animate(page: Rc<RefCell<Page>>) {
             return;
         };
         page.frame();
+        page.honour(&shared);
         set_frames_drawn(&page);
         if page.frames_left != Some(0) {
             if let Some(callback) = again.borrow().as_ref() {
@@ -488,9 +456,6 @@ fn request_animation_frame(callback: &Closure<dyn FnMut()>) {
 /// times 100).
 const FRAME_MS_KEPT: usize = 600;
 
-/// A running page asks for GL errors once in this many frames (a sync point; see [`Page::frame`]).
-const ERROR_CHECK_FRAMES: u32 = 120;
-
 thread_local! {
     /// Whether the page draws `frames=N` (see [`request_animation_frame`]).
     static FROZEN: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
@@ -503,15 +468,16 @@ fn set_frames_drawn(page: &Page) {
     let Some(canvas) = element("canvas") else {
         return;
     };
-    let _ = canvas.set_attribute("data-frames", &page.drawn.to_string());
-    if page.drawn == 1 {
+    let drawn = page.host.frames_drawn();
+    let _ = canvas.set_attribute("data-frames", &drawn.to_string());
+    if drawn == 1 {
         let now = web_sys::window()
             .and_then(|w| w.performance())
             .map_or(f64::NAN, |p| p.now());
         let _ = canvas.set_attribute("data-first-frame-ms", &format!("{now:.0}"));
     }
     if !page.frame_ms.is_empty() {
-        let (_, median) = super::min_median(&page.frame_ms);
+        let (_, median) = min_median(&page.frame_ms);
         let _ = canvas.set_attribute("data-frame-ms", &format!("{median:.2}"));
     }
     // The camera the frame was drawn with, for the input tests (`frames=N` only): position x y z,
@@ -526,9 +492,4 @@ fn set_frames_drawn(page: &Page) {
         c.position.x, c.position.y, c.position.z, c.horizontal_angle, c.vertical_angle
     );
     let _ = canvas.set_attribute("data-camera", &camera);
-}
-
-/// The mouse mode of the scene on the page.
-fn mouse_mode(page: &Page) -> MouseMode {
-    page.host.descriptor().mouse_mode
 }

@@ -5,7 +5,7 @@
 
 use std::time::Instant;
 
-use super::super::min_median;
+use crate::statistics::min_median;
 
 /// Frames in each run before the panel is shown or hidden again (about a third of a second).
 pub const RUN: u32 = 50;

@@ -1,5 +1,6 @@
-//! The window and its GL context: opened with a config of the asked sample count, read back for
-//! screenshots, swapped after each frame. Nothing here knows of scenes or input.
+//! The window and its GL context: opened with a config of the asked sample count (what draws with it
+//! is handed to the scene host as a [`GlContext`]), read back for screenshots, swapped after each
+//! frame. Nothing here knows of scenes or input.
 
 use std::cell::RefCell;
 use std::ffi::CString;
@@ -19,21 +20,18 @@ use winit::dpi::PhysicalSize;
 use winit::event_loop::ActiveEventLoop;
 use winit::window::Window;
 
-use super::{no_display_message, TITLE};
+use super::no_display::no_display_message;
+use super::TITLE;
+use crate::gl::current::GlContext;
 use crate::gl::extensions::GlExtensions;
 use crate::gl::image::read_pixels_rgba;
 use crate::gl::offscreen::OffscreenTarget;
-use crate::gl::{context_info, ContextInfo, Gl, Profile};
-use crate::scenes::SceneContext;
+use crate::gl::{context_info, Gl, Profile};
 use crate::{Error, Result};
 
 /// The window, its surface and its current context. Field order is drop order: the surface and the
 /// context before the window they belong to.
 pub struct GlWindow {
-    pub gl: Gl,
-    pub info: ContextInfo,
-    /// The entry points glow does not load, looked up once here.
-    pub extensions: GlExtensions,
     /// Samples per pixel of the window's buffers (`--msaa`).
     samples: i32,
     surface: Surface<WindowSurface>,
@@ -42,13 +40,14 @@ pub struct GlWindow {
 }
 
 impl GlWindow {
-    /// Opens a `size` window with a GL 3.3 context of `profile` and a config of `msaa` samples.
+    /// Opens a `size` window with a GL 3.3 context of `profile` and a config of `msaa` samples, and
+    /// gives what draws with the context (the entry points glow does not load looked up once here).
     pub fn open(
         event_loop: &ActiveEventLoop,
         size: (u32, u32),
         profile: Profile,
         msaa: u8,
-    ) -> Result<Self> {
+    ) -> Result<(Self, GlContext)> {
         let attributes = Window::default_attributes()
             .with_title(TITLE)
             .with_inner_size(PhysicalSize::new(size.0, size.1));
@@ -103,25 +102,20 @@ impl GlWindow {
             config.depth_size()
         );
         let extensions = GlExtensions::load(&info, |name| display.get_proc_address(name));
-        Ok(GlWindow {
-            gl,
-            info,
-            extensions,
+        let window = GlWindow {
             samples,
             surface,
             context,
             window,
-        })
-    }
-
-    /// Runs `f` with what a scene is built on: this context's GL, its description and the entry
-    /// points glow does not load.
-    pub fn with_scene_context<T>(&self, f: impl FnOnce(&SceneContext) -> T) -> T {
-        f(&SceneContext {
-            gl: &self.gl,
-            info: &self.info,
-            extensions: &self.extensions,
-        })
+        };
+        Ok((
+            window,
+            GlContext {
+                gl,
+                info,
+                extensions,
+            },
+        ))
     }
 
     /// The drawable size, at least 1×1. Under X this asks the server (a round trip, about 0.15 ms
@@ -147,18 +141,16 @@ impl GlWindow {
             .map_err(|e| Error::Window(format!("swap buffers: {e}")))
     }
 
-    /// The back buffer (the frame just drawn), top row first.
-    pub fn read_frame(&self) -> Result<image::RgbaImage> {
+    /// The back buffer (the frame just drawn with `gl`, this window's context), top row first.
+    pub fn read_frame(&self, gl: &GlContext) -> Result<image::RgbaImage> {
         let (w, h) = self.size();
         if self.samples == 0 {
-            return Ok(read_pixels_rgba(&self.gl, w, h));
+            return Ok(read_pixels_rgba(&gl.gl, w, h));
         }
         // Mesa's glReadPixels on a multisampled window buffer does not give the frame the window
         // shows (measured: 2006 pixels differ from an xwd capture, which equals the headless
         // frame): resolve it into a single-sampled target first, as the swap does.
-        let target = self.with_scene_context(|c| {
-            OffscreenTarget::with_window_orientation(c.gl, (w, h), 0, c.extensions)
-        })?;
+        let target = OffscreenTarget::with_window_orientation(&gl.gl, (w, h), 0, &gl.extensions)?;
         target.blit_from(None);
         Ok(target.read_rgba())
     }
