@@ -177,7 +177,8 @@ pub fn list() -> String {
 }
 
 /// docs/reading-guide.md's table of the tutorial's sections: each step's section, the C++ lines it
-/// ports (linked) and the Rust and GLSL that do it (linked to their lines), made from [`STEPS`].
+/// ports (linked, with what they do) and the Rust and GLSL that do it (linked to their files), made
+/// from [`STEPS`].
 pub fn reading_guide_table() -> String {
     let mut table =
         String::from("| # | section | C++ original | Rust and GLSL |\n|---|---|---|---|\n");
@@ -185,25 +186,30 @@ pub fn reading_guide_table() -> String {
         let cpp: Vec<String> = step
             .cpp
             .iter()
-            .map(|cpp| format!("[{}]({})", cpp.label(), cpp.url()))
+            .map(|cpp| format!("[{}]({}): {}", cpp.label(), cpp.url(), cpp.what))
             .collect();
         let code: Vec<String> = step
             .excerpts()
             .into_iter()
             .map(|(asked, found)| match found {
-                Ok(excerpt) => format!(
-                    "[`{}`](../{}#L{}-L{})",
-                    shown_name(&asked),
-                    excerpt.file,
-                    excerpt.lines.0,
-                    excerpt.lines.1
-                ),
+                // The file without its lines: an edit above an item would otherwise change the
+                // guide; the tour itself shows the lines.
+                Ok(excerpt) => {
+                    let link = format!("../{}", excerpt.file);
+                    match asked.split_once(" #") {
+                        Some((file, region)) => {
+                            let name = file.rsplit('/').next().unwrap_or(file);
+                            format!("[{name}, region {region}]({link})")
+                        }
+                        None => format!("[`{}`]({link})", shown_name(&asked)),
+                    }
+                }
                 Err(missing) => format!("missing: {missing}"),
             })
             .collect();
         let none = |v: Vec<String>| match v.is_empty() {
             true => "none".to_string(),
-            false => v.join(", "),
+            false => v.join("; "),
         };
         table += &format!(
             "| {} | {} | {} | {} |\n",
@@ -216,15 +222,12 @@ pub fn reading_guide_table() -> String {
     table
 }
 
-/// A Rust path without its modules (`Tutorial13::draw_with`), a region as `file #name`.
+/// A Rust path from its type on (`Tutorial13::draw_with`), or its last segment (`index_vbo_tbn`).
 fn shown_name(asked: &str) -> String {
-    if asked.contains(" #") {
-        return asked.rsplit('/').next().unwrap_or(asked).to_string();
-    }
     let segments: Vec<&str> = asked.split("::").collect();
     let start = segments
         .iter()
-        .position(|s| s.starts_with(|c: char| c.is_uppercase()) || s.starts_with("impl "))
+        .position(|s| s.starts_with(char::is_uppercase) || s.starts_with("impl "))
         .unwrap_or(segments.len() - 1);
     segments[start..].join("::")
 }

@@ -62,6 +62,10 @@ const TOP_DOCS: &[&str] = &["README.md", "BENCHMARKS.md"];
 const README_LIST_START: &str = "<!-- The list below is generated from SCENES";
 const README_LIST_END: &str = "<!-- End of the generated list. -->";
 
+/// The lines around docs/reading-guide.md's table of the tutorial's sections, made from the tour.
+const GUIDE_TABLE_START: &str = "<!-- The table below is generated from the tour";
+const GUIDE_TABLE_END: &str = "<!-- End of the generated table. -->";
+
 /// The heading of the README's short list of differences from the C++ original.
 const README_DIFFERENCES: &str = "## Where this port deliberately differs from the C++ original";
 
@@ -152,38 +156,66 @@ fn keys_md_matches_the_code() {
 // With TUTORIAL13_UPDATE_DOCS=1 it rewrites the list instead (and says so).
 #[test]
 fn readme_scene_list_matches_the_code() {
-    let path = common::manifest().join("README.md");
-    let readme = read("README.md");
-    let start = readme
-        .find(README_LIST_START)
-        .and_then(|i| readme[i..].find('\n').map(|n| i + n + 1))
-        .expect("README.md has no start marker for the scene list");
-    let end = start
-        + readme[start..]
-            .find(README_LIST_END)
-            .expect("README.md has no end marker for the scene list");
     let expected: String = SCENES
         .iter()
         .map(|scene| format!("- `{}`: {}\n", scene.name, scene.description))
         .collect();
+    check_generated(
+        "README.md",
+        (README_LIST_START, README_LIST_END),
+        &expected,
+        "scene list",
+        "SCENES'",
+    );
+}
+
+// Fails if docs/reading-guide.md's table of the tutorial's sections is not exactly what the tour
+// makes now (`tour::reading_guide_table`): a step, a caption's section, a C++ range or a Rust item
+// changed, moved or renamed in the code (its lines linked move with it) but not in the guide, or the
+// table edited by hand; so the map in the guide and the tour's cannot drift. With
+// TUTORIAL13_UPDATE_DOCS=1 it rewrites the table instead.
+#[test]
+fn reading_guide_section_table_is_the_tours() {
+    check_generated(
+        "docs/reading-guide.md",
+        (GUIDE_TABLE_START, GUIDE_TABLE_END),
+        &tutorial13::tour::reading_guide_table(),
+        "table of the tutorial's sections",
+        "the tour's (src/tour/steps.rs)",
+    );
+}
+
+/// Checks that the text of `doc` between the line starting `markers.0` and `markers.1` is
+/// `expected`, or rewrites it under TUTORIAL13_UPDATE_DOCS; `what` and `whose` name it in messages.
+fn check_generated(doc: &str, markers: (&str, &str), expected: &str, what: &str, whose: &str) {
+    let path = common::manifest().join(doc);
+    let text = read(doc);
+    let start = text
+        .find(markers.0)
+        .and_then(|i| text[i..].find('\n').map(|n| i + n + 1))
+        .unwrap_or_else(|| panic!("{doc} has no start marker for its {what}"));
+    let end = start
+        + text[start..]
+            .find(markers.1)
+            .unwrap_or_else(|| panic!("{doc} has no end marker for its {what}"));
     if std::env::var_os("TUTORIAL13_UPDATE_DOCS").is_some() {
-        let said = if readme[start..end] == expected {
+        let said = if text[start..end] == *expected {
             "is already what the code makes"
         } else {
-            let updated = format!("{}{expected}{}", &readme[..start], &readme[end..]);
+            let updated = format!("{}{expected}{}", &text[..start], &text[end..]);
             fs::write(&path, updated).unwrap();
             "rewritten from the code"
         };
         let _ = writeln!(
             std::io::stderr(),
-            "README.md's scene list {said} (TUTORIAL13_UPDATE_DOCS)"
+            "{doc}'s {what} {said} (TUTORIAL13_UPDATE_DOCS)"
         );
         return;
     }
     assert_eq!(
-        readme[start..end],
-        expected,
-        "README.md's scene list is not SCENES'; rewrite it with: TUTORIAL13_UPDATE_DOCS=1 cargo test \
+        text[start..end],
+        *expected,
+        "{doc}'s {what} is not {whose}; rewrite it with: TUTORIAL13_UPDATE_DOCS=1 cargo test \
          --release -- docs::"
     );
 }
