@@ -76,14 +76,12 @@ pub struct RunOptions {
     #[arg(long)]
     pub prefer_hardware: bool,
 
-    /// The tutorial's sections as a tour: `list` prints its steps; a step's number or name draws
-    /// the program in that step's state (its scene, switches, sliders and camera; with --headless)
+    /// The tutorial's sections as steps: `list` prints them; a number or name draws that step's
+    /// state (with --headless)
     #[arg(long, value_name = "N|NAME|list")]
     pub tour: Option<String>,
 
-    /// Check the tutorial's exercise N (1: normalize before summing, in src/common/vboindexer.rs;
-    /// 2: the eye direction as colour, in a --shaders copy): prints one line, exits 0 only when your
-    /// frame matches the program's own answer
+    /// Check the tutorial's exercise N (1 or 2): one line, exit 0 only when your frame matches
     #[arg(long, value_name = "N", requires = "headless", conflicts_with_all = ["tour", "bench"],
           value_parser = clap::value_parser!(u8).range(1..=2))]
     pub check_exercise: Option<u8>,
