@@ -114,12 +114,13 @@ fn rust_file_of(path: &str) -> Result<(String, &'static str, Vec<&str>), Missing
 
 /// The byte span of `item` (one name, `Type::member`, or `impl …`) in `text`.
 fn find_item(text: &str, item: &[&str]) -> Option<(usize, usize)> {
-    let code = blank_comments_and_strings(text);
+    let code = code_only(text);
     match item {
         [impl_header] if impl_header.starts_with("impl ") => {
             let (header_start, open) = impl_blocks(&code)
                 .into_iter()
-                .find(|&(start, open)| normalized(&code[start..open]) == normalized(impl_header))?;
+                // The header as written: the code has its lifetimes blanked.
+                .find(|&(start, open)| normalized(&text[start..open]) == normalized(impl_header))?;
             let close = matching_brace(&code, open)?;
             Some((
                 with_doc_and_attributes(text, &code, header_start),
@@ -296,9 +297,11 @@ fn with_doc_and_attributes(text: &str, code: &str, start: usize) -> usize {
     }
 }
 
-/// `text` with the inside of comments, string literals and character literals turned into spaces
-/// (line breaks kept), so that only code is searched and counted. Offsets stay those of `text`.
-fn blank_comments_and_strings(text: &str) -> String {
+/// Rust source `text` with its comments, string literals, character literals and lifetimes turned
+/// into spaces (line breaks kept), so that only code is searched and counted: a brace or a name in
+/// them is not read as code. Byte offsets stay those of `text`. (tests/all/docs.rs reads the names
+/// the code defines through it too.)
+pub fn code_only(text: &str) -> String {
     let bytes = text.as_bytes();
     let mut out = bytes.to_vec();
     let blank = |out: &mut Vec<u8>, from: usize, to: usize| {
@@ -336,12 +339,12 @@ fn blank_comments_and_strings(text: &str) -> String {
                 blank(&mut out, i, j);
                 i = j;
             }
-            b'r' if raw_string_hashes(&bytes[i..]).is_some() && !ident_before(bytes, i) => {
-                let hashes = raw_string_hashes(&bytes[i..]).unwrap_or(0);
+            b'r' | b'b' if !ident_before(bytes, i) && raw_string(&bytes[i..]).is_some() => {
+                let (prefix, hashes) = raw_string(&bytes[i..]).unwrap_or((1, 0));
                 let close: Vec<u8> = std::iter::once(b'"')
                     .chain(std::iter::repeat_n(b'#', hashes))
                     .collect();
-                let body = i + 2 + hashes;
+                let body = i + prefix + hashes + 1;
                 let end = find_bytes(&bytes[body..], &close)
                     .map_or(bytes.len(), |e| body + e + close.len());
                 blank(&mut out, i, end);
@@ -357,7 +360,7 @@ fn blank_comments_and_strings(text: &str) -> String {
                 i = end;
             }
             b'\'' => {
-                // A character literal ('x', '\n', '{'), or a lifetime ('a, 'static) left alone.
+                // A character literal ('x', '\n', '{'), or a lifetime or label ('a, 'static).
                 let end = if bytes.get(i + 1) == Some(&b'\\') {
                     // The character after the backslash is escaped, whatever it is (`'\''`).
                     let from = (i + 3).min(bytes.len());
@@ -372,13 +375,14 @@ fn blank_comments_and_strings(text: &str) -> String {
                         (bytes.get(after) == Some(&b'\'')).then_some(after + 1)
                     })
                 };
-                match end {
-                    Some(end) => {
-                        blank(&mut out, i, end);
-                        i = end;
-                    }
-                    None => i += 1,
-                }
+                let end = end.unwrap_or_else(|| {
+                    let name = bytes[i + 1..]
+                        .iter()
+                        .take_while(|&&b| b.is_ascii_alphanumeric() || b == b'_');
+                    i + 1 + name.count()
+                });
+                blank(&mut out, i, end);
+                i = end;
             }
             _ => i += 1,
         }
@@ -387,10 +391,15 @@ fn blank_comments_and_strings(text: &str) -> String {
     String::from_utf8(out).unwrap_or_default()
 }
 
-/// How many `#` a raw string opening here has (`r"`: 0, `r#"`: 1, …), if one opens here.
-fn raw_string_hashes(bytes: &[u8]) -> Option<usize> {
-    let hashes = bytes[1..].iter().take_while(|&&b| b == b'#').count();
-    (bytes.get(1 + hashes) == Some(&b'"')).then_some(hashes)
+/// If a raw string opens here (`r"`, `r#"`, `br"`, …): the length of its `r` or `br` and how many
+/// `#` it has.
+fn raw_string(bytes: &[u8]) -> Option<(usize, usize)> {
+    let prefix = if bytes.starts_with(b"br") { 2 } else { 1 };
+    if bytes[prefix - 1] != b'r' {
+        return None;
+    }
+    let hashes = bytes[prefix..].iter().take_while(|&&b| b == b'#').count();
+    (bytes.get(prefix + hashes) == Some(&b'"')).then_some((prefix, hashes))
 }
 
 /// Whether the byte before `i` continues an identifier (so an `r` there is no raw string's).
@@ -455,6 +464,19 @@ impl std::fmt::Display for Thing<'_> {
         assert_eq!(add.len(), 8);
         let limit = lines(find_item(SOURCE, &["LIMIT"]).unwrap());
         assert_eq!(limit, ["pub const LIMIT: [u32; 2] = [1, { 2 }];"]);
+    }
+
+    // Fails if a raw string, a byte raw string, an escaped quote or a lifetime leaves a brace, a quote
+    // or a name in the code, or if a byte moves (the spans are taken from the text by the code's
+    // offsets).
+    #[test]
+    fn code_only_blanks_all_but_code() {
+        let text = "let a = r#\"{\"#; let b = br\"}\"; let c = '\\''; fn f<'a>(x: &'a str) {}\n";
+        let code = code_only(text);
+        assert_eq!(code.len(), text.len());
+        assert_eq!(code.matches(['{', '}']).count(), 2);
+        assert!(!code.contains(['\'', '"']), "{code}");
+        assert!(code.ends_with("fn f<  >(x: &   str) {}\n"), "{code}");
     }
 
     // Fails if a method is looked for outside its type's impl blocks, if a trait impl is not

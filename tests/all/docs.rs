@@ -703,7 +703,7 @@ impl Index {
             Items(String),
             Other,
         }
-        let tokens = tokens(&code_only(text));
+        let tokens = tokens(&tutorial13::tour::excerpt::code_only(text));
         let tok = |i: usize| tokens.get(i).map(String::as_str).unwrap_or("");
         // Each open `{`: who owns it, and the `(`/`[` depth inside it.
         let mut scopes: Vec<(Owner, i32)> = vec![(Owner::Other, 0)];
@@ -988,99 +988,6 @@ fn words(text: &str) -> HashSet<&str> {
     text.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
         .filter(|w| !w.is_empty())
         .collect()
-}
-
-/// Rust source with its comments, string literals, character literals and lifetimes replaced by
-/// spaces (line breaks kept), so that braces and names in them are not read as code.
-fn code_only(text: &str) -> String {
-    let chars: Vec<char> = text.chars().collect();
-    let mut out = String::with_capacity(text.len());
-    let blank = |c: char| if c == '\n' { '\n' } else { ' ' };
-    let mut i = 0;
-    let ident_char = |c: char| c.is_alphanumeric() || c == '_';
-    while i < chars.len() {
-        let c = chars[i];
-        let next = chars.get(i + 1).copied().unwrap_or('\0');
-        let prev = if i == 0 { ' ' } else { chars[i - 1] };
-        let start = i;
-        if c == '/' && next == '/' {
-            while i < chars.len() && chars[i] != '\n' {
-                i += 1;
-            }
-        } else if c == '/' && next == '*' {
-            let mut depth = 0;
-            while i < chars.len() {
-                if chars[i] == '/' && chars.get(i + 1) == Some(&'*') {
-                    depth += 1;
-                    i += 2;
-                } else if chars[i] == '*' && chars.get(i + 1) == Some(&'/') {
-                    depth -= 1;
-                    i += 2;
-                    if depth == 0 {
-                        break;
-                    }
-                } else {
-                    i += 1;
-                }
-            }
-        } else if (c == 'r' || (c == 'b' && next == 'r')) && !ident_char(prev) && {
-            let mut j = i + if c == 'b' { 2 } else { 1 };
-            while chars.get(j) == Some(&'#') {
-                j += 1;
-            }
-            chars.get(j) == Some(&'"')
-        } {
-            // Raw string: r"…", r#"…"#, br"…".
-            i += if c == 'b' { 2 } else { 1 };
-            let mut hashes = 0;
-            while chars[i] == '#' {
-                hashes += 1;
-                i += 1;
-            }
-            i += 1;
-            loop {
-                if i >= chars.len() {
-                    break;
-                }
-                if chars[i] == '"' && (1..=hashes).all(|k| chars.get(i + k) == Some(&'#')) {
-                    i += 1 + hashes;
-                    break;
-                }
-                i += 1;
-            }
-        } else if c == '"' {
-            i += 1;
-            while i < chars.len() && chars[i] != '"' {
-                i += if chars[i] == '\\' { 2 } else { 1 };
-            }
-            i += 1;
-        } else if c == '\'' {
-            if next == '\\' {
-                // '\n', '\'', '\u{…}'
-                i += 2;
-                while i < chars.len() && chars[i] != '\'' {
-                    i += 1;
-                }
-                i += 1;
-            } else if chars.get(i + 2) == Some(&'\'') {
-                i += 3;
-            } else {
-                // A lifetime or label: 'a, 'static.
-                i += 1;
-                while i < chars.len() && ident_char(chars[i]) {
-                    i += 1;
-                }
-            }
-        } else {
-            out.push(c);
-            i += 1;
-            continue;
-        }
-        let end = i.min(chars.len());
-        out.extend(chars[start..end].iter().map(|&c| blank(c)));
-        i = end;
-    }
-    out
 }
 
 /// Identifiers, `::`, `->`, `=>` and single punctuation characters (numbers are dropped).
