@@ -82,7 +82,7 @@ pub struct RunOptions {
     pub tour: Option<String>,
 
     /// Check the tutorial's exercise N (1 or 2): one line, exit 0 only when your frame matches
-    #[arg(long, value_name = "N", requires = "headless", conflicts_with_all = ["tour", "bench"],
+    #[arg(long, value_name = "N", requires = "headless", conflicts_with_all = ["tour", "bench", "frames", "screenshot"],
           value_parser = clap::value_parser!(u8).range(1..=2))]
     pub check_exercise: Option<u8>,
 }

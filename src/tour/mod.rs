@@ -21,7 +21,7 @@ pub use original::{Cpp, CppFile};
 pub use steps::STEPS;
 
 use crate::common::controls::Controls;
-use crate::scenes::{self, SceneControls, SceneDescriptor, SetTo};
+use crate::scenes::{self, ControlValue, SceneControls, SceneDescriptor, SetTo};
 use crate::{Error, Result};
 
 /// One section of the tutorial.
@@ -75,6 +75,22 @@ impl Value {
             Value::Slider(value) => SetTo::Slider(value),
         }
     }
+
+    /// Whether a control whose state is `control` takes this value as it is: a toggle's on or off,
+    /// one of a choice's names here, a slider's value within its range (the table would clamp it,
+    /// or log and ignore a name it lacks).
+    fn fits(self, control: &ControlValue) -> bool {
+        match (self, control) {
+            (Value::On(_), ControlValue::Toggle(_)) => true,
+            (Value::Choice(name), ControlValue::Choice { choices, .. }) => {
+                choices.iter().any(|choice| choice == name)
+            }
+            (Value::Slider(value), ControlValue::Slider { range, .. }) => {
+                (range.0..=range.1).contains(&value)
+            }
+            _ => false,
+        }
+    }
 }
 
 /// Where the camera is at a step.
@@ -98,16 +114,17 @@ impl State {
     }
 
     /// Sets `controls` in `scene` (built fresh, at its start) through its table. A label the table
-    /// does not have is an error naming it.
+    /// does not have, or a value the control does not take, is an error naming it.
     pub fn set_controls(&self, scene: &mut dyn SceneControls) -> Result<()> {
         for &(label, value) in self.controls {
-            let index = scene.control_index(label).ok_or_else(|| {
+            let control = scene.controls().into_iter().find(|c| c.label == label);
+            let control = control.filter(|c| value.fits(&c.value)).ok_or_else(|| {
                 Error::Argument(format!(
-                    "the tour: scene {} has no control {label:?}",
+                    "the tour: scene {} has no control {label:?} that takes {value:?}",
                     self.scene
                 ))
             })?;
-            scene.set_control(index, value.set_to())?;
+            scene.set_control(control.index, value.set_to())?;
         }
         Ok(())
     }

@@ -78,6 +78,15 @@ fn project_assets() -> SceneOptions {
     }
 }
 
+/// The cylinder, headless, on this project's own assets.
+fn cylinder_renderer() -> HeadlessRenderer {
+    HeadlessRenderer::new(&HeadlessOptions {
+        scene: project_assets(),
+        ..Default::default()
+    })
+    .unwrap()
+}
+
 // Fails if a step names a Rust item or a shader region that is not in the source the binary is
 // built from (renamed, removed, or its marker comments gone), or one that resolves to nothing:
 // seen failing with `is_near` renamed in src/common/vboindexer.rs ("common::vboindexer::is_near:
@@ -162,11 +171,7 @@ fn every_step_draws_its_flags_frame_forward_and_back() {
             flags.map(frame_of_flags)
         })
         .collect();
-    let mut renderer = HeadlessRenderer::new(&HeadlessOptions {
-        scene: project_assets(),
-        ..Default::default()
-    })
-    .unwrap();
+    let mut renderer = cylinder_renderer();
     let order: Vec<usize> = (0..STEPS.len()).chain((0..STEPS.len()).rev()).collect();
     let mut golden_visits = Vec::new();
     for (visit, &i) in order.iter().enumerate() {
@@ -226,11 +231,7 @@ fn tour_list_and_a_step_from_the_command_line() {
     );
     let step = tour::find("orthogonalization").unwrap();
     assert_eq!(step.number(), 9);
-    let mut renderer = HeadlessRenderer::new(&HeadlessOptions {
-        scene: project_assets(),
-        ..Default::default()
-    })
-    .unwrap();
+    let mut renderer = cylinder_renderer();
     set_state(&mut renderer, step).unwrap();
     assert_eq!(
         common::differing_pixels(&common::frame(&mut renderer), &shot),
@@ -252,6 +253,55 @@ fn bad_tour_values_are_one_line_errors() {
     assert!(line.contains("--headless"), "{line}");
 }
 
+// Fails if `--check-exercise` takes a flag it would ignore (`--screenshot`: no file written, the
+// script told nothing; `--frames`) instead of refusing it as a usage error (clap's, exit 2) before
+// anything is drawn or written.
+#[test]
+fn check_exercise_refuses_the_flags_it_would_ignore() {
+    let shot = common::scratch("check-exercise").join("never.png");
+    let shot_arg = shot.to_string_lossy();
+    for flag in [["--screenshot", &*shot_arg], ["--frames", "2"]] {
+        let out = run(tutorial13()
+            .args(["--headless", "--check-exercise", "1"])
+            .args(flag));
+        assert_eq!(out.status.code(), Some(2), "{flag:?}");
+        let err = text(&out.stderr);
+        assert!(err.contains("cannot be used with"), "{flag:?}: {err}");
+        assert!(err.contains(flag[0]), "{flag:?}: {err}");
+    }
+    assert!(!shot.exists());
+}
+
+// Fails if a state names a control its scene's table does not have, or a value the control does
+// not take (a choice's name it lacks, a slider's value outside its range, a switch's value on a
+// choice), and the table's own leniency (it logs and ignores an unknown name, clamps a slider)
+// lets the step draw something else than it says, or if a good state is refused.
+#[test]
+fn a_state_the_table_cannot_take_is_an_error() {
+    let mut renderer = cylinder_renderer();
+    let state = |controls| tour::State {
+        scene: "cylinder",
+        controls,
+        camera: Camera::Start,
+    };
+    let bad: [&'static [(&str, tour::Value)]; 4] = [
+        &[("colour view", tour::Value::Choice("purple"))],
+        &[("colour vue", tour::Value::Choice("eye"))],
+        &[("normal strength", tour::Value::Slider(9.0))],
+        &[("colour view", tour::Value::On(true))],
+    ];
+    for controls in bad {
+        let error = state(controls)
+            .set_controls(renderer.host.scene.as_mut())
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains(controls[0].0), "{error}");
+    }
+    state(&[("colour view", tour::Value::Choice("eye"))])
+        .set_controls(renderer.host.scene.as_mut())
+        .unwrap();
+}
+
 /// The cylinder's first frame with the CPU pipeline's `mesh` options set after it is built.
 fn cylinder_frame_with(renderer: &mut HeadlessRenderer, mesh: MeshOptions) -> RgbImage {
     renderer
@@ -267,11 +317,7 @@ fn cylinder_frame_with(renderer: &mut HeadlessRenderer, mesh: MeshOptions) -> Rg
 // build does not say "not done yet" and exit non-zero.
 #[test]
 fn exercise_1_reference_is_the_n_switch_and_an_unedited_build_is_not_done() {
-    let mut renderer = HeadlessRenderer::new(&HeadlessOptions {
-        scene: project_assets(),
-        ..Default::default()
-    })
-    .unwrap();
+    let mut renderer = cylinder_renderer();
     let normalized = |code| MeshOptions {
         code: Some(code),
         indexing: tutorial13::common::vboindexer::IndexOptions {
