@@ -121,5 +121,40 @@ fn tangent_sources(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, whole_pipeline, indexers, one_cell, tangent_sources);
+/// Where the ports of `common/` stop and their fast twins in `pipeline/` take over (the program's
+/// `mesh::PORTS_UP_TO`): the tutorial's quadratic `indexVBO_TBN` against the hash grid, and tobj's
+/// `loadOBJ` against the parse on every core, on cylinders of growing size from the tutorial's 64
+/// triangles (the same OBJ layout, written to disk as a learner's file is).
+fn ports_or_twins(c: &mut Criterion) {
+    let mut group = ten_samples(c, "ports-or-twins", 0.3);
+    group.measurement_time(std::time::Duration::from_secs(1));
+    for (segments, rings) in [(32, 1), (64, 2), (64, 8), (128, 16), (128, 40), (256, 32)] {
+        let triangles = segments * rings * 2;
+        let path = write_obj(&format!("cylinder-{triangles}.obj"), segments, rings);
+        let soup = soup_of(&path);
+        let basis = compute_tangent_basis(&soup, TangentOptions::default());
+        group.bench_function(format!("index_vbo_tbn/{triangles}"), |b| {
+            b.iter(|| vboindexer::index_vbo_tbn(&soup, &basis, IndexOptions::default()))
+        });
+        group.bench_function(format!("index_vbo_tbn_hashed/{triangles}"), |b| {
+            b.iter(|| index_vbo_tbn_hashed(&soup, &basis, IndexOptions::default()))
+        });
+        group.bench_function(format!("load_obj/{triangles}"), |b| {
+            b.iter(|| tutorial13::common::objloader::load_obj(&path).unwrap())
+        });
+        group.bench_function(format!("load_obj_threaded/{triangles}"), |b| {
+            b.iter(|| load_obj_threaded(&path).unwrap())
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(
+    benches,
+    whole_pipeline,
+    indexers,
+    one_cell,
+    tangent_sources,
+    ports_or_twins
+);
 criterion_main!(benches);

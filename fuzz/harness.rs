@@ -1037,6 +1037,7 @@ fn check_pipeline(soup: &TriangleSoup) -> Result<(), String> {
             indexing: IndexOptions {
                 normalize_before_sum: bits & 4 != 0,
             },
+            code: None,
         };
         let basis = compute_tangent_basis(soup, options.tangents);
         if basis.tangents.len() != corners || basis.bitangents.len() != corners {

@@ -74,6 +74,10 @@ pub enum Error {
     /// that is not a number), found before anything is drawn or written; the message names the flag.
     #[error("{0}")]
     Argument(String),
+    /// `--check-exercise N`: the learner's frame is not the reference; the message says how (not
+    /// done yet, or how many pixels differ and where).
+    #[error("{0}")]
+    Exercise(String),
     /// The frame was drawn but its `--screenshot` could not be written; `error` says why.
     #[error("cannot save the screenshot")]
     Screenshot {
@@ -103,6 +107,7 @@ impl Error {
             | Error::Gl { .. }
             | Error::Mesh(_)
             | Error::Photometric(_)
+            | Error::Exercise(_)
             | Error::Argument(_) => None,
         }
     }

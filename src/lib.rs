@@ -11,6 +11,7 @@
 //! | GL helpers          | [`gl`]        | the `Gl` handle, context info, error draining, mesh buffers, read-back and image files, the headless context and offscreen targets |
 //! | debugging aids      | [`debug`]     | the TBN lines (immediate mode and line shader), colour views  |
 //! | scenes              | [`scenes`]    | `tutorial13.rs` (`tutorial13.cpp`), the cylinder scene, the [`scenes::Scene`] seam |
+//! | the tour            | [`tour`]      | the tutorial's sections as steps: each a state set through the scenes' tables, a caption, and its code drawn from the source the binary is built from, beside the C++ lines it ports |
 //! | front ends          | [`frontends`] | the window, headless rendering (`--headless`, `--bench`, tests), the browser page (wasm32 only, `web/build.sh`) |
 //! | commands            | [`tools`]     | what the binary runs: a scene (window or headless), `make-assets`, `normalmap`, `photometric`, `bake`; `--help`'s layout |
 //!
@@ -41,5 +42,6 @@ pub mod statistics;
 pub mod tangents;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod tools;
+pub mod tour;
 
 pub use error::{Error, Result};

@@ -1,8 +1,9 @@
 //! The tutorial's `common/` folder, one module per file, named after it; functions keep the C++
 //! names in snake_case. Nothing here knows of windows or scenes.
-//! The program reads OBJ files and indexes meshes through [`crate::pipeline`], which gives what
-//! `objloader` and `vboindexer` give, to the bit, in a fraction of the time; these stay as the
-//! tutorial reads, and the tests compare the two.
+//! The tutorial's cylinder is read and indexed by these ports, so that the code a learner reads is
+//! the code that runs; a mesh above [`crate::mesh::PORTS_UP_TO_TRIANGLES`] triangles goes through
+//! [`crate::pipeline`], which gives what `objloader` and `vboindexer` give, to the bit, in a
+//! fraction of the time, and the tests compare the two.
 //!
 //! | tutorial file             | module           | what it does                                  |
 //! |---------------------------|------------------|-----------------------------------------------|

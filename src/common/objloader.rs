@@ -4,9 +4,10 @@
 //! corners per triangle (position, UV, normal), negating V because its textures are DDS files stored
 //! upside down. Here tobj reads the file (polygons triangulated, negative indices resolved) and the
 //! checks add what tobj patches over silently: a face corner without UV or normal (tobj reuses the
-//! previous one), index 0 or out-of-range relative indices. The program reads files with
-//! [`crate::pipeline::obj_parse`], the same soup to the bit on every core, which leaves the files it
-//! refuses to [`read_obj`] here, so that one set of errors is reported.
+//! previous one), index 0 or out-of-range relative indices. The tutorial's cylinder is read here; a
+//! file above [`crate::mesh::PORTS_UP_TO_OBJ_BYTES`] is read by [`crate::pipeline::obj_parse`], the
+//! same soup to the bit on every core, which leaves the files it refuses to [`read_obj`] here, so
+//! that one set of errors is reported.
 
 use std::path::Path;
 

@@ -57,6 +57,11 @@ pub fn find_shader(name: &str, dir: Option<&Path>) -> Result<ShaderFile> {
     })
 }
 
+/// Every file of the crate's `shaders/` as embedded at build time: (name, text).
+pub fn embedded_shaders() -> &'static [(&'static str, &'static str)] {
+    EMBEDDED
+}
+
 /// The copy of the crate's `shaders/{name}` embedded at build time, if there is one.
 pub fn embedded_shader(name: &str) -> Option<&'static str> {
     EMBEDDED

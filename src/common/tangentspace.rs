@@ -66,6 +66,7 @@ pub fn compute_tangent_basis_slices(
         .zip(uvs.chunks_exact(3))
         .zip(normals.chunks_exact(3))
     {
+        // #region solve
         let delta_pos1 = v[1] - v[0];
         let delta_pos2 = v[2] - v[0];
         let delta_uv1 = uv[1] - uv[0];
@@ -74,6 +75,7 @@ pub fn compute_tangent_basis_slices(
         let r = 1.0 / det;
         let tangent = (delta_pos1 * delta_uv2.y - delta_pos2 * delta_uv1.y) * r;
         let bitangent = (delta_pos2 * delta_uv1.x - delta_pos1 * delta_uv2.x) * r;
+        // #endregion solve
         let solved = det != 0.0 && det.is_finite() && tangent.is_finite() && bitangent.is_finite();
         for &normal in nrm {
             let frame = if solved {
@@ -100,6 +102,7 @@ fn orthogonalize_corner(
     if options.gram_schmidt {
         t = gram_schmidt(n, t);
     }
+    // #region handedness
     if options.handedness {
         let mut side = n.cross(t).dot(b);
         if side.is_nan() {
@@ -111,6 +114,7 @@ fn orthogonalize_corner(
             t = -t;
         }
     }
+    // #endregion handedness
     t.is_finite().then_some((t, b))
 }
 

@@ -4,8 +4,9 @@
 //! position, UV and normal each within 0.01 per component (`is_near`); then the corner reuses the
 //! *first* such vertex and its tangent and bitangent are added to that vertex's (a sum, not an
 //! average, and not normalized: the shader normalizes). It searches linearly, so it is quadratic:
-//! the program indexes with [`crate::pipeline::indexer`], which gives the same mesh to the bit in
-//! expected linear time, and the tests compare the two. `indexVBO` merges only corners equal to the
+//! the tutorial's cylinder is indexed here, and a mesh above [`crate::mesh::PORTS_UP_TO_TRIANGLES`]
+//! triangles by [`crate::pipeline::indexer`], which gives the same mesh to the bit in expected
+//! linear time; the tests compare the two. `indexVBO` merges only corners equal to the
 //! bit, through a `std::map`.
 //!
 //! Where the port differs: indices are 16-bit only while every vertex fits (at most 65 535 of them),

@@ -1,6 +1,7 @@
 //! The first frame's CPU work at the size of a learner's model: the same results as the tutorial's
-//! ports in [`crate::common`], to the bit, in a fraction of the time. The program calls these; the
-//! ports stay as the tutorial reads, and the tests compare the two.
+//! ports in [`crate::common`], to the bit, in a fraction of the time. The program calls these for a
+//! mesh above [`crate::mesh::PORTS_UP_TO_TRIANGLES`] triangles (the tutorial's cylinder runs the
+//! ports, so that the code a learner reads is the code that runs); the tests compare the two.
 //!
 //! | module          | ports                                  | how                                  |
 //! |-----------------|----------------------------------------|--------------------------------------|

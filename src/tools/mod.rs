@@ -11,6 +11,7 @@ pub mod make_assets;
 pub mod normalmap;
 pub mod photometric;
 pub mod run;
+pub mod tour;
 
 /// `--depth`: the bits per channel of a map a tool writes (16 only as PNG).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]

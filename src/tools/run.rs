@@ -9,6 +9,8 @@ use crate::gl::image::{write_screenshot, ImageFormat};
 use crate::gl::Profile;
 use crate::scenes::{self, SceneDescriptor, SceneOptions};
 use crate::statistics::min_median;
+use crate::tools::tour::{check_exercise, set_state, tour_request, TourRequest};
+use crate::tour::Step;
 use crate::{Error, Result};
 
 // The global flags; each scene's own arguments are added by `scenes::command_line`, under a heading
@@ -73,6 +75,16 @@ pub struct RunOptions {
     /// Headless: use a GPU's EGL device where there is one instead of Mesa's llvmpipe
     #[arg(long)]
     pub prefer_hardware: bool,
+
+    /// The tutorial's sections as steps: `list` prints them; a number or name draws that step's
+    /// state (with --headless)
+    #[arg(long, value_name = "N|NAME|list")]
+    pub tour: Option<String>,
+
+    /// Check the tutorial's exercise N (1 or 2): one line, exit 0 only when your frame matches
+    #[arg(long, value_name = "N", requires = "headless", conflicts_with_all = ["tour", "bench", "frames", "screenshot"],
+          value_parser = clap::value_parser!(u8).range(1..=2))]
+    pub check_exercise: Option<u8>,
 }
 
 /// `WxH`, each from 1 to 16384 (`--size`).
@@ -93,9 +105,27 @@ pub fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
 /// the window. What can be refused without a context (the screenshot's name and folder, the
 /// `--assets` and `--shaders` folders) is refused first.
 pub fn run(options: &RunOptions, scene: SceneOptions) -> Result<()> {
+    let step = match options.tour.as_deref().map(tour_request).transpose()? {
+        Some(TourRequest::List) => {
+            print!("{}", crate::tour::list());
+            return Ok(());
+        }
+        Some(TourRequest::Step(step)) => Some(step),
+        None => None,
+    };
     check_paths(options)?;
-    if options.headless || options.bench.is_some() {
-        run_headless(options, scene)
+    if let Some(n) = options.check_exercise {
+        println!("{}", check_exercise(n, &headless_options(options, scene))?);
+        Ok(())
+    } else if options.headless || options.bench.is_some() {
+        run_headless(options, scene, step)
+    } else if let Some(step) = step {
+        Err(Error::Argument(format!(
+            "--tour {}: the window has no tour pane yet; add --headless to draw step {} ({})",
+            options.tour.as_deref().unwrap_or_default(),
+            step.number(),
+            step.section
+        )))
     } else {
         // The key list is printed once the window is up (a failure before prints its error alone).
         run_window(WindowOptions {
@@ -145,10 +175,10 @@ fn check_paths(options: &RunOptions) -> Result<()> {
     Ok(())
 }
 
-/// `--headless` and `--bench`: the timings printed, then the last of `--frames` frames saved.
-fn run_headless(options: &RunOptions, scene: SceneOptions) -> Result<()> {
+/// What the command line asks to render headless.
+fn headless_options(options: &RunOptions, scene: SceneOptions) -> HeadlessOptions {
     let (width, height) = options.size;
-    let mut renderer = HeadlessRenderer::new(&HeadlessOptions {
+    HeadlessOptions {
         descriptor: options.scene,
         scene,
         width,
@@ -156,7 +186,21 @@ fn run_headless(options: &RunOptions, scene: SceneOptions) -> Result<()> {
         profile: options.profile,
         prefer_hardware: options.prefer_hardware,
         msaa: options.msaa.into(),
-    })?;
+    }
+}
+
+/// `--headless` and `--bench`: the timings printed, then the last of `--frames` frames saved; with
+/// `--tour N`, of that step.
+fn run_headless(options: &RunOptions, scene: SceneOptions, step: Option<&Step>) -> Result<()> {
+    let (width, height) = options.size;
+    let mut headless = headless_options(options, scene);
+    if let Some(step) = step {
+        headless.descriptor = step.state.descriptor()?;
+    }
+    let mut renderer = HeadlessRenderer::new(&headless)?;
+    if let Some(step) = step {
+        set_state(&mut renderer, step)?;
+    }
     log::info!("{}", renderer.host.gl().info);
     if options.panel {
         renderer.host.show_panel()?;

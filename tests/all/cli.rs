@@ -26,7 +26,7 @@ const CLEAR_RGB: [u8; 3] = [0, 0, 102];
 // Helpers
 
 /// Fails with the exit status and both streams unless the run exited 0.
-fn assert_success(out: &Output, what: &str) {
+pub(crate) fn assert_success(out: &Output, what: &str) {
     assert!(
         out.status.success(),
         "{what}: expected exit 0, got {:?}\nstdout:\n{}\nstderr:\n{}",
@@ -57,7 +57,7 @@ fn assert_failure_without_panic(out: &Output, what: &str) -> String {
 
 /// The failure contract: non-zero exit, stderr exactly one line "tutorial13: <reason>", no panic.
 /// Returns that line.
-fn assert_one_line_failure(out: &Output, what: &str) -> String {
+pub(crate) fn assert_one_line_failure(out: &Output, what: &str) -> String {
     let stderr = assert_failure_without_panic(out, what);
     let lines: Vec<&str> = stderr.lines().collect();
     assert_eq!(

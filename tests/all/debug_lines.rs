@@ -683,7 +683,9 @@ fn rebuild_takes_the_new_mesh() {
     let obj = common::scratch("rebuild").join("cylinder.obj");
     std::fs::write(&obj, tutorial13::assets::tutorial_cylinder_obj_text(24)).unwrap();
     let other = std::rc::Rc::new(
-        tutorial13::scenes::cylinder::tutorial13::load_mesh(&obj, Default::default()).unwrap(),
+        tutorial13::scenes::cylinder::tutorial13::load_mesh(&obj, Default::default())
+            .unwrap()
+            .0,
     );
     assert_ne!(other, r.scene_ref::<Cylinder>().tutorial.mesh);
     for mode in [LineMode::Legacy, LineMode::Shader] {

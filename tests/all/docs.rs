@@ -62,6 +62,10 @@ const TOP_DOCS: &[&str] = &["README.md", "BENCHMARKS.md"];
 const README_LIST_START: &str = "<!-- The list below is generated from SCENES";
 const README_LIST_END: &str = "<!-- End of the generated list. -->";
 
+/// The lines around docs/reading-guide.md's table of the tutorial's sections, made from the tour.
+const GUIDE_TABLE_START: &str = "<!-- The table below is generated from the tour";
+const GUIDE_TABLE_END: &str = "<!-- End of the generated table. -->";
+
 /// The heading of the README's short list of differences from the C++ original.
 const README_DIFFERENCES: &str = "## Where this port deliberately differs from the C++ original";
 
@@ -178,38 +182,66 @@ fn keys_md_matches_the_code() {
 // With TUTORIAL13_UPDATE_DOCS=1 it rewrites the list instead (and says so).
 #[test]
 fn readme_scene_list_matches_the_code() {
-    let path = common::manifest().join("README.md");
-    let readme = read("README.md");
-    let start = readme
-        .find(README_LIST_START)
-        .and_then(|i| readme[i..].find('\n').map(|n| i + n + 1))
-        .expect("README.md has no start marker for the scene list");
-    let end = start
-        + readme[start..]
-            .find(README_LIST_END)
-            .expect("README.md has no end marker for the scene list");
     let expected: String = SCENES
         .iter()
         .map(|scene| format!("- `{}`: {}\n", scene.name, scene.description))
         .collect();
+    check_generated(
+        "README.md",
+        (README_LIST_START, README_LIST_END),
+        &expected,
+        "scene list",
+        "SCENES'",
+    );
+}
+
+// Fails if docs/reading-guide.md's table of the tutorial's sections is not exactly what the tour
+// makes now (`tour::reading_guide_table`): a step, a caption's section, a C++ range or a Rust item
+// changed, moved or renamed in the code (its lines linked move with it) but not in the guide, or the
+// table edited by hand; so the map in the guide and the tour's cannot drift. With
+// TUTORIAL13_UPDATE_DOCS=1 it rewrites the table instead.
+#[test]
+fn reading_guide_section_table_is_the_tours() {
+    check_generated(
+        "docs/reading-guide.md",
+        (GUIDE_TABLE_START, GUIDE_TABLE_END),
+        &tutorial13::tour::reading_guide_table(),
+        "table of the tutorial's sections",
+        "the tour's (src/tour/steps.rs)",
+    );
+}
+
+/// Checks that the text of `doc` between the line starting `markers.0` and `markers.1` is
+/// `expected`, or rewrites it under TUTORIAL13_UPDATE_DOCS; `what` and `whose` name it in messages.
+fn check_generated(doc: &str, markers: (&str, &str), expected: &str, what: &str, whose: &str) {
+    let path = common::manifest().join(doc);
+    let text = read(doc);
+    let start = text
+        .find(markers.0)
+        .and_then(|i| text[i..].find('\n').map(|n| i + n + 1))
+        .unwrap_or_else(|| panic!("{doc} has no start marker for its {what}"));
+    let end = start
+        + text[start..]
+            .find(markers.1)
+            .unwrap_or_else(|| panic!("{doc} has no end marker for its {what}"));
     if std::env::var_os("TUTORIAL13_UPDATE_DOCS").is_some() {
-        let said = if readme[start..end] == expected {
+        let said = if text[start..end] == *expected {
             "is already what the code makes"
         } else {
-            let updated = format!("{}{expected}{}", &readme[..start], &readme[end..]);
+            let updated = format!("{}{expected}{}", &text[..start], &text[end..]);
             fs::write(&path, updated).unwrap();
             "rewritten from the code"
         };
         let _ = writeln!(
             std::io::stderr(),
-            "README.md's scene list {said} (TUTORIAL13_UPDATE_DOCS)"
+            "{doc}'s {what} {said} (TUTORIAL13_UPDATE_DOCS)"
         );
         return;
     }
     assert_eq!(
-        readme[start..end],
-        expected,
-        "README.md's scene list is not SCENES'; rewrite it with: TUTORIAL13_UPDATE_DOCS=1 cargo test \
+        text[start..end],
+        *expected,
+        "{doc}'s {what} is not {whose}; rewrite it with: TUTORIAL13_UPDATE_DOCS=1 cargo test \
          --release -- docs::"
     );
 }
@@ -697,7 +729,7 @@ impl Index {
             Items(String),
             Other,
         }
-        let tokens = tokens(&code_only(text));
+        let tokens = tokens(&tutorial13::tour::excerpt::code_only(text));
         let tok = |i: usize| tokens.get(i).map(String::as_str).unwrap_or("");
         // Each open `{`: who owns it, and the `(`/`[` depth inside it.
         let mut scopes: Vec<(Owner, i32)> = vec![(Owner::Other, 0)];
@@ -982,99 +1014,6 @@ fn words(text: &str) -> HashSet<&str> {
     text.split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
         .filter(|w| !w.is_empty())
         .collect()
-}
-
-/// Rust source with its comments, string literals, character literals and lifetimes replaced by
-/// spaces (line breaks kept), so that braces and names in them are not read as code.
-fn code_only(text: &str) -> String {
-    let chars: Vec<char> = text.chars().collect();
-    let mut out = String::with_capacity(text.len());
-    let blank = |c: char| if c == '\n' { '\n' } else { ' ' };
-    let mut i = 0;
-    let ident_char = |c: char| c.is_alphanumeric() || c == '_';
-    while i < chars.len() {
-        let c = chars[i];
-        let next = chars.get(i + 1).copied().unwrap_or('\0');
-        let prev = if i == 0 { ' ' } else { chars[i - 1] };
-        let start = i;
-        if c == '/' && next == '/' {
-            while i < chars.len() && chars[i] != '\n' {
-                i += 1;
-            }
-        } else if c == '/' && next == '*' {
-            let mut depth = 0;
-            while i < chars.len() {
-                if chars[i] == '/' && chars.get(i + 1) == Some(&'*') {
-                    depth += 1;
-                    i += 2;
-                } else if chars[i] == '*' && chars.get(i + 1) == Some(&'/') {
-                    depth -= 1;
-                    i += 2;
-                    if depth == 0 {
-                        break;
-                    }
-                } else {
-                    i += 1;
-                }
-            }
-        } else if (c == 'r' || (c == 'b' && next == 'r')) && !ident_char(prev) && {
-            let mut j = i + if c == 'b' { 2 } else { 1 };
-            while chars.get(j) == Some(&'#') {
-                j += 1;
-            }
-            chars.get(j) == Some(&'"')
-        } {
-            // Raw string: r"…", r#"…"#, br"…".
-            i += if c == 'b' { 2 } else { 1 };
-            let mut hashes = 0;
-            while chars[i] == '#' {
-                hashes += 1;
-                i += 1;
-            }
-            i += 1;
-            loop {
-                if i >= chars.len() {
-                    break;
-                }
-                if chars[i] == '"' && (1..=hashes).all(|k| chars.get(i + k) == Some(&'#')) {
-                    i += 1 + hashes;
-                    break;
-                }
-                i += 1;
-            }
-        } else if c == '"' {
-            i += 1;
-            while i < chars.len() && chars[i] != '"' {
-                i += if chars[i] == '\\' { 2 } else { 1 };
-            }
-            i += 1;
-        } else if c == '\'' {
-            if next == '\\' {
-                // '\n', '\'', '\u{…}'
-                i += 2;
-                while i < chars.len() && chars[i] != '\'' {
-                    i += 1;
-                }
-                i += 1;
-            } else if chars.get(i + 2) == Some(&'\'') {
-                i += 3;
-            } else {
-                // A lifetime or label: 'a, 'static.
-                i += 1;
-                while i < chars.len() && ident_char(chars[i]) {
-                    i += 1;
-                }
-            }
-        } else {
-            out.push(c);
-            i += 1;
-            continue;
-        }
-        let end = i.min(chars.len());
-        out.extend(chars[start..end].iter().map(|&c| blank(c)));
-        i = end;
-    }
-    out
 }
 
 /// Identifiers, `::`, `->`, `=>` and single punctuation characters (numbers are dropped).

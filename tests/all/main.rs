@@ -44,6 +44,7 @@ mod table;
 mod tangent_overflow;
 mod tangent_sources;
 mod texture;
+mod tour;
 mod views;
 mod web;
 mod window_input;

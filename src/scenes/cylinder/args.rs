@@ -52,6 +52,9 @@ pub struct CylinderFiles {
     pub model: Option<PathBuf>,
     /// `--diffuse`, `--normal-map`, `--specular`, `--height`: maps over the model's or the tutorial's.
     pub maps: MapOverrides,
+    /// Which code reads and indexes the mesh: the ports in src/common/ or their fast twins, chosen
+    /// by size where `None` (no flag: a test's or a benchmark's choice, `MeshOptions::code`).
+    pub code: Option<crate::mesh::Code>,
 }
 
 impl SceneArgs for CylinderArgs {
@@ -70,6 +73,7 @@ impl SceneArgs for CylinderArgs {
                 height: self.height.clone(),
                 strength: self.strength,
             },
+            code: None,
         })
     }
 }

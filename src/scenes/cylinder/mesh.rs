@@ -9,7 +9,6 @@ use glam::Vec3;
 use crate::common::objloader::TriangleSoup;
 use crate::mesh::MeshOptions;
 use crate::model::Model;
-use crate::pipeline::obj_parse::load_obj_threaded;
 use crate::tangents::{FileTangents, TangentSource};
 use crate::Result;
 
@@ -161,7 +160,9 @@ impl SoupSource {
 
     pub(super) fn soup(&self) -> Result<std::borrow::Cow<'_, TriangleSoup>> {
         Ok(match self {
-            SoupSource::Tutorial(path) => std::borrow::Cow::Owned(load_obj_threaded(path)?),
+            SoupSource::Tutorial(path) => {
+                std::borrow::Cow::Owned(crate::mesh::load_obj_by_size(path, None)?.0)
+            }
             SoupSource::Model(model) => std::borrow::Cow::Borrowed(&model.soup),
         })
     }

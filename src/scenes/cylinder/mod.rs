@@ -120,9 +120,15 @@ impl SceneType for Cylinder {
         let shaders = ShaderSet::new(options.shader_dir(), ALL_SHADERS);
         let shader_dir = shaders.dir();
         let gl = context.gl;
+        let mesh_options = MeshOptions {
+            code: files.code,
+            ..MeshOptions::default()
+        };
         let (tutorial, soup_source) = match &files.model {
-            None => load_tutorial(gl, options, shader_dir, &files.maps)?,
-            Some(path) => load_model_scene(gl, shader_dir, path, &files.maps, tangents)?,
+            None => load_tutorial(gl, options, shader_dir, &files.maps, mesh_options)?,
+            Some(path) => {
+                load_model_scene(gl, shader_dir, path, &files.maps, tangents, mesh_options)?
+            }
         };
         // The panel shows the light where `--light` puts it: in the model's own coordinates. Its
         // start is the tutorial's light, in those coordinates too.
@@ -147,7 +153,7 @@ impl SceneType for Cylinder {
                     SoupSource::Tutorial(_) => TangentSource::Tutorial,
                 },
                 soup: soup_source,
-                options: MeshOptions::default(),
+                options: mesh_options,
                 built: Vec::new(),
             },
             comparison: None,
@@ -192,27 +198,29 @@ impl SceneType for Cylinder {
 }
 
 /// The tutorial's cylinder from its four files (in `options`' assets folder, or the crate's), with
-/// `maps` over the tutorial's.
+/// `maps` over the tutorial's, its mesh built with `mesh_options`.
 fn load_tutorial(
     gl: &Gl,
     options: &SceneOptions,
     shader_dir: Option<&Path>,
     maps: &MapOverrides,
+    mesh_options: MeshOptions,
 ) -> Result<(Tutorial13, SoupSource)> {
     let assets = options.asset_files(crate::assets::ASSET_FILES)?;
-    let mut tutorial = Tutorial13::new(gl, &assets, shader_dir, MeshOptions::default())?;
+    let mut tutorial = Tutorial13::new(gl, &assets, shader_dir, mesh_options)?;
     override_tutorial_maps(gl, &mut tutorial.texture_sets[0], maps)?;
     let [obj, ..] = assets;
     Ok((tutorial, SoupSource::Tutorial(obj)))
 }
 
-/// The model at `path` with `maps`, its mesh built with `tangents`.
+/// The model at `path` with `maps`, its mesh built with `tangents` and `mesh_options`.
 fn load_model_scene(
     gl: &Gl,
     shader_dir: Option<&Path>,
     path: &Path,
     maps: &MapOverrides,
     tangents: TangentSource,
+    mesh_options: MeshOptions,
 ) -> Result<(Tutorial13, SoupSource)> {
     let _progress = Progress::start(format!("loading {}", path.display()));
     let start = crate::clock::Instant::now();
@@ -235,7 +243,6 @@ fn load_model_scene(
     );
     let model = Rc::new(model);
     let soup_source = SoupSource::Model(Rc::clone(&model));
-    let mesh_options = MeshOptions::default();
     let tutorial = match tangents {
         TangentSource::Tutorial => {
             let tutorial = Tutorial13::from_soup(gl, shader_dir, &model.soup, mesh_options, sets)?;

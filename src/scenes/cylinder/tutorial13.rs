@@ -12,16 +12,16 @@ use std::rc::Rc;
 use glam::{Mat3, Mat4, Vec3};
 use glow::HasContext;
 
+use crate::common::objloader::TriangleSoup;
 use crate::common::shader::load_program;
 use crate::common::tangentspace::compute_tangent_basis;
 use crate::common::texture::{load_bmp_custom, load_dds, Texture};
+use crate::common::vboindexer::IndexedMesh;
 use crate::debug::lines::DebugLines;
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::{bind_textures, Gl};
-use crate::mesh::MeshOptions;
+use crate::mesh::{index_vbo_tbn_by_size, load_obj_by_size, BuiltBy, MeshOptions};
 use crate::Result;
-use crate::{common::objloader::TriangleSoup, pipeline::obj_parse::load_obj_threaded};
-use crate::{common::vboindexer::IndexedMesh, pipeline::indexer::index_vbo_tbn_hashed};
 
 /// `glClearColor(0.0f, 0.0f, 0.4f, 0.0f)`: dark blue.
 pub const CLEAR_COLOR: [f32; 4] = [0.0, 0.0, 0.4, 0.0];
@@ -95,6 +95,9 @@ pub struct Tutorial13 {
     buffers: MeshBuffers,
     /// `glm::mat4 ModelMatrix = glm::mat4(1.0)`.
     pub model_matrix: Mat4,
+    /// Which code built [`Tutorial13::mesh`]: the ports in `common/` or their fast twins (`None`
+    /// for a mesh of another tangent source).
+    pub built_by: Option<BuiltBy>,
 }
 
 impl Tutorial13 {
@@ -120,7 +123,12 @@ impl Tutorial13 {
         let specular_texture = load_dds(gl, specular)?;
 
         // Read our .obj file, compute the tangents, index the VBO.
-        let mesh = load_mesh(obj, mesh_options)?;
+        let (mesh, built_by) = load_mesh(obj, mesh_options)?;
+        log::info!(
+            "{}: {} triangles; {built_by}",
+            obj.display(),
+            mesh.indices.len() / 3
+        );
 
         // Load it into VBOs (and the VAO that draws them).
         let buffers = MeshBuffers::new(gl, &mesh)?;
@@ -138,6 +146,7 @@ impl Tutorial13 {
             mesh: Rc::new(mesh),
             buffers,
             model_matrix: Mat4::IDENTITY,
+            built_by: Some(built_by),
         })
     }
 
@@ -153,12 +162,17 @@ impl Tutorial13 {
         let start = crate::clock::Instant::now();
         let basis = compute_tangent_basis(soup, mesh_options.tangents);
         let tangents = start.elapsed();
-        let mesh = index_vbo_tbn_hashed(soup, &basis, mesh_options.indexing);
+        let (mesh, code) = index_vbo_tbn_by_size(soup, &basis, mesh_options);
         let indexing = start.elapsed() - tangents;
-        let tutorial = Self::from_mesh(gl, shader_dir, mesh, texture_sets)?;
+        let mut tutorial = Self::from_mesh(gl, shader_dir, mesh, texture_sets)?;
+        let built_by = BuiltBy {
+            load_obj: None,
+            index_vbo_tbn: code,
+        };
+        tutorial.built_by = Some(built_by);
         let ms = |d: std::time::Duration| d.as_secs_f64() * 1000.0;
         log::debug!(
-            "computeTangentBasis {:.1} ms, indexVBO_TBN {:.1} ms, upload {:.1} ms",
+            "computeTangentBasis {:.1} ms, indexVBO_TBN {:.1} ms, upload {:.1} ms ({built_by})",
             ms(tangents),
             ms(indexing),
             ms(start.elapsed() - tangents - indexing)
@@ -185,15 +199,18 @@ impl Tutorial13 {
             mesh: Rc::new(mesh),
             buffers,
             model_matrix: Mat4::IDENTITY,
+            built_by: None,
         })
     }
 
     /// Re-runs the CPU pipeline with other switches and reloads the VBOs (the tutorial's experiments
     /// are edits to this part).
     pub fn reload_mesh(&mut self, obj_path: &Path, options: MeshOptions) -> Result<()> {
-        let mesh = load_mesh(obj_path, options)?;
+        let (mesh, built_by) = load_mesh(obj_path, options)?;
+        log::debug!("{}: {built_by}", obj_path.display());
         self.buffers = MeshBuffers::new(&self.gl, &mesh)?;
         self.mesh = Rc::new(mesh);
+        self.built_by = Some(built_by);
         Ok(())
     }
 
@@ -201,6 +218,7 @@ impl Tutorial13 {
     pub fn set_mesh(&mut self, mesh: IndexedMesh) -> Result<()> {
         self.buffers = MeshBuffers::new(&self.gl, &mesh)?;
         self.mesh = Rc::new(mesh);
+        self.built_by = None;
         Ok(())
     }
 
@@ -284,9 +302,19 @@ impl Tutorial13 {
     }
 }
 
-/// `loadOBJ`, `computeTangentBasis`, `indexVBO_TBN`, in that order.
-pub fn load_mesh(obj_path: &Path, options: MeshOptions) -> Result<IndexedMesh> {
-    let soup = load_obj_threaded(obj_path)?;
+/// `loadOBJ`, `computeTangentBasis`, `indexVBO_TBN`, in that order: for the tutorial's cylinder the
+/// ports in `common/` ([`crate::common::objloader::load_obj`], [`compute_tangent_basis`],
+/// [`crate::common::vboindexer::index_vbo_tbn`]), for a mesh above
+/// [`crate::mesh::PORTS_UP_TO_TRIANGLES`] triangles their fast twins; says which ran.
+pub fn load_mesh(obj_path: &Path, options: MeshOptions) -> Result<(IndexedMesh, BuiltBy)> {
+    let (soup, load_obj) = load_obj_by_size(obj_path, options.code)?;
     let basis = compute_tangent_basis(&soup, options.tangents);
-    Ok(index_vbo_tbn_hashed(&soup, &basis, options.indexing))
+    let (mesh, index_vbo_tbn) = index_vbo_tbn_by_size(&soup, &basis, options);
+    Ok((
+        mesh,
+        BuiltBy {
+            load_obj: Some(load_obj),
+            index_vbo_tbn,
+        },
+    ))
 }
