@@ -53,7 +53,7 @@ impl Xvfb {
             // Keep draining so that the server never blocks on a full pipe.
             for _ in lines {}
         });
-        match rx.recv_timeout(Duration::from_secs(10)) {
+        match rx.recv_timeout(Duration::from_secs(30)) {
             Ok(Some(Ok(n))) if n.trim().parse::<u32>().is_ok() => Xvfb {
                 child,
                 display: format!(":{}", n.trim()),
@@ -63,7 +63,7 @@ impl Xvfb {
             other => {
                 let _ = child.kill();
                 let _ = child.wait();
-                panic!("Xvfb reported no display within 10 s: {other:?}");
+                panic!("Xvfb reported no display within 30 s: {other:?}");
             }
         }
     }
