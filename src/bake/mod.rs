@@ -292,10 +292,28 @@ pub struct BakeInput<'a> {
     pub max_distance: f32,
 }
 
+/// The hierarchy over HIGH, each triangle with its corner normals (its face normal first, with
+/// `high_face_normals`): a hit reads them beside the triangle its search read last, not from
+/// anywhere in the mesh's tens of megabytes.
+fn high_bvh(input: &BakeInput, threads: usize) -> bvh::Bvh {
+    let high = input.high;
+    let normals = |t: usize| {
+        let corners = 3 * t..3 * t + 3;
+        if input.high_face_normals {
+            let p = &high.vertices[corners];
+            [(p[1] - p[0]).cross(p[2] - p[0]), Vec3::ZERO, Vec3::ZERO]
+        } else {
+            let n = &high.normals[corners];
+            [n[0], n[1], n[2]]
+        }
+    };
+    bvh::Bvh::build_with(&high.vertices, normals, threads)
+}
+
 /// The bake on soups already in one space: raster, rays and margin.
 pub fn bake_soups(input: &BakeInput, settings: &BakeSettings) -> BakedMap {
     let clock = Instant::now();
-    let bvh = bvh::Bvh::build(&input.high.vertices, settings.threads);
+    let bvh = high_bvh(input, settings.threads);
     log::info!(
         "bake: BVH over {} triangles ({} nodes) in {:.2} s",
         input.high.triangle_count(),
@@ -310,7 +328,6 @@ pub fn bake_soups(input: &BakeInput, settings: &BakeSettings) -> BakedMap {
         space: settings.space,
         measure_skew: matches!(input.frames.bitangents, Bitangents::Given(_)),
         reach: Reach::of(input),
-        high_normals: high_normals(input, &bvh),
     };
     let mut map = layout.bake(settings.threads, |batch, out| sampler.samples(batch, out));
     log::info!(
@@ -334,26 +351,6 @@ pub fn bake_soups(input: &BakeInput, settings: &BakeSettings) -> BakedMap {
     map
 }
 
-/// HIGH's corner normals (its face normal first, with `high_face_normals`) laid out in the
-/// hierarchy's order, beside the triangles a ray's search read last: in the file's order each hit
-/// read them from anywhere in a few tens of megabytes.
-fn high_normals(input: &BakeInput, bvh: &bvh::Bvh) -> Vec<[Vec3; 3]> {
-    let high = input.high;
-    bvh.order()
-        .iter()
-        .map(|&t| {
-            let corners = 3 * t as usize..3 * t as usize + 3;
-            if input.high_face_normals {
-                let p = &high.vertices[corners];
-                [(p[1] - p[0]).cross(p[2] - p[0]), Vec3::ZERO, Vec3::ZERO]
-            } else {
-                let n = &high.normals[corners];
-                [n[0], n[1], n[2]]
-            }
-        })
-        .collect()
-}
-
 /// Each sample's ray, and its normal in the map's space.
 struct Sampler<'a> {
     input: &'a BakeInput<'a>,
@@ -361,9 +358,6 @@ struct Sampler<'a> {
     space: Space,
     measure_skew: bool,
     reach: Reach,
-    /// HIGH's corner normals, or its face normal first, in the hierarchy's order
-    /// ([`high_normals`]).
-    high_normals: Vec<[Vec3; 3]>,
 }
 
 /// What one sample gives.
@@ -470,11 +464,10 @@ impl Sampler<'_> {
             // these waits overlap where the shading's long sums would not let them.
             let high: [Option<Vec3>; bvh::PACKET] =
                 std::array::from_fn(|k| hits[k].map(|hit| self.high_normal(hit)));
-            for k in 0..n {
-                let (t, b) = chunk[k];
-                let mut sample = self.shade(t, b, normals[k], high[k]);
+            let first = out.len();
+            self.shade(chunk, &normals[..n], &high[..n], out);
+            for (k, sample) in out[first..].iter_mut().enumerate() {
                 (sample.beyond, sample.outside) = (beyond[k], outside[k]);
-                out.push(sample);
             }
         }
     }
@@ -514,52 +507,78 @@ impl Sampler<'_> {
         found
     }
 
-    /// The sample at barycentrics `b` of LOW's triangle `t`, whose normal is `normal`, given
-    /// HIGH's normal where its ray met HIGH (`None`: it met nothing).
-    fn shade(&self, t: usize, b: [f32; 3], normal: Vec3, high_normal: Option<Vec3>) -> Sample {
-        let mut sample = Sample {
+    /// The samples of `chunk` (at barycentrics `b` of LOW's triangle `t` each, LOW's normal there
+    /// in `normals`), given HIGH's normal where each ray met HIGH (`None`: it met nothing), into
+    /// `out`. Each step is taken for the whole chunk before the next, so that one sample's long
+    /// divisions and square roots overlap the others'.
+    fn shade(
+        &self,
+        chunk: &[(usize, [f32; 3])],
+        normals: &[Vec3],
+        high: &[Option<Vec3>],
+        out: &mut Vec<Sample>,
+    ) {
+        let first = out.len();
+        out.extend(high.iter().map(|high| Sample {
             normal: Vec3::Z,
-            missed: high_normal.is_none(),
+            missed: high.is_none(),
             beyond: None,
             outside: None,
             singular: false,
             stretch: None,
-        };
+        }));
+        let samples = &mut out[first..];
         if self.space == Space::Object {
-            // A miss keeps LOW's own normal: the object-space map's "flat"; so does a hit where
-            // HIGH's normal has no direction (a file normal of 0, or one too long to square in
-            // f32), which the tangent-space map writes flat too.
-            sample.normal = match high_normal.filter(|n| *n != Vec3::ZERO) {
-                Some(n) => n,
-                None if normal == Vec3::ZERO => Vec3::Z,
-                None => normal,
-            };
-            return sample;
+            for ((sample, high), normal) in samples.iter_mut().zip(high).zip(normals) {
+                // A miss keeps LOW's own normal: the object-space map's "flat"; so does a hit
+                // where HIGH's normal has no direction (a file normal of 0, or one too long to
+                // square in f32), which the tangent-space map writes flat too.
+                sample.normal = match high.filter(|n| *n != Vec3::ZERO) {
+                    Some(n) => n,
+                    None if *normal == Vec3::ZERO => Vec3::Z,
+                    None => *normal,
+                };
+            }
+            return;
         }
-        let frame = self.input.frames.at(t, b);
+        let mut frames = [[DVec3::ZERO; 3]; bvh::PACKET];
+        for (frame, &(t, b)) in frames.iter_mut().zip(chunk) {
+            *frame = self.input.frames.at(t, b);
+        }
+        let frames = &frames[..chunk.len()];
         if self.measure_skew {
-            sample.stretch = Some(stretch(&frame));
+            for (sample, frame) in samples.iter_mut().zip(frames) {
+                sample.stretch = Some(stretch(frame));
+            }
         }
-        if let Some(n) = high_normal {
+        // t = (T B N)⁻¹ n, where the frame has an inverse.
+        let mut solved = [DVec3::ZERO; bvh::PACKET];
+        for (k, (frame, high)) in frames.iter().zip(high).enumerate() {
+            let Some(n) = high else { continue };
             let matrix = DMat3::from_cols(frame[0], frame[1], frame[2]);
             let det = matrix.determinant();
             let scale = frame.iter().map(|c| c.length()).product::<f64>();
             // A frame whose columns span no volume (relative to their lengths) has no inverse.
             if det.abs() > 1e-9 * scale && det.is_finite() {
-                let t = (matrix.inverse() * n.as_dvec3()).normalize_or_zero();
-                if t != DVec3::ZERO {
-                    sample.normal = t.as_vec3();
-                }
+                solved[k] = matrix.inverse() * n.as_dvec3();
             } else {
-                sample.singular = true;
+                samples[k].singular = true;
             }
         }
-        sample
+        for (sample, solved) in samples.iter_mut().zip(&solved) {
+            if sample.missed || sample.singular {
+                continue;
+            }
+            let t = solved.normalize_or_zero();
+            if t != DVec3::ZERO {
+                sample.normal = t.as_vec3();
+            }
+        }
     }
 
     /// HIGH's normal where the ray met it: interpolated, or the face's.
     fn high_normal(&self, hit: bvh::Hit) -> Vec3 {
-        let n = &self.high_normals[hit.slot as usize];
+        let n = &hit.data;
         let n = if self.input.high_face_normals {
             n[0]
         } else {
