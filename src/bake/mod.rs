@@ -409,24 +409,31 @@ impl Reach {
     /// farther than the cage's distance plus D (past that it has left the box). Bakes with
     /// distances within the models' size are unchanged.
     pub fn of(input: &BakeInput) -> Reach {
-        let mut both = (Vec3::INFINITY, Vec3::NEG_INFINITY);
-        let mut low = both;
-        let grow = |bounds: &mut (Vec3, Vec3), p: &Vec3| {
-            if p.is_finite() {
-                *bounds = (bounds.0.min(*p), bounds.1.max(*p));
-            }
+        let bounds = |points: &mut dyn Iterator<Item = &Vec3>| {
+            points
+                .filter(|p| p.is_finite())
+                .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(min, max), p| {
+                    (min.min(*p), max.max(*p))
+                })
         };
-        input.low.vertices.iter().for_each(|p| grow(&mut low, p));
-        both = low;
-        input.high.vertices.iter().for_each(|p| grow(&mut both, p));
-        let diagonal = |(min, max): (Vec3, Vec3)| (max - min).max(Vec3::ZERO).length();
+        let low = bounds(&mut input.low.vertices.iter());
+        let both = bounds(&mut input.low.vertices.iter().chain(&input.high.vertices));
         // Generous, so that rounding cannot cut a ray that reaches a triangle.
-        let width = diagonal(both) * 1.01 + f32::MIN_POSITIVE;
+        let width = (both.1 - both.0).max(Vec3::ZERO).length() * 1.01 + f32::MIN_POSITIVE;
         let extrusion = input.extrusion.min(width);
+        // LOW's bounding radius as its placing measures it: from its box's centre.
+        let centre = (low.0 + low.1) * 0.5;
+        let radius = input
+            .low
+            .vertices
+            .iter()
+            .filter(|p| p.is_finite())
+            .map(|p| p.distance(centre))
+            .fold(0.0, f32::max);
         Reach {
             extrusion,
             max_distance: input.max_distance.min(extrusion + width),
-            look: 0.5 * diagonal(low),
+            look: radius,
         }
     }
 }
