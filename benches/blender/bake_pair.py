@@ -6,6 +6,11 @@ Run (Blender 3.4 or later; tested with Debian's 3.4.1):
     blender -b --factory-startup --python benches/blender/bake_pair.py -- --out DIR \
         [--size 2048] [--samples 1] [--extrusion 0.05] [--max-distance 0.1] [--margin 16] \
         [--margin-type ADJACENT_FACES] [--high-subdiv 9] [--low 32x16] [--amp 0.02] [--freq 12]
+        [--high-obj HIGH.obj --low-obj LOW.obj]
+
+With --high-obj and --low-obj the pair is not built: those two OBJs are imported (wm.obj_import,
+its default axes, the inverse of the export's) and baked as they are, and nothing is exported
+(benches/blender/cube_pair.py writes such a pair).
 
 Writes into DIR:
   high.obj              HIGH, triangulated, smooth vertex normals, UVs (the icosphere's own)
@@ -66,6 +71,8 @@ def parse_args():
     p.add_argument("--low", default="32x16", help="SEGMENTSxRINGS of the UV sphere")
     p.add_argument("--amp", type=float, default=0.02)
     p.add_argument("--freq", type=float, default=12.0)
+    p.add_argument("--high-obj", help="bake this OBJ as HIGH instead of building the icosphere")
+    p.add_argument("--low-obj", help="bake onto this OBJ (triangulated, with UVs) as LOW")
     return p.parse_args(argv)
 
 
@@ -114,7 +121,20 @@ def build_low(segments, rings, size):
     bm.free()
     mesh.polygons.foreach_set("use_smooth", [True] * len(mesh.polygons))
     mesh.update()
+    return obj, bake_target(obj, size)
 
+
+def import_obj(path, name):
+    bpy.ops.wm.obj_import(filepath=path)
+    obj = bpy.context.selected_objects[0]
+    obj.name = name
+    return obj
+
+
+def bake_target(obj, size):
+    """An image LOW's material holds as the bake's target (float, Non-Color, alpha)."""
+    mesh = obj.data
+    mesh.materials.clear()
     image = bpy.data.images.new("bake_target", size, size, alpha=True, float_buffer=True)
     image.colorspace_settings.name = "Non-Color"
     mat = bpy.data.materials.new("LOW_bake")
@@ -126,24 +146,11 @@ def build_low(segments, rings, size):
     node.select = True
     mat.node_tree.nodes.active = node
     mesh.materials.append(mat)
-    return obj, image
+    return image
 
 
-def main():
-    args = parse_args()
-    out = os.path.abspath(args.out)
-    os.makedirs(out, exist_ok=True)
-    segments, rings = (int(v) for v in args.low.lower().split("x"))
-    t = {}
-
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    scene = bpy.context.scene
-
-    t0 = time.perf_counter()
-    high = build_high(args.high_subdiv, args.amp, args.freq)
-    t["build_high_s"] = time.perf_counter() - t0
-    low, image = build_low(segments, rings, args.size)
-
+def export(out, high, low, t):
+    """HIGH and LOW as OBJ (and LOW as glTF, where the add-on works); the glTF's name or None."""
     # Exports (OBJ: Y up, forward -Z, the defaults; see the header).
     t0 = time.perf_counter()
     select_only(high)
@@ -164,6 +171,31 @@ def main():
         gltf = "low.gltf"
     except Exception as e:  # the add-on may be missing from a build
         print("glTF export failed:", e)
+    return gltf
+
+
+def main():
+    args = parse_args()
+    out = os.path.abspath(args.out)
+    os.makedirs(out, exist_ok=True)
+    segments, rings = (int(v) for v in args.low.lower().split("x"))
+    t = {}
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+
+    gltf = None
+    t0 = time.perf_counter()
+    if args.high_obj and args.low_obj:
+        high = import_obj(os.path.abspath(args.high_obj), "HIGH")
+        low = import_obj(os.path.abspath(args.low_obj), "LOW")
+        image = bake_target(low, args.size)
+        t["import_s"] = time.perf_counter() - t0
+    else:
+        high = build_high(args.high_subdiv, args.amp, args.freq)
+        t["build_high_s"] = time.perf_counter() - t0
+        low, image = build_low(segments, rings, args.size)
+        gltf = export(out, high, low, t)
 
     # The bake.
     scene.render.engine = "CYCLES"

@@ -198,10 +198,16 @@ pub struct BakeStats {
     pub rays: usize,
     /// Rays that met nothing within the maximum distance (flat normal written).
     pub missed: usize,
-    /// Of those, rays that meet HIGH farther on (a longer `--max-distance` would reach it).
+    /// Of those, rays that meet HIGH farther on (a longer `--max-distance` would reach it), within
+    /// LOW's bounding radius of the cage.
     pub missed_beyond: usize,
-    /// Of those, rays whose cage point has HIGH outside it (a larger `--extrusion` would enclose it).
+    /// Of those, rays whose cage point has HIGH outside it (a larger `--extrusion` would enclose
+    /// it), within LOW's bounding radius.
     pub missed_outside: usize,
+    /// The farthest from the cage, along the rays, that those rays found HIGH (0 for none).
+    pub beyond_by: f32,
+    /// The farthest outside the cage that those rays found HIGH (0 for none).
+    pub outside_by: f32,
     /// Texels where two triangles' UVs claim one sample (mirrored or overlapping islands).
     pub overlapping: usize,
     /// LOW's triangles with no area in UV space (they cover nothing).
@@ -210,6 +216,58 @@ pub struct BakeStats {
     pub singular: usize,
     /// For the tutorial's frame.
     pub skew: Option<Skew>,
+}
+
+impl BakeStats {
+    /// Counts one sample.
+    pub(crate) fn add_sample(&mut self, sample: &Sample) {
+        self.rays += 1;
+        self.missed += usize::from(sample.missed);
+        self.singular += usize::from(sample.singular);
+        if let Some(d) = sample.beyond {
+            self.missed_beyond += 1;
+            self.beyond_by = self.beyond_by.max(d);
+        }
+        if let Some(d) = sample.outside {
+            self.missed_outside += 1;
+            self.outside_by = self.outside_by.max(d);
+        }
+    }
+}
+
+/// Two parts' counts together (bands of one bake): counts add, distances take the larger. Every
+/// field is named, so a new one does not compile until it is summed here.
+impl std::ops::AddAssign<&BakeStats> for BakeStats {
+    fn add_assign(&mut self, other: &BakeStats) {
+        let BakeStats {
+            covered,
+            margin,
+            rays,
+            missed,
+            missed_beyond,
+            missed_outside,
+            beyond_by,
+            outside_by,
+            overlapping,
+            flat_uv_triangles,
+            singular,
+            skew,
+        } = other;
+        self.covered += covered;
+        self.margin += margin;
+        self.rays += rays;
+        self.missed += missed;
+        self.missed_beyond += missed_beyond;
+        self.missed_outside += missed_outside;
+        self.beyond_by = self.beyond_by.max(*beyond_by);
+        self.outside_by = self.outside_by.max(*outside_by);
+        self.overlapping += overlapping;
+        self.flat_uv_triangles += flat_uv_triangles;
+        self.singular += singular;
+        // A median does not add: the whole bake's is measured once its texels are all in (a
+        // band's is `None`).
+        self.skew = self.skew.or(*skew);
+    }
 }
 
 /// A baked map: unit vectors, row 0 at the top (V = 1), y up the picture.
@@ -234,10 +292,28 @@ pub struct BakeInput<'a> {
     pub max_distance: f32,
 }
 
+/// The hierarchy over HIGH, each triangle with its corner normals (its face normal first, with
+/// `high_face_normals`): a hit reads them beside the triangle its search read last, not from
+/// anywhere in the mesh's tens of megabytes.
+fn high_bvh(input: &BakeInput, threads: usize) -> bvh::Bvh {
+    let high = input.high;
+    let normals = |t: usize| {
+        let corners = 3 * t..3 * t + 3;
+        if input.high_face_normals {
+            let p = &high.vertices[corners];
+            [(p[1] - p[0]).cross(p[2] - p[0]), Vec3::ZERO, Vec3::ZERO]
+        } else {
+            let n = &high.normals[corners];
+            [n[0], n[1], n[2]]
+        }
+    };
+    bvh::Bvh::build_with(&high.vertices, normals, threads)
+}
+
 /// The bake on soups already in one space: raster, rays and margin.
 pub fn bake_soups(input: &BakeInput, settings: &BakeSettings) -> BakedMap {
     let clock = Instant::now();
-    let bvh = bvh::Bvh::build(&input.high.vertices, settings.threads);
+    let bvh = high_bvh(input, settings.threads);
     log::info!(
         "bake: BVH over {} triangles ({} nodes) in {:.2} s",
         input.high.triangle_count(),
@@ -251,8 +327,9 @@ pub fn bake_soups(input: &BakeInput, settings: &BakeSettings) -> BakedMap {
         bvh: &bvh,
         space: settings.space,
         measure_skew: matches!(input.frames.bitangents, Bitangents::Given(_)),
+        reach: Reach::of(input),
     };
-    let mut map = layout.bake(settings.threads, |t, b| sampler.sample(t, b));
+    let mut map = layout.bake(settings.threads, |batch, out| sampler.samples(batch, out));
     log::info!(
         "bake: {} rays in {:.2} s",
         map.stats.rays,
@@ -274,97 +351,244 @@ pub fn bake_soups(input: &BakeInput, settings: &BakeSettings) -> BakedMap {
     map
 }
 
-/// One sample's ray and its normal in the map's space.
+/// Each sample's ray, and its normal in the map's space.
 struct Sampler<'a> {
     input: &'a BakeInput<'a>,
     bvh: &'a bvh::Bvh,
     space: Space,
     measure_skew: bool,
+    reach: Reach,
 }
 
 /// What one sample gives.
 pub(crate) struct Sample {
     pub normal: Vec3,
     pub missed: bool,
-    pub missed_beyond: bool,
-    pub missed_outside: bool,
+    /// A missed ray: how far from the cage HIGH lies along it (a longer `--max-distance` reaches
+    /// it), if it does within [`Reach::look`].
+    pub beyond: Option<f32>,
+    /// A missed ray: how far outside the cage HIGH lies (a larger `--extrusion` encloses it), if
+    /// it does within [`Reach::look`].
+    pub outside: Option<f32>,
     pub singular: bool,
     /// The frame's stretch, where it is measured.
     pub stretch: Option<f64>,
 }
 
+impl Sample {
+    /// The flat normal, nothing missed (for the texels' own tests).
+    #[cfg(test)]
+    pub(crate) fn flat() -> Sample {
+        Sample {
+            normal: Vec3::Z,
+            missed: false,
+            beyond: None,
+            outside: None,
+            singular: false,
+            stretch: None,
+        }
+    }
+}
+
+/// How far the rays go, bounded by where the models are: no setting makes a ray longer than the
+/// models are wide, so that none can make a small bake slow.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reach {
+    /// How far out along LOW's normal a ray starts.
+    pub extrusion: f32,
+    /// How far it goes.
+    pub max_distance: f32,
+    /// How far a missed ray looks for HIGH on either side of the cage: LOW's bounding radius.
+    pub look: f32,
+}
+
+impl Reach {
+    /// The input's distances, bounded: a cage pushed out farther than the diagonal D of the box
+    /// around both models is put at D (every ray from there meets what it met from farther out,
+    /// but the sums of a distance of 1e30 keep nothing of the models' size), and a ray goes no
+    /// farther than the cage's distance plus D (past that it has left the box). Bakes with
+    /// distances within the models' size are unchanged.
+    pub fn of(input: &BakeInput) -> Reach {
+        let bounds = |points: &mut dyn Iterator<Item = &Vec3>| {
+            points
+                .filter(|p| p.is_finite())
+                .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(min, max), p| {
+                    (min.min(*p), max.max(*p))
+                })
+        };
+        let low = bounds(&mut input.low.vertices.iter());
+        let both = bounds(&mut input.low.vertices.iter().chain(&input.high.vertices));
+        // Generous, so that rounding cannot cut a ray that reaches a triangle.
+        let width = (both.1 - both.0).max(Vec3::ZERO).length() * 1.01 + f32::MIN_POSITIVE;
+        let extrusion = input.extrusion.min(width);
+        // LOW's bounding radius as its placing measures it: from its box's centre.
+        let centre = (low.0 + low.1) * 0.5;
+        let radius = input
+            .low
+            .vertices
+            .iter()
+            .filter(|p| p.is_finite())
+            .map(|p| p.distance(centre))
+            .fold(0.0, f32::max);
+        Reach {
+            extrusion,
+            max_distance: input.max_distance.min(extrusion + width),
+            look: radius,
+        }
+    }
+}
+
 impl Sampler<'_> {
-    fn sample(&self, t: usize, b: [f32; 3]) -> Sample {
+    /// The ray of the sample at barycentrics `b` of LOW's triangle `t`, and LOW's normal there:
+    /// from the cage point (LOW's point pushed out along the normal) back along the normal.
+    fn ray(&self, t: usize, b: [f32; 3]) -> (bvh::Ray, Vec3) {
         let low = self.input.low;
         let mix = |v: &[Vec3]| -> Vec3 { (0..3).map(|i| v[3 * t + i] * b[i]).sum() };
         let position = mix(&low.vertices);
         let normal = mix(&low.normals).normalize_or_zero();
-        let origin = position + normal * self.input.extrusion;
-        let hit = self.bvh.first_hit(origin, -normal, self.input.max_distance);
-        let missed = hit.is_none();
-        // Where a missed ray's HIGH is: past its end, or outside the cage.
-        let look = |direction: Vec3| {
-            missed
-                && normal != Vec3::ZERO
-                && self
-                    .bvh
-                    .first_hit(origin, direction, f32::INFINITY)
-                    .is_some()
+        let ray = bvh::Ray {
+            origin: position + normal * self.reach.extrusion,
+            direction: -normal,
+            max_distance: self.reach.max_distance,
         };
-        let high_normal = hit.map(|hit| self.high_normal(hit));
-        let mut sample = Sample {
-            normal: Vec3::Z,
-            missed,
-            missed_beyond: look(-normal),
-            missed_outside: look(normal),
-            singular: false,
-            stretch: None,
-        };
-        if self.space == Space::Object {
-            // A miss keeps LOW's own normal: the object-space map's "flat"; so does a hit where
-            // HIGH's normal has no direction (a file normal of 0, or one too long to square in
-            // f32), which the tangent-space map writes flat too.
-            sample.normal = match high_normal.filter(|n| *n != Vec3::ZERO) {
-                Some(n) => n,
-                None if normal == Vec3::ZERO => Vec3::Z,
-                None => normal,
-            };
-            return sample;
-        }
-        let frame = self.input.frames.at(t, b);
-        if self.measure_skew {
-            sample.stretch = Some(stretch(&frame));
-        }
-        match high_normal {
-            None => {}
-            Some(n) => {
-                let matrix = DMat3::from_cols(frame[0], frame[1], frame[2]);
-                let det = matrix.determinant();
-                let scale = frame.iter().map(|c| c.length()).product::<f64>();
-                // A frame whose columns span no volume (relative to their lengths) has no inverse.
-                if det.abs() > 1e-9 * scale && det.is_finite() {
-                    let t = (matrix.inverse() * n.as_dvec3()).normalize_or_zero();
-                    if t != DVec3::ZERO {
-                        sample.normal = t.as_vec3();
-                    }
-                } else {
-                    sample.singular = true;
-                }
+        (ray, normal)
+    }
+
+    /// The samples of `batch` (LOW's triangle and barycentrics each), one for each into `out`:
+    /// their rays traced [`bvh::PACKET`] at a time.
+    fn samples(&self, batch: &[(usize, [f32; 3])], out: &mut Vec<Sample>) {
+        for chunk in batch.chunks(bvh::PACKET) {
+            let n = chunk.len();
+            let mut rays = [bvh::Ray::IDLE; bvh::PACKET];
+            let mut normals = [Vec3::ZERO; bvh::PACKET];
+            for (k, &(t, b)) in chunk.iter().enumerate() {
+                (rays[k], normals[k]) = self.ray(t, b);
+            }
+            let mut hits = [None; bvh::PACKET];
+            self.bvh.first_hits(&rays[..n], &mut hits[..n]);
+            let (beyond, outside) = self.look(&rays[..n], &normals[..n], &hits[..n]);
+            // HIGH's normals read for the whole packet first: each read may wait on memory, and
+            // these waits overlap where the shading's long sums would not let them.
+            let high: [Option<Vec3>; bvh::PACKET] =
+                std::array::from_fn(|k| hits[k].map(|hit| self.high_normal(hit)));
+            let first = out.len();
+            self.shade(chunk, &normals[..n], &high[..n], out);
+            for (k, sample) in out[first..].iter_mut().enumerate() {
+                (sample.beyond, sample.outside) = (beyond[k], outside[k]);
             }
         }
-        sample
+    }
+
+    /// Where the missed rays' HIGH is, within [`Reach::look`] of the cage: the distance along
+    /// each ray past its end, and against it outside the cage. Traced as a packet of the missed
+    /// rays, so that a miss costs about what a hit does.
+    #[allow(clippy::type_complexity)]
+    fn look(
+        &self,
+        rays: &[bvh::Ray],
+        normals: &[Vec3],
+        hits: &[Option<bvh::Hit>],
+    ) -> ([Option<f32>; bvh::PACKET], [Option<f32>; bvh::PACKET]) {
+        let mut found = ([None; bvh::PACKET], [None; bvh::PACKET]);
+        let missed: Vec<usize> = (0..rays.len())
+            .filter(|&k| hits[k].is_none() && normals[k] != Vec3::ZERO)
+            .collect();
+        if missed.is_empty() {
+            return found;
+        }
+        for (sign, into) in [(1.0, &mut found.0), (-1.0, &mut found.1)] {
+            let looks: Vec<bvh::Ray> = missed
+                .iter()
+                .map(|&k| bvh::Ray {
+                    origin: rays[k].origin,
+                    direction: rays[k].direction * sign,
+                    max_distance: self.reach.look,
+                })
+                .collect();
+            let mut hits = vec![None; looks.len()];
+            self.bvh.first_hits(&looks, &mut hits);
+            for (&k, hit) in missed.iter().zip(hits) {
+                into[k] = hit.map(|h| h.distance);
+            }
+        }
+        found
+    }
+
+    /// The samples of `chunk` (at barycentrics `b` of LOW's triangle `t` each, LOW's normal there
+    /// in `normals`), given HIGH's normal where each ray met HIGH (`None`: it met nothing), into
+    /// `out`. Each step is taken for the whole chunk before the next, so that one sample's long
+    /// divisions and square roots overlap the others'.
+    fn shade(
+        &self,
+        chunk: &[(usize, [f32; 3])],
+        normals: &[Vec3],
+        high: &[Option<Vec3>],
+        out: &mut Vec<Sample>,
+    ) {
+        let first = out.len();
+        out.extend(high.iter().map(|high| Sample {
+            normal: Vec3::Z,
+            missed: high.is_none(),
+            beyond: None,
+            outside: None,
+            singular: false,
+            stretch: None,
+        }));
+        let samples = &mut out[first..];
+        if self.space == Space::Object {
+            for ((sample, high), normal) in samples.iter_mut().zip(high).zip(normals) {
+                // A miss keeps LOW's own normal: the object-space map's "flat"; so does a hit
+                // where HIGH's normal has no direction (a file normal of 0, or one too long to
+                // square in f32), which the tangent-space map writes flat too.
+                sample.normal = match high.filter(|n| *n != Vec3::ZERO) {
+                    Some(n) => n,
+                    None if *normal == Vec3::ZERO => Vec3::Z,
+                    None => *normal,
+                };
+            }
+            return;
+        }
+        let mut frames = [[DVec3::ZERO; 3]; bvh::PACKET];
+        for (frame, &(t, b)) in frames.iter_mut().zip(chunk) {
+            *frame = self.input.frames.at(t, b);
+        }
+        let frames = &frames[..chunk.len()];
+        if self.measure_skew {
+            for (sample, frame) in samples.iter_mut().zip(frames) {
+                sample.stretch = Some(stretch(frame));
+            }
+        }
+        // t = (T B N)⁻¹ n, where the frame has an inverse.
+        let mut solved = [DVec3::ZERO; bvh::PACKET];
+        for (k, (frame, high)) in frames.iter().zip(high).enumerate() {
+            let Some(n) = high else { continue };
+            let matrix = DMat3::from_cols(frame[0], frame[1], frame[2]);
+            let det = matrix.determinant();
+            let scale = frame.iter().map(|c| c.length()).product::<f64>();
+            // A frame whose columns span no volume (relative to their lengths) has no inverse.
+            if det.abs() > 1e-9 * scale && det.is_finite() {
+                solved[k] = matrix.inverse() * n.as_dvec3();
+            } else {
+                samples[k].singular = true;
+            }
+        }
+        for (sample, solved) in samples.iter_mut().zip(&solved) {
+            if sample.missed || sample.singular {
+                continue;
+            }
+            let t = solved.normalize_or_zero();
+            if t != DVec3::ZERO {
+                sample.normal = t.as_vec3();
+            }
+        }
     }
 
     /// HIGH's normal where the ray met it: interpolated, or the face's.
     fn high_normal(&self, hit: bvh::Hit) -> Vec3 {
-        let high = self.input.high;
-        let t = hit.triangle as usize;
-        let corners = 3 * t..3 * t + 3;
+        let n = &hit.data;
         let n = if self.input.high_face_normals {
-            let p = &high.vertices[corners];
-            (p[1] - p[0]).cross(p[2] - p[0])
+            n[0]
         } else {
-            let n = &high.normals[corners];
             n[0] * (1.0 - hit.u - hit.v) + n[1] * hit.u + n[2] * hit.v
         };
         n.normalize_or_zero()

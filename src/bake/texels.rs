@@ -10,6 +10,8 @@ use crate::common::objloader::TriangleSoup;
 
 /// Rows of texels baked together: small enough that the bands share the cores evenly.
 const BAND_ROWS: usize = 8;
+/// Samples a side of the tiles traced together (a texel's K × K, or that many texels' at K = 1).
+const TILE_SAMPLES: usize = 4;
 /// No triangle owns a sample.
 const NONE: u32 = u32::MAX;
 
@@ -103,13 +105,13 @@ impl UvLayout {
         self.triangles.iter().filter(|t| t.is_none()).count()
     }
 
-    /// Every covered sample through `sample` (triangle index, barycentrics of its corners), on
-    /// `threads` threads, averaged per texel. Where two triangles claim a sample, the later one in
+    /// Every covered sample through `sample` (a batch of triangle indices and barycentrics of
+    /// their corners in, a [`Sample`] for each out), on `threads` threads, averaged per texel. Where two triangles claim a sample, the later one in
     /// the soup keeps it.
     pub(crate) fn bake(
         &self,
         threads: usize,
-        sample: impl Fn(usize, [f32; 3]) -> Sample + Sync,
+        sample: impl Fn(&[(usize, [f32; 3])], &mut Vec<Sample>) + Sync,
     ) -> BakedMap {
         let texels = self.width * self.height;
         let mut normals = vec![Vec3::Z; texels];
@@ -130,7 +132,7 @@ impl UvLayout {
                 };
                 let (stats, stretches) = self.bake_band(band, normals, states, sample);
                 let mut all = results.lock().expect("no worker panics holding it");
-                add_stats(&mut all.0, &stats);
+                all.0 += &stats;
                 all.1.extend(stretches);
             };
             let others: Vec<_> = (1..threads.max(1)).map(|_| scope.spawn(worker)).collect();
@@ -167,7 +169,7 @@ impl UvLayout {
         band: usize,
         normals: &mut [Vec3],
         states: &mut [TexelState],
-        sample: &(impl Fn(usize, [f32; 3]) -> Sample + Sync),
+        sample: &(impl Fn(&[(usize, [f32; 3])], &mut Vec<Sample>) + Sync),
     ) -> (BakeStats, Vec<f32>) {
         let (w, k) = (self.width, self.samples);
         let rows = normals.len() / w;
@@ -199,39 +201,58 @@ impl UvLayout {
         }
         let mut stats = BakeStats::default();
         let mut stretches = Vec::new();
-        for row in 0..rows {
-            for x in 0..w {
-                let mut sum = Vec3::ZERO;
-                let mut first: Option<Vec3> = None;
-                let mut stretch = None;
-                let mut overlapping = false;
-                for j in 0..k {
-                    for i in 0..k {
-                        let at = (row * k + j) * per_row + x * k + i;
-                        if owner[at] == NONE {
-                            continue;
+        // The samples are traced a tile of texels at a time, whose rays start side by side: a
+        // texel's K × K, or 4 × 4 texels' at K = 1 (see `Bvh::first_hits`).
+        let tile = (TILE_SAMPLES / k).max(1);
+        let mut batch = Vec::new();
+        let mut found = Vec::new();
+        for tile_row in (0..rows).step_by(tile) {
+            for tile_x in (0..w).step_by(tile) {
+                let texels = (tile_row..(tile_row + tile).min(rows))
+                    .flat_map(|row| (tile_x..(tile_x + tile).min(w)).map(move |x| (row, x)));
+                batch.clear();
+                for (row, x) in texels.clone() {
+                    for j in 0..k {
+                        for i in 0..k {
+                            let at = (row * k + j) * per_row + x * k + i;
+                            if owner[at] != NONE {
+                                batch.push((owner[at] as usize, weights[at]));
+                            }
                         }
-                        overlapping |= claims[at] > 1;
-                        let s = sample(owner[at] as usize, weights[at]);
-                        stats.rays += 1;
-                        stats.missed += usize::from(s.missed);
-                        stats.missed_beyond += usize::from(s.missed_beyond);
-                        stats.missed_outside += usize::from(s.missed_outside);
-                        stats.singular += usize::from(s.singular);
-                        stretch = stretch.or(s.stretch);
-                        first.get_or_insert(s.normal);
-                        sum += s.normal;
                     }
                 }
-                let Some(first) = first else { continue };
-                let texel = row * w + x;
-                // Samples that cancel (a fold) keep the first one's direction.
-                normals[texel] = sum.try_normalize().unwrap_or(first);
-                states[texel] = TexelState::Covered;
-                stats.covered += 1;
-                stats.overlapping += usize::from(overlapping);
-                if let Some(s) = stretch {
-                    stretches.push(s.min(f32::MAX as f64) as f32);
+                found.clear();
+                sample(&batch, &mut found);
+                let mut found = found.iter();
+                for (row, x) in texels {
+                    let mut sum = Vec3::ZERO;
+                    let mut first: Option<Vec3> = None;
+                    let mut stretch = None;
+                    let mut overlapping = false;
+                    for j in 0..k {
+                        for i in 0..k {
+                            let at = (row * k + j) * per_row + x * k + i;
+                            if owner[at] == NONE {
+                                continue;
+                            }
+                            overlapping |= claims[at] > 1;
+                            let s = found.next().expect("a sample for each position");
+                            stats.add_sample(s);
+                            stretch = stretch.or(s.stretch);
+                            first.get_or_insert(s.normal);
+                            sum += s.normal;
+                        }
+                    }
+                    let Some(first) = first else { continue };
+                    let texel = row * w + x;
+                    // Samples that cancel (a fold) keep the first one's direction.
+                    normals[texel] = sum.try_normalize().unwrap_or(first);
+                    states[texel] = TexelState::Covered;
+                    stats.covered += 1;
+                    stats.overlapping += usize::from(overlapping);
+                    if let Some(s) = stretch {
+                        stretches.push(s.min(f32::MAX as f64) as f32);
+                    }
                 }
             }
         }
@@ -277,16 +298,6 @@ fn barycentrics(tri: &PixelTriangle, p: DVec2) -> Option<[f32; 3]> {
         out[tri.order[k]] = (w / tri.area) as f32;
     }
     Some(out)
-}
-
-fn add_stats(all: &mut BakeStats, band: &BakeStats) {
-    all.covered += band.covered;
-    all.rays += band.rays;
-    all.missed += band.missed;
-    all.missed_beyond += band.missed_beyond;
-    all.missed_outside += band.missed_outside;
-    all.overlapping += band.overlapping;
-    all.singular += band.singular;
 }
 
 /// Grows the covered texels outward by `margin` rings (8 neighbours: each ring is the texels at
@@ -363,15 +374,8 @@ mod tests {
         }
     }
 
-    fn flat(_: usize, _: [f32; 3]) -> Sample {
-        Sample {
-            normal: Vec3::Z,
-            missed: false,
-            missed_beyond: false,
-            missed_outside: false,
-            singular: false,
-            stretch: None,
-        }
+    fn flat(batch: &[(usize, [f32; 3])], out: &mut Vec<Sample>) {
+        out.extend(batch.iter().map(|_| Sample::flat()));
     }
 
     /// Fails if a shared edge's samples are counted by both triangles or by neither (the fill

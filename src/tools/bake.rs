@@ -104,7 +104,8 @@ pub fn bake(options: &BakeOptions) -> Result<()> {
     settings.max_distance = distance(
         "--max-distance",
         options.max_distance,
-        2.0 * settings.extrusion,
+        // An extrusion near f32's largest keeps a finite default (its rays are bounded anyway).
+        (2.0 * settings.extrusion).min(f32::MAX),
     )?;
     if settings.max_distance <= 0.0 {
         return Err(Error::Argument(
@@ -118,6 +119,34 @@ pub fn bake(options: &BakeOptions) -> Result<()> {
     report(options, &settings, &files, &map);
     log::info!("bake: {:.2} s in all", start.elapsed().as_secs_f64());
     Ok(())
+}
+
+/// A distance beyond LOW's bounding radius (in LOW's file units), in one line with the numbers and
+/// what to change; `None` for distances within it. The bake still runs, and no faster or slower:
+/// rays go no farther than the models are wide ([`crate::bake::Reach`]). Only a `--max-distance`
+/// given is said: its default follows the extrusion, whose own line says what to change.
+fn scale_warning(options: &BakeOptions, settings: &BakeSettings, radius: f32) -> Option<String> {
+    if settings.extrusion > radius {
+        Some(format!(
+            "warning: --extrusion {} is beyond LOW's bounding radius {}: the rays start outside \
+             the whole model and meet HIGH's outermost surface, not the detail under each texel; \
+             use a few percent of the radius (the default, 5 %, is {})",
+            significant(settings.extrusion),
+            significant(radius),
+            significant(0.05 * radius)
+        ))
+    } else if options.max_distance.is_some() && settings.max_distance > radius {
+        Some(format!(
+            "warning: --max-distance {} is beyond LOW's bounding radius {}: a ray that misses \
+             HIGH beside LOW goes on through the model and can meet its far side; use about twice \
+             the extrusion (the default, {})",
+            significant(settings.max_distance),
+            significant(radius),
+            significant(2.0 * settings.extrusion)
+        ))
+    } else {
+        None
+    }
 }
 
 /// `value` or `default`, which must be a finite distance of 0 or more.
@@ -182,6 +211,13 @@ fn significant(x: f32) -> String {
     if x == 0.0 || !x.is_finite() {
         return x.to_string();
     }
+    if x.abs() >= 1e6 {
+        // A distance far out of scale (`--extrusion 1e30`) in the form it was likely typed.
+        let text = format!("{x:.3e}");
+        let (mantissa, exponent) = text.split_once('e').unwrap_or((&text, "0"));
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        return format!("{mantissa}e{exponent}");
+    }
     let decimals = (3 - x.abs().log10().floor() as i32).max(0) as usize;
     let text = format!("{x:.decimals$}");
     match text.contains('.') {
@@ -190,7 +226,8 @@ fn significant(x: f32) -> String {
     }
 }
 
-/// A few lines on stdout: the map, what it covers, the rays that missed and what to change.
+/// A few lines on stdout: the map, what it covers, a distance out of scale, the rays that missed and
+/// what to change. A line that starts `warning: ` names a setting that spoils the map.
 fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map: &BakedMap) {
     let stats = &map.stats;
     let texels = map.states.len();
@@ -215,7 +252,10 @@ fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map
         settings.samples,
         stats.margin,
     );
-    report_misses(settings, stats);
+    if let Some(line) = scale_warning(options, settings, files.low.placement.radius) {
+        println!("{line}");
+    }
+    report_misses(settings, stats, files.scale);
     report_flaws(settings, stats);
 }
 
@@ -234,39 +274,57 @@ fn frame_name(settings: &BakeSettings) -> String {
     }
 }
 
-/// The rays that met nothing, and what to change; or that every ray met HIGH.
-fn report_misses(settings: &BakeSettings, stats: &BakeStats) {
-    if stats.missed > 0 {
-        let mut advice = Vec::new();
-        if stats.missed_outside > 0 {
-            advice.push(format!(
-                "for {} HIGH lies outside the cage: raise --extrusion",
-                stats.missed_outside
-            ));
-        }
-        if stats.missed_beyond > 0 {
-            advice.push(format!(
-                "for {} HIGH lies farther in: raise --max-distance",
-                stats.missed_beyond
-            ));
-        }
-        if advice.is_empty() {
-            advice.push(
-                "HIGH is on neither side of LOW there (a hole, or LOW reaches past it)".into(),
-            );
-        }
-        println!(
-            "{} ({:.2} %) met nothing within --max-distance {} of the cage (--extrusion {}) \
-             and wrote the flat normal; {}",
-            rays(stats.missed),
-            100.0 * stats.missed as f64 / stats.rays.max(1) as f64,
-            significant(settings.max_distance),
-            significant(settings.extrusion),
-            advice.join("; ")
-        );
-    } else {
+/// Above this share of the rays missing HIGH the line is a warning: that much of the map is flat.
+const MISSED_WARNING: f64 = 0.02;
+
+/// The rays that met nothing, and what to change (to how much, from where their HIGH was found);
+/// or that every ray met HIGH. `scale`: placed units per LOW file unit.
+fn report_misses(settings: &BakeSettings, stats: &BakeStats, scale: f32) {
+    if stats.missed == 0 {
         println!("every ray met HIGH");
+        return;
     }
+    let mut advice = Vec::new();
+    if stats.missed_outside > 0 {
+        let by = stats.outside_by / scale;
+        advice.push(format!(
+            "for {} HIGH lies outside the cage, up to {} beyond it: raise --extrusion to {} or more",
+            stats.missed_outside,
+            significant(by),
+            significant(settings.extrusion + by)
+        ));
+    }
+    if stats.missed_beyond > 0 {
+        // Measured from the cage, as --max-distance is.
+        advice.push(format!(
+            "for {} HIGH lies farther in: raise --max-distance to {} or more",
+            stats.missed_beyond,
+            significant(stats.beyond_by / scale)
+        ));
+    }
+    if advice.is_empty() {
+        advice.push(
+            "HIGH is on neither side of LOW there within LOW's bounding radius (a hole, or LOW \
+             reaches past it)"
+                .into(),
+        );
+    }
+    let share = stats.missed as f64 / stats.rays.max(1) as f64;
+    let line = format!(
+        "{} ({:.2} %) met nothing within --max-distance {} of the cage (--extrusion {}) and wrote \
+         the flat normal; {}",
+        rays(stats.missed),
+        100.0 * share,
+        significant(settings.max_distance),
+        significant(settings.extrusion),
+        advice.join("; ")
+    );
+    let warning = if share > MISSED_WARNING {
+        "warning: "
+    } else {
+        ""
+    };
+    println!("{warning}{line}");
 }
 
 /// What no setting of the bake mends: overlapping UVs, triangles without UV area, frames without an
@@ -316,7 +374,8 @@ fn report_flaws(settings: &BakeSettings, stats: &BakeStats) {
 mod tests {
     use super::*;
 
-    /// Fails if a default distance prints its float noise, or a large or tiny one loses digits.
+    /// Fails if a default distance prints its float noise, a large or tiny one loses digits, or
+    /// one far out of scale prints thirty digits.
     #[test]
     fn distances_print_to_four_significant_digits() {
         assert_eq!(significant(0.050_000_05), "0.05");
@@ -324,6 +383,8 @@ mod tests {
         assert_eq!(significant(1234.567), "1235");
         assert_eq!(significant(0.000_123_456), "0.0001235");
         assert_eq!(significant(0.0), "0");
+        assert_eq!(significant(1e30), "1e30");
+        assert_eq!(significant(1.234_567e7), "1.235e7");
         assert_eq!(rays(1), "1 ray");
         assert_eq!(rays(2), "2 rays");
     }

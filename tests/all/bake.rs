@@ -390,9 +390,10 @@ fn the_margin_fills_m_texels_around_the_islands() {
     assert_eq!(map.stats.margin, filled);
 }
 
-// Fails if rays that meet nothing are not counted, or the advice names the wrong setting: LOW
-// inside HIGH by more than the cage (every ray misses, HIGH is outside), then HIGH deeper inside
-// than --max-distance (every ray misses, HIGH lies farther in).
+// Fails if rays that meet nothing are not counted, the line is not a warning when they are all of
+// them, or the advice names the wrong setting or a value that does not reach HIGH: LOW inside HIGH by more than the cage (every ray
+// misses, HIGH is outside), then HIGH deeper inside than --max-distance (every ray misses, HIGH
+// lies farther in).
 #[test]
 fn missed_rays_are_counted_with_what_to_change() {
     let dir = scratch("misses");
@@ -400,11 +401,14 @@ fn missed_rays_are_counted_with_what_to_change() {
     let half: &Relief = &|_| (0.5, DVec3::ZERO);
     let small = sphere(&dir, "small.obj", 32, 16, half, false);
     let out = dir.join("m.png");
+    // The setting that reaches HIGH: LOW (radius 0.5) 0.4 under the cage out to 0.6 inside HIGH
+    // (radius 1), an extrusion of 0.5; HIGH 0.6 in from LOW's (radius 1) cage at 1.1. Both within
+    // the spheres' facets (a few thousandths).
     let cases = [
-        (&big, &small, "raise --extrusion"),
-        (&small, &big, "raise --max-distance"),
+        (&big, &small, "raise --extrusion to ", 0.5),
+        (&small, &big, "raise --max-distance to ", 0.6),
     ];
-    for (high, low, advice) in cases {
+    for (high, low, advice, enough) in cases {
         let output = bake_cli(&[
             high.to_str().unwrap(),
             low.to_str().unwrap(),
@@ -427,12 +431,63 @@ fn missed_rays_are_counted_with_what_to_change() {
             .parse()
             .unwrap();
         assert!(
-            said.contains(&format!("{rays} rays (100.00 %) met nothing")),
+            said.contains(&format!("\nwarning: {rays} rays (100.00 %) met nothing")),
             "{said}"
         );
         assert!(said.contains(&format!("for {rays} HIGH lies")), "{said}");
-        assert!(said.contains(advice), "{said}");
+        let to: f64 = said
+            .split(advice)
+            .nth(1)
+            .and_then(|rest| rest.split(' ').next())
+            .and_then(|number| number.parse().ok())
+            .unwrap_or_else(|| panic!("no '{advice}N': {said}"));
+        assert!((to - enough).abs() < 0.01, "{to} against {enough}: {said}");
     }
+}
+
+// Fails if a distance beyond LOW's bounding radius (1: a unit UV sphere) is taken without a
+// warning line that names it, the radius and the default (5 % of it), or if a bake at the default
+// distances says any warning (every ray meets HIGH, nothing is out of scale).
+#[test]
+fn a_distance_beyond_the_model_is_said() {
+    let dir = scratch("out-of-scale");
+    let high = sphere(&dir, "high.obj", 64, 32, &bumps(0.02, 5.0), false);
+    let low = sphere(&dir, "low.obj", 32, 16, &round, false);
+    let out = dir.join("s.png");
+    let said = |flags: &[&str]| {
+        let mut args = vec![
+            high.to_str().unwrap(),
+            low.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "32",
+        ];
+        args.extend(flags);
+        let output = bake_cli(&args);
+        assert!(output.status.success(), "{}", text(&output.stderr));
+        text(&output.stdout)
+    };
+    let quiet = said(&[]);
+    assert!(quiet.contains("every ray met HIGH"), "{quiet}");
+    assert!(!quiet.contains("warning"), "{quiet}");
+    let far = said(&["--extrusion", "100"]);
+    assert!(
+        far.contains(
+            "\nwarning: --extrusion 100 is beyond LOW's bounding radius 1: the rays start outside"
+        ),
+        "{far}"
+    );
+    assert!(far.contains("(the default, 5 %, is 0.05)"), "{far}");
+    let long = said(&["--max-distance", "3"]);
+    assert!(
+        long.contains("\nwarning: --max-distance 3 is beyond LOW's bounding radius 1: a ray"),
+        "{long}"
+    );
+    assert!(
+        long.contains("twice the extrusion (the default, 0.1)"),
+        "{long}"
+    );
 }
 
 // Fails if the tutorial's summed frame is not said to be one no map can be right for (its T and B
