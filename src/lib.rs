@@ -18,7 +18,6 @@
 //! the Rust that ports it.
 
 pub mod assets;
-#[cfg(not(target_arch = "wasm32"))]
 pub mod bake;
 pub mod choices;
 pub mod clock;
@@ -38,7 +37,6 @@ pub mod pipeline;
 pub mod progress;
 pub mod scenes;
 pub mod tangents;
-#[cfg(not(target_arch = "wasm32"))]
 pub mod tools;
 
 pub use error::{Error, Result};
