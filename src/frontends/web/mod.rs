@@ -10,6 +10,7 @@
 //! with its MTL and maps opens as a dropped file does in the window. Errors are one line on the
 //! page, the same line the native program prints.
 
+mod bake;
 mod input;
 
 use std::cell::RefCell;
@@ -336,6 +337,7 @@ async fn run() -> Result<(), String> {
     }));
     FROZEN.with(|frozen| frozen.set(contract.frames.is_some()));
     input::listen(&window, &canvas, &page)?;
+    bake::listen(&page)?;
     // "loading…" goes.
     clear_error();
     animate(page);
