@@ -371,4 +371,47 @@ mod tests {
         assert_eq!(rays(1), "1 ray");
         assert_eq!(rays(2), "2 rays");
     }
+
+    /// Fails if the page's bake worker reads its arguments otherwise than the command line does
+    /// (its map would be baked at other settings), or gives more than clap's first line, without
+    /// its "error: ", for an error.
+    #[test]
+    fn the_pages_arguments_are_read_as_the_command_line() {
+        let args = |text: &str| text.split(' ').map(String::from).collect::<Vec<_>>();
+        let options = BakeOptions::from_args(&args(
+            "high/h.obj low/l.obj -o low/l_normal.png --size 512 --samples 2 --tangents tutorial \
+             --extrusion 0.1",
+        ))
+        .expect("the page's arguments");
+        assert_eq!(
+            (
+                options.high.to_str(),
+                options.low.to_str(),
+                options.output.to_str()
+            ),
+            (
+                Some("high/h.obj"),
+                Some("low/l.obj"),
+                Some("low/l_normal.png")
+            )
+        );
+        assert_eq!(
+            (
+                options.size,
+                options.samples,
+                options.tangents,
+                options.margin
+            ),
+            ((512, 512), 2, Tangents::Tutorial, 16)
+        );
+        assert_eq!((options.extrusion, options.max_distance), (Some(0.1), None));
+        assert_eq!(
+            BakeOptions::from_args(&args("h.obj l.obj -o x.png --size 0")).unwrap_err(),
+            "invalid value '0' for '--size <N|WxH>': 0 texels: a side must be 1 to 16384"
+        );
+        assert_eq!(
+            BakeOptions::from_args(&args("h.obj l.obj -o x.png --extrusion abc")).unwrap_err(),
+            "invalid value 'abc' for '--extrusion <D>': invalid float literal"
+        );
+    }
 }

@@ -375,13 +375,18 @@ fn finish(panel: &Shared, page: &Rc<RefCell<Page>>, running: Running, done: &JsV
     let get = |key: &str| js_sys::Reflect::get(done, &key.into()).unwrap_or_default();
     let map = js_sys::Uint8Array::new(&get("map"));
     let report = get("report").as_string().unwrap_or_default();
+    let worker_seconds = get("seconds").as_f64().unwrap_or(f64::NAN);
     set_state("done");
     if let Some(bake) = element("bake") {
         let _ = bake.set_attribute("data-bake-ms", &format!("{:.0}", seconds * 1000.0));
+        let _ = bake.set_attribute("data-worker-ms", &format!("{:.0}", worker_seconds * 1000.0));
         let during = format!("{} {}", running.frames, frames_drawn());
         let _ = bake.set_attribute("data-frames-during", &during);
     }
-    set_progress(&format!("baked in {seconds:.2} s"), 1.0);
+    set_progress(
+        &format!("baked in {seconds:.2} s (the worker's bake {worker_seconds:.2} s)"),
+        1.0,
+    );
     set_text("bake-report", &report);
     offer(panel, &running.map, &map);
     // LOW's files, and the map beside them, where the page's loaders read them.
