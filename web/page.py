@@ -21,7 +21,7 @@ class Page:
     def __init__(self, url):
         to_browser_r, to_browser_w = os.pipe()
         from_browser_r, from_browser_w = os.pipe()
-        self.profile = tempfile.TemporaryDirectory()
+        self.profile = tempfile.TemporaryDirectory(ignore_cleanup_errors=True)
 
         # The protocol pipe is the child's fds 3 (in) and 4 (out).
         def fds():
@@ -87,8 +87,14 @@ class Page:
             f.write(base64.b64decode(shot['data']))
 
     def close(self):
-        self.browser.kill()
-        self.browser.wait()
+        # Browser.close ends the browser's child processes too; a kill of the main one alone left
+        # them writing into the profile while it was being removed ("Directory not empty").
+        try:
+            self.out.write(json.dumps({'id': self.ident + 1, 'method': 'Browser.close'}).encode() + b'\0')
+            self.browser.wait(timeout=10)
+        except (OSError, subprocess.TimeoutExpired):
+            self.browser.kill()
+            self.browser.wait()
         self.profile.cleanup()
 
 
