@@ -1,7 +1,7 @@
 // The page's bake, off its main thread: this Web Worker (a module worker) loads the page's own
 // module (tutorial13.js, whose start does nothing here) and runs its `bake` on the files and
 // arguments the bake panel posts: { files: [[path, bytes]...], args: [...] }. It answers
-// { progress: [stage, share] } as the bake goes, then { done: { map, report } } or { error }.
+// { progress: [stage, share] } as the bake goes, then { done: { map, report, seconds } } or { error }.
 // Cancel terminates the worker (no shared memory: a plain file server sends no cross-origin
 // isolation headers), so one worker bakes once.
 import init, { bake, provide_file } from './tutorial13.js';

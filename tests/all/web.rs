@@ -1190,7 +1190,7 @@ fn cancel_ends_the_bake() {
     );
 }
 
-/// The page's budget for its module, gzipped (issue 47).
+/// The page's budget for its module, gzipped (4 MB).
 const WASM_BUDGET_GZIPPED: usize = 4_000_000;
 
 // Fails if the page's module (the .wasm web/build.sh wrote, which the bake's worker loads too),
