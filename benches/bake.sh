@@ -44,33 +44,10 @@ else
   # segments (1,308,672 triangles) and the 32 × 16 one.
   "$bin" bake --help > /dev/null
   python3 - "$pair" <<'PY'
-import math, sys
+import sys
+sys.path.insert(0, "benches")
+from pairs import sphere
 out = sys.argv[1]
-def sphere(path, segments, rings, amp):
-    with open(path, "w") as f:
-        pts = [(0.0, 0.0)] + [(math.pi * r / rings, 2 * math.pi * s / segments)
-                              for r in range(1, rings) for s in range(segments)] + [(math.pi, 0.0)]
-        for th, ph in pts:
-            u = (math.sin(th) * math.sin(ph), math.cos(th), math.sin(th) * math.cos(ph))
-            r = 1 + amp * math.cos(12 * u[0]) * math.cos(12 * u[1]) * math.cos(12 * u[2])
-            f.write("v %.7f %.7f %.7f\n" % (u[0] * r, u[1] * r, u[2] * r))
-        for r in range(1, rings):
-            for s in range(segments + 1):
-                f.write("vt %.7f %.7f\n" % (s / segments, 1 - r / rings))
-        for v in (1.0, 0.0):
-            for s in range(segments):
-                f.write("vt %.7f %.1f\n" % ((s + 0.5) / segments, v))
-        last = len(pts)
-        V = lambda r, s: 1 if r == 0 else last if r == rings else 2 + (r - 1) * segments + s % segments
-        ring_vts = (rings - 1) * (segments + 1)
-        T = lambda r, s: ring_vts + s + 1 if r == 0 else ring_vts + segments + s + 1 if r == rings else (r - 1) * (segments + 1) + s + 1
-        c = lambda r, s, p: "%d/%d" % (V(r, s), T(r, p if r in (0, rings) else s))
-        for s in range(segments):
-            f.write("f %s %s %s\n" % (c(0, s, s), c(1, s, s), c(1, s + 1, s)))
-            for r in range(1, rings - 1):
-                a, b, cc, d = c(r, s, s), c(r + 1, s, s), c(r + 1, s + 1, s), c(r, s + 1, s)
-                f.write("f %s %s %s\nf %s %s %s\n" % (a, b, cc, a, cc, d))
-            f.write("f %s %s %s\n" % (c(rings - 1, s, s), c(rings, s, s), c(rings - 1, s + 1, s)))
 sphere(out + "/high.obj", 1024, 640, 0.02)
 sphere(out + "/low.obj", 32, 16, 0.0)
 PY

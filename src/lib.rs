@@ -19,7 +19,6 @@
 //! the Rust that ports it.
 
 pub mod assets;
-#[cfg(not(target_arch = "wasm32"))]
 pub mod bake;
 pub mod choices;
 pub mod clock;
@@ -40,7 +39,6 @@ pub mod progress;
 pub mod scenes;
 pub mod statistics;
 pub mod tangents;
-#[cfg(not(target_arch = "wasm32"))]
 pub mod tools;
 pub mod tour;
 

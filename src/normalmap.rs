@@ -211,44 +211,76 @@ pub fn normal_map(heights: &HeightMap, options: NormalMapOptions) -> Vec<[u8; 3]
 /// Writes `texels` (`width × height`, row 0 at the top) as a 24-bit BMP (what the tutorial's
 /// `loadBMP_custom` reads) or PNG, by `path`'s extension; atomically.
 pub fn write_normal_map(path: &Path, texels: &[[u8; 3]], width: u32, height: u32) -> Result<()> {
-    let bad = |reason: String| Error::Write {
-        path: path.to_path_buf(),
-        reason,
-    };
-    let format = map_format(path)?;
+    let bytes = normal_map_file(path, texels, width, height)?;
+    crate::files::write_bytes_atomically(path, &bytes)
+}
+
+/// What [`write_normal_map`] writes to `path`, in memory (the browser page's bake saves it).
+pub fn normal_map_file(
+    path: &Path,
+    texels: &[[u8; 3]],
+    width: u32,
+    height: u32,
+) -> Result<Vec<u8>> {
     let flat: Vec<u8> = texels.iter().flatten().copied().collect();
-    let image = image::RgbImage::from_raw(width, height, flat)
-        .ok_or_else(|| bad(format!("{} texels for {width}×{height}", texels.len())))?;
-    crate::files::write_atomically(path, |out| {
-        image.write_to(out, format).map_err(|e| match e {
-            image::ImageError::IoError(e) => Error::io(path, e),
-            other => bad(other.to_string()),
-        })
-    })
+    let image = image::RgbImage::from_raw(width, height, flat);
+    encoded(
+        path,
+        image,
+        map_format(path)?,
+        (texels.len(), width, height),
+    )
 }
 
 /// Writes 16-bit RGB texels (row 0 at the top) to `path`, a PNG, atomically.
 pub fn write_normal_map16(path: &Path, texels: &[[u16; 3]], width: u32, height: u32) -> Result<()> {
+    let bytes = normal_map_file16(path, texels, width, height)?;
+    crate::files::write_bytes_atomically(path, &bytes)
+}
+
+/// What [`write_normal_map16`] writes to `path`, in memory.
+pub fn normal_map_file16(
+    path: &Path,
+    texels: &[[u16; 3]],
+    width: u32,
+    height: u32,
+) -> Result<Vec<u8>> {
+    if map_format(path)? != image::ImageFormat::Png {
+        return Err(Error::Write {
+            path: path.to_path_buf(),
+            reason: "16-bit normal maps are written as PNG only: name it .png".into(),
+        });
+    }
+    let flat: Vec<u16> = texels.iter().flatten().copied().collect();
+    let image = image::ImageBuffer::<image::Rgb<u16>, _>::from_raw(width, height, flat);
+    encoded(
+        path,
+        image,
+        image::ImageFormat::Png,
+        (texels.len(), width, height),
+    )
+}
+
+/// `image` as the bytes of a `format` file; `None`: `count` texels, too few for its size.
+fn encoded<P: image::PixelWithColorType>(
+    path: &Path,
+    image: Option<image::ImageBuffer<P, Vec<P::Subpixel>>>,
+    format: image::ImageFormat,
+    (count, width, height): (usize, u32, u32),
+) -> Result<Vec<u8>>
+where
+    [P::Subpixel]: image::EncodableLayout,
+{
     let bad = |reason: String| Error::Write {
         path: path.to_path_buf(),
         reason,
     };
-    if map_format(path)? != image::ImageFormat::Png {
-        return Err(bad(
-            "16-bit normal maps are written as PNG only: name it .png".into(),
-        ));
-    }
-    let flat: Vec<u16> = texels.iter().flatten().copied().collect();
-    let image = image::ImageBuffer::<image::Rgb<u16>, _>::from_raw(width, height, flat)
-        .ok_or_else(|| bad(format!("{} texels for {width}×{height}", texels.len())))?;
-    crate::files::write_atomically(path, |out| {
-        image
-            .write_to(out, image::ImageFormat::Png)
-            .map_err(|e| match e {
-                image::ImageError::IoError(e) => Error::io(path, e),
-                other => bad(other.to_string()),
-            })
-    })
+    let image = image.ok_or_else(|| bad(format!("{count} texels for {width}×{height}")))?;
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image
+        .write_to(&mut bytes, format)
+        .map_err(|e| bad(e.to_string()))?;
+    Ok(bytes.into_inner())
 }
 
 /// The format [`write_normal_map`] writes to `path`: BMP or PNG by its extension, else an error.

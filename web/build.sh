@@ -46,7 +46,7 @@ else
 fi
 say "writing the JS glue (wasm-bindgen --target web) into $out"
 wasm-bindgen --target web --no-typescript --out-dir "$out" --out-name tutorial13 "$module"
-cp web/index.html "$out/"
+cp web/index.html web/bake-worker.js "$out/"
 say "copying the crate's assets (the page fetches a scene's files when it first opens it)"
 cp -r assets/. "$out/assets/"
 say "done: $out ($(du -sh "$out" | cut -f1)); serve it with: python3 -m http.server -d $out"

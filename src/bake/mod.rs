@@ -27,6 +27,7 @@ pub mod bvh;
 mod texels;
 
 use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use glam::{DMat3, DVec3, Vec3};
 
@@ -310,8 +311,30 @@ fn high_bvh(input: &BakeInput, threads: usize) -> bvh::Bvh {
     bvh::Bvh::build_with(&high.vertices, normals, threads)
 }
 
+/// Told what a bake is doing, for a progress bar (the page's): the stage in words, and the share of
+/// it done (the rays' share against LOW's UV area, so about; overlapping islands end it early).
+pub type BakeProgress<'a> = &'a (dyn Fn(&str, f32) + Sync);
+
+/// Samples between two calls of a [`BakeProgress`].
+const PROGRESS_SAMPLES: usize = 4096;
+
 /// The bake on soups already in one space: raster, rays and margin.
 pub fn bake_soups(input: &BakeInput, settings: &BakeSettings) -> BakedMap {
+    bake_soups_with(input, settings, None)
+}
+
+/// [`bake_soups`], telling `progress` how far it is.
+pub fn bake_soups_with(
+    input: &BakeInput,
+    settings: &BakeSettings,
+    progress: Option<BakeProgress>,
+) -> BakedMap {
+    let tell = |stage: &str, share: f32| {
+        if let Some(progress) = progress {
+            progress(stage, share);
+        }
+    };
+    tell("building the BVH", 0.0);
     let clock = Instant::now();
     let bvh = high_bvh(input, settings.threads);
     log::info!(
@@ -329,12 +352,25 @@ pub fn bake_soups(input: &BakeInput, settings: &BakeSettings) -> BakedMap {
         measure_skew: matches!(input.frames.bitangents, Bitangents::Given(_)),
         reach: Reach::of(input),
     };
-    let mut map = layout.bake(settings.threads, |batch, out| sampler.samples(batch, out));
+    tell("tracing rays", 0.0);
+    let (done, expected) = (AtomicUsize::new(0), uv_samples(input.low, settings));
+    let mut map = layout.bake(settings.threads, |batch, out| {
+        if let Some(progress) = progress {
+            let before = done.fetch_add(batch.len(), Ordering::Relaxed);
+            // Told once each PROGRESS_SAMPLES samples, whatever the batches' sizes.
+            if before / PROGRESS_SAMPLES != (before + batch.len()) / PROGRESS_SAMPLES {
+                let share = (before + batch.len()) as f64 / expected;
+                progress("tracing rays", share.min(1.0) as f32);
+            }
+        }
+        sampler.samples(batch, out)
+    });
     log::info!(
         "bake: {} rays in {:.2} s",
         map.stats.rays,
         clock.elapsed().as_secs_f64()
     );
+    tell("filling the margin", 1.0);
     let clock = Instant::now();
     map.stats.margin = texels::fill_margin(
         settings.width as usize,
@@ -349,6 +385,17 @@ pub fn bake_soups(input: &BakeInput, settings: &BakeSettings) -> BakedMap {
         clock.elapsed().as_secs_f64()
     );
     map
+}
+
+/// About how many samples LOW's UV layout covers (the UV triangles' area, overlaps counted twice).
+fn uv_samples(low: &TriangleSoup, settings: &BakeSettings) -> f64 {
+    let area: f64 = (low.uvs.chunks_exact(3))
+        .map(|uv| ((uv[1] - uv[0]).perp_dot(uv[2] - uv[0]) as f64 / 2.0).abs())
+        .filter(|a| a.is_finite())
+        .sum();
+    let samples =
+        (settings.width * settings.samples) as f64 * (settings.height * settings.samples) as f64;
+    (area * samples).max(1.0)
 }
 
 /// Each sample's ray, and its normal in the map's space.
@@ -611,14 +658,20 @@ impl BakeFiles {
     /// Reads HIGH and LOW (anything `--model` reads) and computes LOW's frame for `settings`.
     pub fn load(high_path: &Path, low_path: &Path, settings: &BakeSettings) -> Result<BakeFiles> {
         let clock = Instant::now();
-        let (high, low) = std::thread::scope(|scope| {
-            let high = scope.spawn(|| crate::model::load_shape(high_path));
-            let low = load_model(low_path, &MapOverrides::default());
-            let high = high
-                .join()
-                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-            (high, low)
-        });
+        // One thread (the browser has no other): one file after the other.
+        let (high, low) = if settings.threads <= 1 {
+            let high = crate::model::load_shape(high_path);
+            (high, load_model(low_path, &MapOverrides::default()))
+        } else {
+            std::thread::scope(|scope| {
+                let high = scope.spawn(|| crate::model::load_shape(high_path));
+                let low = load_model(low_path, &MapOverrides::default());
+                let high = high
+                    .join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+                (high, low)
+            })
+        };
         let (mut high, low) = (high?, low?);
         // HIGH's notices say what was filled in (UVs, normals); LOW's maps do not matter here.
         for notice in &high.notices {
@@ -671,6 +724,15 @@ impl BakeFiles {
 
     /// The bake, with `extrusion` and `max_distance` in LOW's file units.
     pub fn bake(&self, settings: &BakeSettings) -> Result<BakedMap> {
+        self.bake_with(settings, None)
+    }
+
+    /// [`BakeFiles::bake`], telling `progress` how far it is.
+    pub fn bake_with(
+        &self,
+        settings: &BakeSettings,
+        progress: Option<BakeProgress>,
+    ) -> Result<BakedMap> {
         let input = BakeInput {
             low: &self.low.soup,
             frames: &self.frames,
@@ -679,7 +741,7 @@ impl BakeFiles {
             extrusion: settings.extrusion * self.scale,
             max_distance: settings.max_distance * self.scale,
         };
-        let map = bake_soups(&input, settings);
+        let map = bake_soups_with(&input, settings, progress);
         if map.stats.covered == 0 {
             return Err(Error::Bake {
                 path: self.low.path.clone(),

@@ -4,10 +4,10 @@
 use std::path::PathBuf;
 
 use super::Depth;
-use crate::bake::{BakeFiles, BakeSettings, BakeStats, BakedMap, Space, Tangents};
+use crate::bake::{BakeFiles, BakeProgress, BakeSettings, BakeStats, BakedMap, Space, Tangents};
 use crate::clock::Instant;
 use crate::normalmap::{encode_normal, encode_normal16, map_format, Green};
-use crate::normalmap::{write_normal_map, write_normal_map16};
+use crate::normalmap::{normal_map_file, normal_map_file16};
 use crate::{Error, Result};
 
 /// Bake a normal map from a detailed model (HIGH) into a simple model's UV layout (LOW), in the
@@ -56,6 +56,28 @@ pub struct BakeOptions {
     pub object_space: bool,
 }
 
+impl BakeOptions {
+    /// `tutorial13 bake`'s arguments (those after `bake`), read as the program reads them: the
+    /// browser page's bake worker gets its settings so. An error is clap's first line.
+    pub fn from_args(args: &[String]) -> std::result::Result<BakeOptions, String> {
+        #[derive(clap::Parser)]
+        #[command(name = "bake")]
+        struct Bake {
+            #[command(flatten)]
+            options: BakeOptions,
+        }
+        let args = std::iter::once("bake").chain(args.iter().map(String::as_str));
+        match <Bake as clap::Parser>::try_parse_from(args) {
+            Ok(bake) => Ok(bake.options),
+            Err(e) => {
+                let text = e.to_string();
+                let line = text.lines().next().unwrap_or_default();
+                Err(line.trim_start_matches("error: ").to_string())
+            }
+        }
+    }
+}
+
 /// `N` or `WxH`, each side 1 to 16384.
 fn parse_size(text: &str) -> std::result::Result<(u32, u32), String> {
     let side = |s: &str| -> std::result::Result<u32, String> {
@@ -78,6 +100,22 @@ fn parse_size(text: &str) -> std::result::Result<(u32, u32), String> {
 pub fn bake(options: &BakeOptions) -> Result<()> {
     let start = Instant::now();
     check_output(options)?;
+    let (settings, files, map) = bake_map(options, None)?;
+    let clock = Instant::now();
+    crate::files::write_bytes_atomically(&options.output, &encode(options, &map)?)?;
+    log::info!("bake: written in {:.2} s", clock.elapsed().as_secs_f64());
+    report(options, &settings, &files, &map);
+    log::info!("bake: {:.2} s in all", start.elapsed().as_secs_f64());
+    Ok(())
+}
+
+/// Both models read (through [`crate::files::read`], which the browser page fills) and baked as
+/// `options` say, `progress` told how far it is: everything but writing the map (the page's bake
+/// worker runs this, web/src/bake.rs).
+pub fn bake_map(
+    options: &BakeOptions,
+    progress: Option<BakeProgress>,
+) -> Result<(BakeSettings, BakeFiles, BakedMap)> {
     if options.normalize_tbn && options.tangents != Tangents::Tutorial {
         return Err(Error::Argument(
             "--normalize-tbn: only with --tangents tutorial (the other frames are unit already)"
@@ -98,6 +136,9 @@ pub fn bake(options: &BakeOptions) -> Result<()> {
         },
         ..BakeSettings::default()
     };
+    if let Some(progress) = progress {
+        progress("reading the models", 0.0);
+    }
     let files = BakeFiles::load(&options.high, &options.low, &settings)?;
     let radius = files.low.placement.radius;
     settings.extrusion = distance("--extrusion", options.extrusion, 0.05 * radius)?;
@@ -112,20 +153,20 @@ pub fn bake(options: &BakeOptions) -> Result<()> {
             "--max-distance: must be more than 0 (the rays go nowhere)".into(),
         ));
     }
-    let map = files.bake(&settings)?;
-    let clock = Instant::now();
-    write(options, &map)?;
-    log::info!("bake: written in {:.2} s", clock.elapsed().as_secs_f64());
-    report(options, &settings, &files, &map);
-    log::info!("bake: {:.2} s in all", start.elapsed().as_secs_f64());
-    Ok(())
+    let map = files.bake_with(&settings, progress)?;
+    Ok((settings, files, map))
 }
 
 /// A distance beyond LOW's bounding radius (in LOW's file units), in one line with the numbers and
 /// what to change; `None` for distances within it. The bake still runs, and no faster or slower:
 /// rays go no farther than the models are wide ([`crate::bake::Reach`]). Only a `--max-distance`
-/// given is said: its default follows the extrusion, whose own line says what to change.
-fn scale_warning(options: &BakeOptions, settings: &BakeSettings, radius: f32) -> Option<String> {
+/// given is said: its default follows the extrusion, whose own line says what to change. The page
+/// shows it too.
+pub fn scale_warning(
+    options: &BakeOptions,
+    settings: &BakeSettings,
+    radius: f32,
+) -> Option<String> {
     if settings.extrusion > radius {
         Some(format!(
             "warning: --extrusion {} is beyond LOW's bounding radius {}: the rays start outside \
@@ -184,8 +225,9 @@ fn check_output(options: &BakeOptions) -> Result<()> {
     Ok(())
 }
 
-/// The map as 8- or 16-bit texels, green flipped for `--green down` (tangent space only).
-fn write(options: &BakeOptions, map: &BakedMap) -> Result<()> {
+/// The map as the file `--output` names holds it (PNG or BMP by its extension): 8- or 16-bit
+/// texels, green flipped for `--green down` (tangent space only).
+pub fn encode(options: &BakeOptions, map: &BakedMap) -> Result<Vec<u8>> {
     let flip = !options.object_space && options.green == Green::Down;
     let vectors = map.normals.iter().map(|n| {
         let y = if flip { -n.y } else { n.y };
@@ -193,10 +235,10 @@ fn write(options: &BakeOptions, map: &BakedMap) -> Result<()> {
     });
     if options.depth.sixteen_bit() {
         let texels: Vec<[u16; 3]> = vectors.map(encode_normal16).collect();
-        write_normal_map16(&options.output, &texels, map.width, map.height)
+        normal_map_file16(&options.output, &texels, map.width, map.height)
     } else {
         let texels: Vec<[u8; 3]> = vectors.map(encode_normal).collect();
-        write_normal_map(&options.output, &texels, map.width, map.height)
+        normal_map_file(&options.output, &texels, map.width, map.height)
     }
 }
 
@@ -230,7 +272,6 @@ fn significant(x: f32) -> String {
 /// what to change. A line that starts `warning: ` names a setting that spoils the map.
 fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map: &BakedMap) {
     let stats = &map.stats;
-    let texels = map.states.len();
     let frame = frame_name(settings);
     println!(
         "wrote {} ({}x{}, {} bits) from {} ({} triangles) onto {} ({} triangles), for {frame}",
@@ -243,7 +284,19 @@ fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map
         options.low.display(),
         files.low.soup.triangle_count(),
     );
-    println!(
+    println!("{}", coverage(settings, map));
+    if let Some(line) = scale_warning(options, settings, files.low.placement.radius) {
+        println!("{line}");
+    }
+    println!("{}", misses(settings, stats, files.scale));
+    report_flaws(settings, stats);
+}
+
+/// "covered N of M texels ...": the report's line that the page shows too.
+pub fn coverage(settings: &BakeSettings, map: &BakedMap) -> String {
+    let stats = &map.stats;
+    let texels = map.states.len();
+    format!(
         "covered {} of {texels} texels ({:.1} %) with {} rays ({}x{} per texel); the margin filled {} more",
         stats.covered,
         100.0 * stats.covered as f64 / texels as f64,
@@ -251,12 +304,7 @@ fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map
         settings.samples,
         settings.samples,
         stats.margin,
-    );
-    if let Some(line) = scale_warning(options, settings, files.low.placement.radius) {
-        println!("{line}");
-    }
-    report_misses(settings, stats, files.scale);
-    report_flaws(settings, stats);
+    )
 }
 
 /// The frame the map is baked for, in words.
@@ -278,11 +326,10 @@ fn frame_name(settings: &BakeSettings) -> String {
 const MISSED_WARNING: f64 = 0.02;
 
 /// The rays that met nothing, and what to change (to how much, from where their HIGH was found);
-/// or that every ray met HIGH. `scale`: placed units per LOW file unit.
-fn report_misses(settings: &BakeSettings, stats: &BakeStats, scale: f32) {
+/// or that every ray met HIGH (a line the page shows too). `scale`: placed units per LOW file unit.
+pub fn misses(settings: &BakeSettings, stats: &BakeStats, scale: f32) -> String {
     if stats.missed == 0 {
-        println!("every ray met HIGH");
-        return;
+        return "every ray met HIGH".into();
     }
     let mut advice = Vec::new();
     if stats.missed_outside > 0 {
@@ -324,7 +371,7 @@ fn report_misses(settings: &BakeSettings, stats: &BakeStats, scale: f32) {
     } else {
         ""
     };
-    println!("{warning}{line}");
+    format!("{warning}{line}")
 }
 
 /// What no setting of the bake mends: overlapping UVs, triangles without UV area, frames without an
@@ -387,5 +434,48 @@ mod tests {
         assert_eq!(significant(1.234_567e7), "1.235e7");
         assert_eq!(rays(1), "1 ray");
         assert_eq!(rays(2), "2 rays");
+    }
+
+    /// Fails if the page's bake worker reads its arguments otherwise than the command line does
+    /// (its map would be baked at other settings), or gives more than clap's first line, without
+    /// its "error: ", for an error.
+    #[test]
+    fn the_pages_arguments_are_read_as_the_command_line() {
+        let args = |text: &str| text.split(' ').map(String::from).collect::<Vec<_>>();
+        let options = BakeOptions::from_args(&args(
+            "high/h.obj low/l.obj -o low/l_normal.png --size 512 --samples 2 --tangents tutorial \
+             --extrusion 0.1",
+        ))
+        .expect("the page's arguments");
+        assert_eq!(
+            (
+                options.high.to_str(),
+                options.low.to_str(),
+                options.output.to_str()
+            ),
+            (
+                Some("high/h.obj"),
+                Some("low/l.obj"),
+                Some("low/l_normal.png")
+            )
+        );
+        assert_eq!(
+            (
+                options.size,
+                options.samples,
+                options.tangents,
+                options.margin
+            ),
+            ((512, 512), 2, Tangents::Tutorial, 16)
+        );
+        assert_eq!((options.extrusion, options.max_distance), (Some(0.1), None));
+        assert_eq!(
+            BakeOptions::from_args(&args("h.obj l.obj -o x.png --size 0")).unwrap_err(),
+            "invalid value '0' for '--size <N|WxH>': 0 texels: a side must be 1 to 16384"
+        );
+        assert_eq!(
+            BakeOptions::from_args(&args("h.obj l.obj -o x.png --extrusion abc")).unwrap_err(),
+            "invalid value 'abc' for '--extrusion <D>': invalid float literal"
+        );
     }
 }

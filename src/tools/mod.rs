@@ -6,11 +6,18 @@
 //! help texts.
 
 pub mod bake;
+// The browser page's bake worker runs `bake` (web/src/bake.rs); the other commands are native only.
+#[cfg(not(target_arch = "wasm32"))]
 pub mod help;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod make_assets;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod normalmap;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod photometric;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod run;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod tour;
 
 /// `--depth`: the bits per channel of a map a tool writes (16 only as PNG).

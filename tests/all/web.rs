@@ -154,6 +154,35 @@ fn load_with(test: &str, base: &str, query: &str, flags: &[&str]) -> Loaded {
     Loaded { shot, dom }
 }
 
+/// What Chromium showed for `query` once the JavaScript `condition` came true, in real time
+/// (web/page.py, through the DevTools protocol): for a page that waits on its bake's Web Worker,
+/// whose work virtual time (as [`load`] runs) would not wait for.
+fn load_when(test: &str, base: &str, query: &str, condition: &str) -> Loaded {
+    let out = common::scratch(&format!("{test}-{}", query.replace(['&', '=', ','], "_")));
+    let url = format!("{base}/index.html?{query}");
+    let driven = common::run(
+        Command::new("python3")
+            .arg(common::manifest().join("web/page.py"))
+            .args([&url, condition])
+            .arg(&out),
+    );
+    assert!(
+        driven.status.success(),
+        "{url}: {}",
+        common::text(&driven.stderr)
+    );
+    let shot = image::open(out.join("page.png"))
+        .expect("the page's screenshot")
+        .into_rgb8();
+    let dom = std::fs::read_to_string(out.join("dom.html")).expect("the page's HTML");
+    assert_eq!(
+        shot.dimensions(),
+        (1024, 768),
+        "{url}: the screenshot's size"
+    );
+    Loaded { shot, dom }
+}
+
 /// The share of pixels of `page` within [`TOLERANCE`] of `native`.
 fn share_within(page: &RgbImage, native: &RgbImage) -> f64 {
     let d = frame_diff(page, native);
@@ -865,4 +894,322 @@ fn k_twice_shows_the_native_heat_map() {
     );
     assert!(share >= WITHIN, "{share:.4} within {TOLERANCE}");
     assert!(like_lit < WITHIN, "the page shows the lit frame");
+}
+
+/// A bake's pair as artists hand it over, written into `dir`: HIGH a sculpt exported without UVs
+/// (`f v//vn`, as ZBrush and Blender's sculpt exports write it), a bumpy sphere of `segments` ×
+/// `segments / 2`; LOW a 32 × 16 UV sphere with its MTL and a PNG diffuse map. The files of each,
+/// model first.
+fn bake_pair(dir: &Path, segments: u32) -> (Vec<&'static str>, Vec<&'static str>) {
+    let relief = tutorial13::mesh::bumps(0.02, 6.0);
+    let sculpt: String = tutorial13::mesh::sphere_obj_text(segments, segments / 2, &relief, false)
+        .lines()
+        .filter(|l| !l.starts_with("vt "))
+        .map(|l| match l.strip_prefix("f ") {
+            Some(corners) => {
+                let corners: Vec<String> = corners
+                    .split(' ')
+                    .map(|c| {
+                        let parts: Vec<&str> = c.split('/').collect();
+                        format!("{}//{}", parts[0], parts[2])
+                    })
+                    .collect();
+                format!("f {}\n", corners.join(" "))
+            }
+            None => format!("{l}\n"),
+        })
+        .collect();
+    std::fs::write(dir.join("sculpt.obj"), sculpt).expect("sculpt.obj");
+    let round = tutorial13::mesh::round;
+    let low = tutorial13::mesh::sphere_obj_text(32, 16, &round, false);
+    let low = format!("mtllib low.mtl\nusemtl skin\n{low}");
+    std::fs::write(dir.join("low.obj"), low).expect("low.obj");
+    let mtl = "newmtl skin\nKd 0.8 0.8 0.8\nmap_Kd low_diffuse.png\n";
+    std::fs::write(dir.join("low.mtl"), mtl).expect("low.mtl");
+    let diffuse = RgbImage::from_fn(64, 64, |x, y| {
+        let tile = (x / 8 + y / 8) % 2 == 0;
+        image::Rgb(if tile { [180, 120, 90] } else { [150, 100, 80] })
+    });
+    diffuse.save(dir.join("low_diffuse.png")).expect("the PNG");
+    (
+        vec!["sculpt.obj"],
+        vec!["low.obj", "low.mtl", "low_diffuse.png"],
+    )
+}
+
+/// drops/ in the served folder, made if missing.
+fn served_drops() -> std::path::PathBuf {
+    let served =
+        std::env::var("TUTORIAL13_WEB_DIR").expect("TUTORIAL13_WEB_DIR (web/test.sh sets it)");
+    let drops = Path::new(&served).join("drops");
+    std::fs::create_dir_all(&drops).expect("drops/ in the served folder");
+    drops
+}
+
+/// The map the page baked, from its `#bake-map` (in hex, which the page's test script fills).
+fn baked_map(page: &Loaded) -> Option<Vec<u8>> {
+    let text = page.text("bake-map")?;
+    let byte = |i: usize| u8::from_str_radix(&text[i..i + 2], 16).expect("#bake-map is hex");
+    Some((0..text.len()).step_by(2).map(byte).collect())
+}
+
+/// The page's bake ended (with its map in `#bake-map` and ten frames drawn since), or failed, or
+/// the page shows a line (an error or a notice): the condition [`load_when`] waits for.
+const BAKE_SETTLED: &str = "(bake => bake.dataset.state == 'failed' \
+    || document.getElementById('message').className != '' \
+    || (bake.dataset.state == 'done' && document.getElementById('bake-map') \
+        && Number(document.getElementById('canvas').dataset.frames) \
+           >= Number(bake.dataset.framesDuring.split(' ')[1]) + 10))(document.getElementById('bake'))";
+
+// Fails if a sculpt without UVs and a LOW with its MTL and map, dropped on the page's bake slots
+// and baked at 256² in the page's worker, do not give the very map `tutorial13 bake` writes at the
+// same settings (decoded texel by texel: to the bit; the PNG bytes too, the same encoder), if the
+// page drew no frame while the worker baked (`data-frames-during`: its frames at the start and at
+// the end; a bake on the page's thread draws none), if the map is not drawn on LOW at once (the
+// frame must be the native `--model low.obj --normal-map map --tangents mikktspace` frame within
+// the scenes' tolerance, and nearer it than LOW without the map), or if the page shows a line or
+// logs an error.
+#[test]
+fn the_page_bakes_the_native_map_and_draws_it_on_low() {
+    let Some(base) = page_url("web::the_page_bakes_the_native_map_and_draws_it_on_low") else {
+        return;
+    };
+    let drops = served_drops();
+    let (high, low) = bake_pair(&drops, 192);
+    let native = common::run(
+        common::tutorial13()
+            .args([
+                "bake",
+                high[0],
+                low[0],
+                "-o",
+                "native_normal.png",
+                "--size",
+                "256",
+            ])
+            .current_dir(&drops),
+    );
+    assert!(native.status.success(), "{}", common::text(&native.stderr));
+    let query = format!(
+        "scene=cylinder&panel=off&frames=100000&bake-high={}&bake-low={}&bake-set=bake-size:256",
+        high.join(","),
+        low.join(",")
+    );
+    let page = load_when("bake", &base, &query, BAKE_SETTLED);
+    page.check_clean("the bake");
+    assert_eq!(
+        page.attribute("bake", "data-state").as_deref(),
+        Some("done")
+    );
+    let map = baked_map(&page).expect("the page's map (#bake-map)");
+    let native_bytes = std::fs::read(drops.join("native_normal.png")).expect("the native map");
+    let (ours, theirs) = (
+        image::load_from_memory(&map)
+            .expect("the page's PNG")
+            .into_rgb8(),
+        image::open(drops.join("native_normal.png"))
+            .unwrap()
+            .into_rgb8(),
+    );
+    assert_eq!(ours.dimensions(), (256, 256));
+    let d = frame_diff(&ours, &theirs);
+    let during = page
+        .attribute("bake", "data-frames-during")
+        .unwrap_or_default();
+    let frames: Vec<u32> = during.split(' ').filter_map(|f| f.parse().ok()).collect();
+    eprintln!(
+        "web: the page's bake (256², a 192 × 96 sculpt onto a 32 × 16 sphere): {} texels differ \
+         from the native map (by {} levels at most); its PNG is {} the native file; the page drew \
+         frames {during} while it baked",
+        d.differing(),
+        d.max(),
+        if map == native_bytes {
+            "byte for byte"
+        } else {
+            "not byte for byte"
+        }
+    );
+    assert_eq!(d.differing(), 0, "the page's map is not the native one");
+    assert_eq!(map, native_bytes, "the same texels, another PNG");
+    assert!(
+        matches!(frames[..], [start, end] if end > start),
+        "no frame was drawn while the worker baked: {during}"
+    );
+    // The map on LOW, in the frame it was baked for.
+    let with_map = common::headless_screenshot(
+        &drops,
+        "with_map.png",
+        &[
+            "--model",
+            "low.obj",
+            "--normal-map",
+            "native_normal.png",
+            "--tangents",
+            "mikktspace",
+        ],
+    );
+    let without = common::headless_screenshot(
+        &drops,
+        "without.png",
+        &["--model", "low.obj", "--tangents", "mikktspace"],
+    );
+    let share = share_within(&page.shot, &with_map);
+    let (near, flat) = (
+        frame_diff(&page.shot, &with_map).over(2),
+        frame_diff(&page.shot, &without).over(2),
+    );
+    eprintln!(
+        "web: the baked map drawn on LOW: {:.2} % of pixels within {TOLERANCE} levels of the \
+         native frame; {near} pixels differ from it by more than 2 levels, {flat} from LOW \
+         without the map",
+        share * 100.0
+    );
+    assert!(
+        share >= WITHIN,
+        "LOW with the map: {share:.4} within {TOLERANCE}"
+    );
+    assert!(
+        flat > near,
+        "the page's LOW is as near the frame without the map"
+    );
+}
+
+// Fails if a bake with LOW's slot left empty, a file that is no model dropped on a slot, or a LOW
+// without UVs does not put one line on the page (for the UV-less LOW, the native command's own
+// line, LOW named as the page keeps it), if any of them gives a map, or logs an error.
+#[test]
+fn bad_bakes_give_one_line() {
+    let Some(base) = page_url("web::bad_bakes_give_one_line") else {
+        return;
+    };
+    let drops = served_drops();
+    let (high, _) = bake_pair(&drops, 64);
+    std::fs::write(drops.join("notes.txt"), "not a model\n").expect("notes.txt");
+    let bare = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\n";
+    std::fs::write(drops.join("bare.obj"), bare).expect("bare.obj");
+    let native = common::run(
+        common::tutorial13()
+            .args(["bake", high[0], "bare.obj", "-o", "bare_normal.png"])
+            .current_dir(&drops),
+    );
+    assert!(!native.status.success(), "a LOW without UVs baked natively");
+    let native = common::text(&native.stderr);
+    let native = native.trim().trim_start_matches("tutorial13: ");
+    let cases = [
+        (
+            format!("bake-high={}", high[0]),
+            "bake: drop LOW's files on their slots first (a bake needs both models)".to_string(),
+        ),
+        (
+            "bake-high=notes.txt&bake-start=off".into(),
+            "bake: notes.txt is no model (drop an .obj, .gltf or .glb model on HIGH, with its \
+             .mtl and maps)"
+                .into(),
+        ),
+        (
+            format!("bake-high={}&bake-low=bare.obj", high[0]),
+            native.replace("bare.obj", "low/bare.obj"),
+        ),
+    ];
+    for (bake, line) in cases {
+        let page = load_when(
+            "bad-bake",
+            &base,
+            &format!("frames=100000&{bake}"),
+            BAKE_SETTLED,
+        );
+        page.check_console(&bake);
+        assert_eq!(page.text("message"), Some(line), "{bake}");
+        assert!(page.text("bake-map").is_none(), "{bake}: a map came");
+        assert_ne!(
+            page.attribute("bake", "data-state").as_deref(),
+            Some("done")
+        );
+    }
+}
+
+// Fails if Cancel, clicked as the rays start on a bake that takes the worker about a second (1024²),
+// does not end it so that the next bake (256²) is the panel's: the states must go running,
+// cancelled, running, done, and the map be the native 256² one (with Cancel only showing
+// "cancelled", the first bake's 1024² map came); or if anything puts a line on the page or an
+// error in the console.
+#[test]
+fn cancel_ends_the_bake() {
+    let Some(base) = page_url("web::cancel_ends_the_bake") else {
+        return;
+    };
+    let drops = served_drops();
+    let (high, low) = bake_pair(&drops, 192);
+    let native = common::run(
+        common::tutorial13()
+            .args([
+                "bake",
+                high[0],
+                low[0],
+                "-o",
+                "native_normal.png",
+                "--size",
+                "256",
+            ])
+            .current_dir(&drops),
+    );
+    assert!(native.status.success(), "{}", common::text(&native.stderr));
+    let query = format!(
+        "scene=cylinder&panel=off&frames=100000&bake-high={}&bake-low={}\
+         &bake-set=bake-size:1024&bake-cancel&bake-again=bake-size:256",
+        high.join(","),
+        low.join(",")
+    );
+    let page = load_when("cancel", &base, &query, BAKE_SETTLED);
+    page.check_clean("cancel");
+    let map = baked_map(&page).expect("the second bake's map");
+    let map = image::load_from_memory(&map)
+        .expect("the page's PNG")
+        .into_rgb8();
+    eprintln!(
+        "web: Cancel, then a bake again: the panel went {:?}; the map is {:?}",
+        page.text("bake-states").unwrap_or_default(),
+        map.dimensions()
+    );
+    assert_eq!(
+        map.dimensions(),
+        (256, 256),
+        "the cancelled bake's map came"
+    );
+    assert_eq!(
+        page.text("bake-states").as_deref(),
+        Some("running cancelled running done")
+    );
+    let native = image::open(drops.join("native_normal.png"))
+        .unwrap()
+        .into_rgb8();
+    assert_eq!(
+        frame_diff(&map, &native).differing(),
+        0,
+        "not the native map"
+    );
+}
+
+/// The page's budget for its module, gzipped (4 MB).
+const WASM_BUDGET_GZIPPED: usize = 4_000_000;
+
+// Fails if the page's module (the .wasm web/build.sh wrote, which the bake's worker loads too),
+// compressed as a server sends it (`gzip -9`), is over 4 MB.
+#[test]
+fn the_pages_module_is_within_its_budget() {
+    let Some(_) = page_url("web::the_pages_module_is_within_its_budget") else {
+        return;
+    };
+    let served =
+        std::env::var("TUTORIAL13_WEB_DIR").expect("TUTORIAL13_WEB_DIR (web/test.sh sets it)");
+    let module = Path::new(&served).join("tutorial13_bg.wasm");
+    let raw = std::fs::metadata(&module).expect("the page's module").len();
+    let gzip = common::run(Command::new("gzip").arg("-9").arg("-c").arg(&module));
+    assert!(gzip.status.success(), "gzip -9 runs");
+    let gzipped = gzip.stdout.len();
+    eprintln!("web: the page's module: {raw} bytes, gzip -9 {gzipped} bytes");
+    assert!(
+        gzipped <= WASM_BUDGET_GZIPPED,
+        "{gzipped} bytes gzipped, over the budget of {WASM_BUDGET_GZIPPED}"
+    );
 }

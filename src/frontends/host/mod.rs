@@ -223,9 +223,23 @@ impl SceneHost {
     /// A dropped file: the scene that opens it ([`crate::scenes::open_file`]), built with it, the
     /// camera at its start. On an error the current scene stays.
     pub fn open_file(&mut self, path: &Path) -> Result<()> {
+        self.open_file_with(path, |_| {})
+    }
+
+    /// [`SceneHost::open_file`] with the options `change` makes for this opening only (the page's
+    /// baked map drawn on LOW): Enter, or the next file, starts from the options without them.
+    pub fn open_file_with(
+        &mut self,
+        path: &Path,
+        change: impl FnOnce(&mut SceneOptions),
+    ) -> Result<()> {
         let mut options = self.options.clone();
         let next = crate::scenes::open_file(path, &mut options)?;
-        self.install(next, options)
+        let kept = options.clone();
+        change(&mut options);
+        self.install(next, options)?;
+        self.options = kept;
+        Ok(())
     }
 
     /// A [`Request::Fetch`]'s files are in: does what was waiting for them.

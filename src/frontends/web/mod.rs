@@ -12,6 +12,7 @@
 //! asks of it: fetch a scene's files before it switches ([`Page::honour`]). Errors are one line on
 //! the page, the same line the native program prints.
 
+mod bake;
 mod input;
 
 use std::cell::RefCell;
@@ -302,6 +303,7 @@ async fn run() -> Result<(), String> {
     }));
     FROZEN.with(|frozen| frozen.set(contract.frames.is_some()));
     input::listen(&window, &canvas, &page)?;
+    bake::listen(&page)?;
     // "loading…" goes.
     clear_error();
     animate(page);
