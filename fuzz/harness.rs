@@ -808,6 +808,8 @@ fn bake_models(
         high_face_normals: high.normals_computed,
         extrusion: extrusion * scale,
         max_distance: max_distance * scale,
+        cage: None,
+        pairing: None,
     };
     Some(bake_soups(&input, settings))
 }
