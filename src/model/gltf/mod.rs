@@ -459,6 +459,23 @@ fn append<T>(to: &mut Vec<T>, mut more: Vec<T>) {
 mod tests {
     use super::*;
 
+    // Fails if a triangle of primitives whose materials interleave is not given its index in the
+    // order the primitives were met, or if an order that is the soup's is not left empty.
+    #[test]
+    fn the_file_order_follows_the_primitives_met() {
+        let corners = |triangles: usize| Corners {
+            vertices: vec![Vec3::ZERO; 3 * triangles],
+            ..Corners::default()
+        };
+        // Material 0's primitives hold the file's triangles 0, 1 and 3; material 1's 2, 4 and 5.
+        let runs = [(0, 2), (1, 1), (0, 1), (1, 2)];
+        assert_eq!(
+            file_order(&runs, &[corners(3), corners(3)]),
+            [0, 1, 3, 2, 4, 5]
+        );
+        assert!(file_order(&[(0, 2), (0, 1), (1, 3)], &[corners(3), corners(3)]).is_empty());
+    }
+
     // Fails if a node's transform is not applied (the fuzz corpus's quad sits under a node that
     // moves it by +2 in x and a child that mirrors x), if the mirror leaves the winding clockwise
     // (the quad would face away from its normal), or if the file's tangent keeps its w there.
