@@ -705,7 +705,8 @@ mod tests {
     }
 
     // Fails if interleaved materials are not grouped in first-use order with each one's triangles
-    // kept in order, or if the ranges do not match.
+    // kept in order, if the ranges do not match, or if a grouped triangle's file index is not the
+    // one it came from.
     #[test]
     fn triangles_are_grouped_by_material_in_first_use_order() {
         let triangle = |k: f32| [Vec3::splat(k); 3];
@@ -717,8 +718,18 @@ mod tests {
         let (grouped, ranges, file_order) = group_by_material(soup.clone(), &[2, 0, 2, 1, 0]);
         let order: Vec<f32> = grouped.vertices.chunks(3).map(|c| c[0].x).collect();
         assert_eq!(order, [0.0, 2.0, 1.0, 4.0, 3.0]);
-        // Each grouped triangle's index in the file: the same as the positions tell.
+        // Each grouped triangle's index in the file: the same as the positions tell (and for an
+        // order that is not its own inverse).
         assert_eq!(file_order, [0, 2, 1, 4, 3]);
+        let soup6 = TriangleSoup {
+            vertices: (0..6).flat_map(|t| triangle(t as f32)).collect(),
+            uvs: vec![glam::Vec2::ZERO; 18],
+            normals: vec![Vec3::Z; 18],
+        };
+        let (grouped, _, file_order) = group_by_material(soup6, &[1, 0, 0, 1, 2, 0]);
+        let order: Vec<u32> = grouped.vertices.chunks(3).map(|c| c[0].x as u32).collect();
+        assert_eq!(file_order, order);
+        assert_eq!(file_order, [0, 3, 1, 2, 5, 4]);
         let spans: Vec<(usize, std::ops::Range<usize>)> = ranges
             .iter()
             .map(|r| (r.material, r.triangles.clone()))
