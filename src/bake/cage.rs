@@ -36,7 +36,6 @@ pub fn cage_corners(cage: &Model, low: &Model) -> Result<Vec<Vec3>, String> {
     let mut corners = Vec::with_capacity(3 * triangles);
     // Each cage vertex's first corner (LOW's soup order), by the vertex's bits.
     let mut first_at: HashMap<[u32; 3], usize> = HashMap::new();
-    let key = |p: Vec3| (p + Vec3::ZERO).to_array().map(f32::to_bits);
     for t in 0..low_triangles {
         let c = cage_of_file[file_index(low, t)];
         for k in 0..3 {
@@ -50,18 +49,25 @@ pub fn cage_corners(cage: &Model, low: &Model) -> Result<Vec<Vec3>, String> {
                 ));
             }
             let corner = 3 * t + k;
-            let first = *first_at.entry(key(read)).or_insert(corner);
+            let first = *first_at.entry(point_key(read)).or_insert(corner);
             if low.soup.vertices[first] != low.soup.vertices[corner] {
                 let (ours, theirs) = (file_index(low, t), file_index(low, first / 3));
-                return Err(format!(
-                    "its triangles {} and {} (in the file's order, fanned from each face's \
-                     first corner) share a vertex that LOW's do not: the cage has {} vertices \
-                     where LOW has {}; a cage is LOW with its corners moved, the same faces in \
-                     the same order",
-                    theirs + 1,
-                    ours + 1,
+                let counts = (
                     vertex_count(&cage.soup.vertices),
                     vertex_count(&low.soup.vertices),
+                );
+                let why = match counts {
+                    (cage, low) if cage != low => {
+                        format!("the cage has {cage} vertices where LOW has {low}")
+                    }
+                    _ => "LOW's faces cut or ordered otherwise".to_string(),
+                };
+                return Err(format!(
+                    "its triangles {} and {} (in the file's order, fanned from each face's \
+                     first corner) share a vertex that LOW's do not ({why}); a cage is LOW with \
+                     its corners moved, the same faces in the same order",
+                    theirs + 1,
+                    ours + 1,
                 ));
             }
             corners.push(placed);
@@ -75,6 +81,11 @@ pub fn vertex_count(corners: &[Vec3]) -> usize {
     let mut seen = std::collections::HashSet::new();
     corners
         .iter()
-        .filter(|p| seen.insert((**p + Vec3::ZERO).to_array().map(f32::to_bits)))
+        .filter(|p| seen.insert(point_key(**p)))
         .count()
+}
+
+/// A point's bits, -0 taken as 0: corners at one point have one key.
+fn point_key(p: Vec3) -> [u32; 3] {
+    (p + Vec3::ZERO).to_array().map(f32::to_bits)
 }

@@ -505,7 +505,11 @@ impl BakeFiles {
         let pairing = Pairing::new(&low, &high);
         if pairing.pairs.is_empty() {
             let list = |names: &[String]| -> String {
-                let shown: Vec<String> = names.iter().take(6).map(|n| format!("'{n}'")).collect();
+                let quoted = |n: &String| match n.as_str() {
+                    "" => "(unnamed)".to_string(),
+                    n => format!("'{n}'"),
+                };
+                let shown: Vec<String> = names.iter().take(6).map(quoted).collect();
                 let more = names.len().saturating_sub(6);
                 match more {
                     0 => shown.join(", "),

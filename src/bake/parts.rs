@@ -37,16 +37,19 @@ pub fn base_name(name: &str, suffixes: &[&str]) -> String {
     lower
 }
 
+/// One side's part names in a pair, and their triangles.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Side {
+    pub names: Vec<String>,
+    pub triangles: usize,
+}
+
 /// One key's parts on both sides.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Pair {
     pub key: String,
-    /// LOW's part names with this key, and their triangles.
-    pub low: Vec<String>,
-    pub low_triangles: usize,
-    /// HIGH's, likewise.
-    pub high: Vec<String>,
-    pub high_triangles: usize,
+    pub low: Side,
+    pub high: Side,
 }
 
 /// LOW's and HIGH's parts paired by key.
@@ -65,84 +68,70 @@ pub struct Pairing {
 impl Pairing {
     /// Pairs `low`'s parts with `high`'s by key, in the order LOW names them.
     pub fn new(low: &PartNames, high: &PartNames) -> Pairing {
-        let low_keys: Vec<String> = low
-            .names
-            .iter()
-            .map(|n| base_name(n, &LOW_SUFFIXES))
-            .collect();
-        let high_keys: Vec<String> = high
-            .names
-            .iter()
-            .map(|n| base_name(n, &HIGH_SUFFIXES))
-            .collect();
+        let keys = |names: &PartNames, suffixes: &[&str]| -> Vec<String> {
+            names.names.iter().map(|n| base_name(n, suffixes)).collect()
+        };
+        let (low_keys, high_keys) = (keys(low, &LOW_SUFFIXES), keys(high, &HIGH_SUFFIXES));
         let mut pairs: Vec<Pair> = Vec::new();
         for key in &low_keys {
             let paired = !key.is_empty() && high_keys.contains(key);
             if paired && !pairs.iter().any(|p| p.key == *key) {
                 pairs.push(Pair {
                     key: key.clone(),
-                    low: Vec::new(),
-                    low_triangles: 0,
-                    high: Vec::new(),
-                    high_triangles: 0,
+                    low: Side::default(),
+                    high: Side::default(),
                 });
             }
         }
-        let pair_of = |key: &String| {
-            let found = pairs.iter().position(|p| p.key == *key);
-            found.map_or(NO_PAIR, |p| p as u32)
-        };
-        let low_name_pairs: Vec<u32> = low_keys.iter().map(pair_of).collect();
-        let high_name_pairs: Vec<u32> = high_keys.iter().map(pair_of).collect();
-        let low_triangles: Vec<u32> = low
-            .of_triangle
-            .iter()
-            .map(|&n| low_name_pairs[n as usize])
-            .collect();
-        let high_triangles: Vec<u32> = high
-            .of_triangle
-            .iter()
-            .map(|&n| high_name_pairs[n as usize])
-            .collect();
-        let counts = |names: &PartNames| {
-            let mut counts = vec![0usize; names.names.len()];
-            names
-                .of_triangle
-                .iter()
-                .for_each(|&n| counts[n as usize] += 1);
-            counts
-        };
-        let (low_counts, high_counts) = (counts(low), counts(high));
-        let mut unpaired_low = Vec::new();
-        for (n, name) in low.names.iter().enumerate() {
-            match low_name_pairs[n] {
-                NO_PAIR => unpaired_low.push((name.clone(), low_counts[n])),
-                p => {
-                    let pair = &mut pairs[p as usize];
-                    pair.low.push(name.clone());
-                    pair.low_triangles += low_counts[n];
-                }
-            }
-        }
-        let mut unpaired_high = Vec::new();
-        for (n, name) in high.names.iter().enumerate() {
-            match high_name_pairs[n] {
-                NO_PAIR => unpaired_high.push((name.clone(), high_counts[n])),
-                p => {
-                    let pair = &mut pairs[p as usize];
-                    pair.high.push(name.clone());
-                    pair.high_triangles += high_counts[n];
-                }
-            }
-        }
+        let (low_pairs, unpaired_low) = assign(low, &low_keys, &mut pairs, |p| &mut p.low);
+        let (high_pairs, unpaired_high) = assign(high, &high_keys, &mut pairs, |p| &mut p.high);
         Pairing {
             pairs,
-            low: low_triangles,
-            high: high_triangles,
+            low: low_pairs,
+            high: high_pairs,
             unpaired_low,
             unpaired_high,
         }
     }
+}
+
+/// Each of `names`' triangles' pair by its name's key, each name added to its pair's `side`; and
+/// the names in no pair, with their triangles.
+fn assign(
+    names: &PartNames,
+    keys: &[String],
+    pairs: &mut [Pair],
+    side: fn(&mut Pair) -> &mut Side,
+) -> (Vec<u32>, Vec<(String, usize)>) {
+    let mut counts = vec![0usize; names.names.len()];
+    names
+        .of_triangle
+        .iter()
+        .for_each(|&n| counts[n as usize] += 1);
+    let name_pairs: Vec<u32> = keys
+        .iter()
+        .map(|key| {
+            let found = pairs.iter().position(|p| p.key == *key);
+            found.map_or(NO_PAIR, |p| p as u32)
+        })
+        .collect();
+    let mut unpaired = Vec::new();
+    for (n, name) in names.names.iter().enumerate() {
+        match name_pairs[n] {
+            NO_PAIR => unpaired.push((name.clone(), counts[n])),
+            p => {
+                let side = side(&mut pairs[p as usize]);
+                side.names.push(name.clone());
+                side.triangles += counts[n];
+            }
+        }
+    }
+    let triangles = names
+        .of_triangle
+        .iter()
+        .map(|&n| name_pairs[n as usize])
+        .collect();
+    (triangles, unpaired)
 }
 
 /// What a ray from a LOW triangle may meet: all of HIGH, or its pair's HIGH triangles.
@@ -264,8 +253,8 @@ mod tests {
         let pairing = Pairing::new(&low, &high);
         let keys: Vec<&str> = pairing.pairs.iter().map(|p| p.key.as_str()).collect();
         assert_eq!(keys, ["grip", "barrel"]);
-        assert_eq!(pairing.pairs[0].high, ["grip_HP", "grip_high.001"]);
-        assert_eq!(pairing.pairs[0].high_triangles, 2);
+        assert_eq!(pairing.pairs[0].high.names, ["grip_HP", "grip_high.001"]);
+        assert_eq!(pairing.pairs[0].high.triangles, 2);
         assert_eq!(pairing.low, [0, 1, 1, NO_PAIR, NO_PAIR, 0]);
         assert_eq!(pairing.high, [1, 1, NO_PAIR, 0, NO_PAIR, 0, 1]);
         assert_eq!(

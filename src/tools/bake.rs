@@ -246,10 +246,10 @@ fn report_pairs(pairing: &Pairing) {
     for pair in &pairing.pairs {
         println!(
             "paired LOW's {} ({} triangles) with HIGH's {} ({} triangles)",
-            names(&pair.low),
-            pair.low_triangles,
-            names(&pair.high),
-            pair.high_triangles
+            names(&pair.low.names),
+            pair.low.triangles,
+            names(&pair.high.names),
+            pair.high.triangles
         );
     }
     let unnamed = |name: &str| match name {
