@@ -498,11 +498,16 @@ impl BakeFiles {
 
     /// Pairs LOW's parts with HIGH's by name ([`parts`]): refused where no name pairs.
     pub fn match_names(&mut self) -> Result<&Pairing> {
+        let clock = Instant::now();
         let read = crate::files::read;
         let high =
             crate::model::parts::part_names(&self.high, self.high_soup.triangle_count(), read)?;
         let low = crate::model::parts::part_names(&self.low, self.low.soup.triangle_count(), read)?;
         let pairing = Pairing::new(&low, &high);
+        log::info!(
+            "bake: parts named and paired in {:.2} s",
+            clock.elapsed().as_secs_f64()
+        );
         if pairing.pairs.is_empty() {
             let list = |names: &[String]| -> String {
                 let quoted = |n: &String| match n.as_str() {
