@@ -9,7 +9,9 @@
 //! normal is written in LOW's frame at the texel: the inverse of what the renderer does with the
 //! frame, so that drawing LOW with the map in that frame gives HIGH's normal back. A ray that meets
 //! nothing writes the flat normal. These are Blender's semantics (`cage_extrusion`,
-//! `max_ray_distance`), so that the same settings give the same map.
+//! `max_ray_distance`), so that the same settings give the same map. With a cage of its own
+//! ([`cage`], Blender's `cage_object`) a ray starts at the cage's point and goes toward LOW's; with
+//! parts matched by name ([`parts`]) a LOW part's rays meet only its HIGH part.
 //!
 //! The frames ([`Tangents`]):
 //! * MikkTSpace (glTF's rule, Blender's bake): the renderer rebuilds n = t.x·T + t.y·B + t.z·N per
@@ -24,6 +26,8 @@
 //!   the bake measures by how much ([`Skew`]).
 
 pub mod bvh;
+pub mod cage;
+pub mod parts;
 mod texels;
 
 use std::path::Path;
@@ -38,6 +42,7 @@ use crate::model::{load_model, MapOverrides, Model};
 use crate::tangents::stretch;
 use crate::{Error, Result};
 
+pub use parts::Pairing;
 pub use texels::{TexelState, UvLayout};
 
 /// The frame the map is baked for.
@@ -291,14 +296,19 @@ pub struct BakeInput<'a> {
     /// In this space's units.
     pub extrusion: f32,
     pub max_distance: f32,
+    /// A cage ([`cage::cage_corners`]): a point per LOW corner, in this space. Each ray starts at
+    /// the cage's point and goes toward LOW's (`extrusion` is not used).
+    pub cage: Option<&'a [Vec3]>,
+    /// Parts matched by name: a LOW triangle's rays meet only its pair's HIGH triangles.
+    pub pairing: Option<&'a Pairing>,
 }
 
-/// The hierarchy over HIGH, each triangle with its corner normals (its face normal first, with
-/// `high_face_normals`): a hit reads them beside the triangle its search read last, not from
-/// anywhere in the mesh's tens of megabytes.
-fn high_bvh(input: &BakeInput, threads: usize) -> bvh::Bvh {
+/// Each HIGH triangle's corner normals (its face normal first, with `high_face_normals`), kept in
+/// the hierarchy beside the triangle: a hit reads them beside the triangle its search read last,
+/// not from anywhere in the mesh's tens of megabytes.
+fn high_normals<'a>(input: &'a BakeInput) -> impl Fn(usize) -> [Vec3; 3] + Sync + 'a {
     let high = input.high;
-    let normals = |t: usize| {
+    move |t: usize| {
         let corners = 3 * t..3 * t + 3;
         if input.high_face_normals {
             let p = &high.vertices[corners];
@@ -307,8 +317,7 @@ fn high_bvh(input: &BakeInput, threads: usize) -> bvh::Bvh {
             let n = &high.normals[corners];
             [n[0], n[1], n[2]]
         }
-    };
-    bvh::Bvh::build_with(&high.vertices, normals, threads)
+    }
 }
 
 /// Told what a bake is doing, for a progress bar (the page's): the stage in words, and the share of
@@ -336,18 +345,23 @@ pub fn bake_soups_with(
     };
     tell("building the BVH", 0.0);
     let clock = Instant::now();
-    let bvh = high_bvh(input, settings.threads);
+    let targets = parts::Targets::build(
+        input.high,
+        input.pairing,
+        settings.threads,
+        high_normals(input),
+    );
     log::info!(
         "bake: BVH over {} triangles ({} nodes) in {:.2} s",
         input.high.triangle_count(),
-        bvh.node_count(),
+        targets.node_count(),
         clock.elapsed().as_secs_f64()
     );
     let clock = Instant::now();
     let layout = UvLayout::new(input.low, settings.width, settings.height, settings.samples);
     let sampler = Sampler {
         input,
-        bvh: &bvh,
+        targets: &targets,
         space: settings.space,
         measure_skew: matches!(input.frames.bitangents, Bitangents::Given(_)),
         reach: Reach::of(input),
@@ -401,7 +415,7 @@ fn uv_samples(low: &TriangleSoup, settings: &BakeSettings) -> f64 {
 /// Each sample's ray, and its normal in the map's space.
 struct Sampler<'a> {
     input: &'a BakeInput<'a>,
-    bvh: &'a bvh::Bvh,
+    targets: &'a parts::Targets<'a>,
     space: Space,
     measure_skew: bool,
     reach: Reach,
@@ -464,7 +478,13 @@ impl Reach {
                 })
         };
         let low = bounds(&mut input.low.vertices.iter());
-        let both = bounds(&mut input.low.vertices.iter().chain(&input.high.vertices));
+        // A cage's points too: its rays start there.
+        let cage = input.cage.unwrap_or_default();
+        let both = bounds(
+            &mut (input.low.vertices.iter())
+                .chain(&input.high.vertices)
+                .chain(cage),
+        );
         // Generous, so that rounding cannot cut a ray that reaches a triangle.
         let width = (both.1 - both.0).max(Vec3::ZERO).length() * 1.01 + f32::MIN_POSITIVE;
         let extrusion = input.extrusion.min(width);
@@ -493,9 +513,18 @@ impl Sampler<'_> {
         let mix = |v: &[Vec3]| -> Vec3 { (0..3).map(|i| v[3 * t + i] * b[i]).sum() };
         let position = mix(&low.vertices);
         let normal = mix(&low.normals).normalize_or_zero();
+        let (origin, direction) = match self.input.cage {
+            None => (position + normal * self.reach.extrusion, -normal),
+            Some(cage) => {
+                let origin = mix(cage);
+                // Where the cage touches LOW the ray goes in along LOW's normal.
+                let direction = (position - origin).try_normalize().unwrap_or(-normal);
+                (origin, direction)
+            }
+        };
         let ray = bvh::Ray {
-            origin: position + normal * self.reach.extrusion,
-            direction: -normal,
+            origin,
+            direction,
             max_distance: self.reach.max_distance,
         };
         (ray, normal)
@@ -511,9 +540,13 @@ impl Sampler<'_> {
             for (k, &(t, b)) in chunk.iter().enumerate() {
                 (rays[k], normals[k]) = self.ray(t, b);
             }
+            let triangles: [usize; bvh::PACKET] =
+                std::array::from_fn(|k| chunk.get(k).map_or(0, |c| c.0));
+            let triangles = &triangles[..n];
             let mut hits = [None; bvh::PACKET];
-            self.bvh.first_hits(&rays[..n], &mut hits[..n]);
-            let (beyond, outside) = self.look(&rays[..n], &normals[..n], &hits[..n]);
+            self.targets
+                .first_hits(triangles, &rays[..n], &mut hits[..n]);
+            let (beyond, outside) = self.look(triangles, &rays[..n], &normals[..n], &hits[..n]);
             // HIGH's normals read for the whole packet first: each read may wait on memory, and
             // these waits overlap where the shading's long sums would not let them.
             let high: [Option<Vec3>; bvh::PACKET] =
@@ -522,6 +555,8 @@ impl Sampler<'_> {
             self.shade(chunk, &normals[..n], &high[..n], out);
             for (k, sample) in out[first..].iter_mut().enumerate() {
                 (sample.beyond, sample.outside) = (beyond[k], outside[k]);
+                // A LOW part without a partner meets nothing and is not a miss: it is said once.
+                sample.missed &= self.targets.paired(triangles[k]);
             }
         }
     }
@@ -532,6 +567,7 @@ impl Sampler<'_> {
     #[allow(clippy::type_complexity)]
     fn look(
         &self,
+        triangles: &[usize],
         rays: &[bvh::Ray],
         normals: &[Vec3],
         hits: &[Option<bvh::Hit>],
@@ -539,6 +575,7 @@ impl Sampler<'_> {
         let mut found = ([None; bvh::PACKET], [None; bvh::PACKET]);
         let missed: Vec<usize> = (0..rays.len())
             .filter(|&k| hits[k].is_none() && normals[k] != Vec3::ZERO)
+            .filter(|&k| self.targets.paired(triangles[k]))
             .collect();
         if missed.is_empty() {
             return found;
@@ -552,8 +589,9 @@ impl Sampler<'_> {
                     max_distance: self.reach.look,
                 })
                 .collect();
+            let from: Vec<usize> = missed.iter().map(|&k| triangles[k]).collect();
             let mut hits = vec![None; looks.len()];
-            self.bvh.first_hits(&looks, &mut hits);
+            self.targets.first_hits(&from, &looks, &mut hits);
             for (&k, hit) in missed.iter().zip(hits) {
                 into[k] = hit.map(|h| h.distance);
             }
@@ -652,6 +690,10 @@ pub struct BakeFiles {
     pub frames: CornerFrames,
     /// Placed units per LOW file unit.
     pub scale: f32,
+    /// The cage's corners in LOW's placed space ([`BakeFiles::load_cage`]).
+    pub cage: Option<Vec<Vec3>>,
+    /// LOW's parts paired with HIGH's ([`BakeFiles::match_names`]).
+    pub pairing: Option<Pairing>,
 }
 
 impl BakeFiles {
@@ -719,7 +761,72 @@ impl BakeFiles {
             high_soup,
             frames,
             scale,
+            cage: None,
+            pairing: None,
         })
+    }
+
+    /// Reads a cage for LOW (anything `--model` reads, its UVs not used): LOW's faces in LOW's
+    /// order, its corners moved ([`cage`]).
+    pub fn load_cage(&mut self, path: &Path) -> Result<()> {
+        let cage = crate::model::load_shape(path)?;
+        let corners = cage::cage_corners(&cage, &self.low).map_err(|reason| Error::Bake {
+            path: path.to_path_buf(),
+            reason: format!("not a cage for LOW: {reason}"),
+        })?;
+        let (split, shared) = (
+            cage::vertex_count(&cage.soup.vertices),
+            cage::vertex_count(&self.low.soup.vertices),
+        );
+        if split > shared {
+            log::info!(
+                "{}: the cage has {split} vertices where LOW has {shared}: where it splits one of \
+             LOW's vertices (a hard edge pushed apart) its rays leave a gap",
+                path.display()
+            );
+        }
+        self.cage = Some(corners);
+        Ok(())
+    }
+
+    /// Pairs LOW's parts with HIGH's by name ([`parts`]): refused where no name pairs.
+    pub fn match_names(&mut self) -> Result<&Pairing> {
+        let clock = Instant::now();
+        let read = crate::files::read;
+        let high =
+            crate::model::parts::part_names(&self.high, self.high_soup.triangle_count(), read)?;
+        let low = crate::model::parts::part_names(&self.low, self.low.soup.triangle_count(), read)?;
+        let pairing = Pairing::new(&low, &high);
+        log::info!(
+            "bake: parts named and paired in {:.2} s",
+            clock.elapsed().as_secs_f64()
+        );
+        if pairing.pairs.is_empty() {
+            let list = |names: &[String]| -> String {
+                let quoted = |n: &String| match n.as_str() {
+                    "" => "(unnamed)".to_string(),
+                    n => format!("'{n}'"),
+                };
+                let shown: Vec<String> = names.iter().take(6).map(quoted).collect();
+                let more = names.len().saturating_sub(6);
+                match more {
+                    0 => shown.join(", "),
+                    _ => format!("{} and {more} more", shown.join(", ")),
+                }
+            };
+            return Err(Error::Bake {
+                path: self.low.path.clone(),
+                reason: format!(
+                    "--match-names: no part's name pairs with one of {} (LOW's parts: {}; \
+                     HIGH's: {}); names pair without their suffixes _low/_lp and _high/_hp, case \
+                     ignored",
+                    self.high.path.display(),
+                    list(&low.names),
+                    list(&high.names)
+                ),
+            });
+        }
+        Ok(self.pairing.insert(pairing))
     }
 
     /// The bake, with `extrusion` and `max_distance` in LOW's file units.
@@ -733,13 +840,20 @@ impl BakeFiles {
         settings: &BakeSettings,
         progress: Option<BakeProgress>,
     ) -> Result<BakedMap> {
+        // With a cage, no maximum distance is no bound (Blender's `max_ray_distance` 0).
+        let max_distance = match self.cage.is_some() && settings.max_distance == 0.0 {
+            true => f32::INFINITY,
+            false => settings.max_distance * self.scale,
+        };
         let input = BakeInput {
             low: &self.low.soup,
             frames: &self.frames,
             high: &self.high_soup,
             high_face_normals: self.high.normals_computed,
             extrusion: settings.extrusion * self.scale,
-            max_distance: settings.max_distance * self.scale,
+            max_distance,
+            cage: self.cage.as_deref(),
+            pairing: self.pairing.as_ref(),
         };
         let map = bake_soups_with(&input, settings, progress);
         if map.stats.covered == 0 {
@@ -785,6 +899,8 @@ mod found_by_fuzzing {
                 high_face_normals: false,
                 extrusion: 0.1,
                 max_distance: 0.2,
+                cage: None,
+                pairing: None,
             };
             let settings = BakeSettings {
                 width: 8,

@@ -60,7 +60,7 @@ pub fn bake(args: Vec<String>, progress: js_sys::Function) -> Result<js_sys::Obj
     let report = [Some(coverage(&settings, &map)), scale_warning(&options, &settings, radius)]
         .into_iter()
         .flatten()
-        .chain([misses(&settings, &map.stats, files.scale)])
+        .chain([misses(&options, &settings, &map.stats, files.scale)])
         .collect::<Vec<_>>()
         .join("; ");
     let result = js_sys::Object::new();
