@@ -178,11 +178,13 @@ fn degrees(a: Vec3, b: Vec3) -> f64 {
     a.cross(b).length().atan2(a.dot(b)).to_degrees()
 }
 
-/// The number before " rays" in the report's line of misses (0 where every ray met HIGH).
+/// The number before " rays" in the report's line of misses (0 where every ray met HIGH), which
+/// starts `warning: ` where more than a few percent missed.
 fn missed_rays(stdout: &str) -> usize {
     stdout
         .lines()
         .find(|l| l.contains("met nothing"))
+        .map(|l| l.trim_start_matches("warning: "))
         .map_or(0, |l| l.split(' ').next().unwrap().parse().unwrap())
 }
 
