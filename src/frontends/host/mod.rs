@@ -2,10 +2,10 @@
 //! sokol_app's callbacks are to their programs). It owns the context's [`GlContext`], the scene, its
 //! descriptor and the options it was built with, the tutorial's camera (`controls.cpp`) and the
 //! input that moves it, the cursor, the frame clock and the panel. A front end creates its context,
-//! translates its platform's events into [`Event`]s ([`SceneHost::event`], in [`input`]), draws each
-//! frame with [`SceneHost::frame`], presents it, and honours the [`Request`]s the host gives back
-//! ([`SceneHost::next_request`]): quit, grab the cursor, save a screenshot, fetch files, set the
-//! title. So the window, the browser page, headless rendering and the tests differ only in where
+//! translates its platform's events into [`Event`](super::events::Event)s ([`SceneHost::event`], in
+//! `input.rs`), draws each frame with [`SceneHost::frame`], presents it, and honours the
+//! [`Request`]s the host gives back ([`SceneHost::next_request`]): quit, grab the cursor, save a
+//! screenshot, fetch files, set the title. So the window, the browser page, headless rendering and the tests differ only in where
 //! the frame goes and where their input comes from: Enter, a dropped file, R or a click on the
 //! panel does the same in each.
 
@@ -366,8 +366,8 @@ impl SceneHost {
     /// One frame into the bound framebuffer, kept in time as [`SceneHost::set_time`] says: the clock
     /// ticked, the viewport set to the frame's size, the scene drawn in its GL state
     /// ([`SceneDescriptor::gl_state`]), the panel run and painted over it if shown and `panel`, what
-    /// was clicked on it done, then GL's errors drained (see [`ERROR_CHECK_FRAMES`]: an error is a
-    /// bug in this program, so it is returned, not ignored).
+    /// was clicked on it done, then GL's errors drained (every frozen or stepped frame, once in 120
+    /// while time runs: an error is a bug in this program, so it is returned, not ignored).
     pub fn frame(&mut self, panel: bool) -> Result<FrameDone> {
         self.frame_in(self.time, panel)
     }
