@@ -18,13 +18,15 @@ use std::time::{Duration, Instant};
 
 use glam::Vec3;
 
+use tutorial13::bake::cage::cage_corners;
 use tutorial13::bake::{bake_soups, BakeInput, BakeSettings, BakedMap, Bitangents, CornerFrames};
-use tutorial13::bake::{Space, Tangents, TexelState};
+use tutorial13::bake::{Pairing, Space, Tangents, TexelState};
 use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::common::texture::{dxt_level_size, read_bmp_bytes, read_dds_bytes};
 use tutorial13::common::vboindexer::{self, IndexOptions, IndexedMesh};
 use tutorial13::mesh::MeshOptions;
+use tutorial13::model::parts::part_names;
 use tutorial13::model::{load_model_bytes, load_shape_bytes, MapOverrides, Model};
 use tutorial13::normalmap::{decode_image, normal_map, HeightMap, Kernel, NormalMapOptions};
 use tutorial13::photo::{height_from_photo, Photo};
@@ -86,12 +88,21 @@ pub enum Target {
     /// nothing covers it); the counts equal a rasterization of LOW's UVs made here; the margin
     /// exactly the rings around the covered texels; 1 and 2 threads the same map.
     Bake,
+    /// The bake's readers of a cage and of part names on the bake target's inputs
+    /// ([`check_cage`]): the model's part names read (`model::parts::part_names`: the OBJ's `o`
+    /// and `g` lines counted as the reader counts faces, a glTF's nodes), one per triangle, for
+    /// every file the reader takes; the model paired with itself by name, every triangle in one
+    /// pair or said unpaired; the model taken as its own cage (`bake::cage::cage_corners`) with its
+    /// corners back where they were, and the sphere refused as its cage on one line; the model
+    /// baked with a cage (its corners pushed out along their normals, no bound on the rays) and
+    /// with its parts paired, the maps as the `bake` target's.
+    Cage,
 }
 
 /// Where a `model` input's MTL text starts (the OBJ's `mtllib` should name `fuzz.mtl`).
 pub const MTL_SEPARATOR: &str = "#--- fuzz.mtl ---\n";
 
-pub const TARGETS: [Target; 12] = [
+pub const TARGETS: [Target; 13] = [
     Target::Obj,
     Target::Dds,
     Target::Bmp,
@@ -104,6 +115,7 @@ pub const TARGETS: [Target; 12] = [
     Target::Gltf,
     Target::Mikktspace,
     Target::Bake,
+    Target::Cage,
 ];
 
 /// Meshes up to this many corners are also indexed by the quadratic reference.
@@ -126,6 +138,7 @@ impl Target {
             Target::Gltf => "gltf",
             Target::Mikktspace => "mikktspace",
             Target::Bake => "bake",
+            Target::Cage => "cage",
         }
     }
 
@@ -139,7 +152,7 @@ impl Target {
             Target::Dds => "fuzz.DDS",
             Target::Bmp => "fuzz.bmp",
             Target::Heightmap => "fuzz-height.png",
-            Target::Model | Target::Bake => "fuzz-model.obj",
+            Target::Model | Target::Bake | Target::Cage => "fuzz-model.obj",
             Target::Photo => "fuzz-photo.jpg",
             Target::Lights => "fuzz-lights.txt",
             Target::Gltf => "fuzz.gltf",
@@ -156,6 +169,7 @@ impl Target {
                 | Target::ObjTobj
                 | Target::Lights
                 | Target::Bake
+                | Target::Cage
         )
     }
 }
@@ -191,8 +205,10 @@ pub fn seed_dirs(target: Target) -> Vec<PathBuf> {
             regressions_dir(Target::Model),
             regressions_dir(Target::Pipeline),
         ],
-        // The models the model targets read, their saved failures too.
-        Target::Bake => vec![
+        // The models the model targets read, their saved failures too (and for the cage, models
+        // of named parts).
+        Target::Bake | Target::Cage => vec![
+            corpus_dir(Target::Cage),
             corpus_dir(Target::Model),
             corpus_dir(Target::Obj),
             corpus_dir(Target::Gltf),
@@ -398,6 +414,10 @@ fn check(target: Target, input: &[u8]) -> Result<Outcome, String> {
             // The loaders' errors are the model and gltf targets' business.
             Err(e) => Ok(Outcome::Rejected(message_kind(&e.to_string()))),
             Ok(model) => check_bake(&model).map(|_| Outcome::Loaded),
+        },
+        Target::Cage => match load_bake_model(input) {
+            Err(e) => Ok(Outcome::Rejected(message_kind(&e.to_string()))),
+            Ok(model) => check_cage(&model, input).map(|_| Outcome::Loaded),
         },
         Target::Photo => match check_photo_bytes(input, path) {
             None => Ok(Outcome::Rejected("larger than the harness decodes".into())),
@@ -790,6 +810,19 @@ fn bake_models(
     frames: &CornerFrames,
     settings: &BakeSettings,
 ) -> Option<BakedMap> {
+    bake_models_with(high, low, frames, settings, None, None)
+}
+
+/// [`bake_models`] with a cage (its corners in LOW's placed space; the rays then unbounded, the
+/// command's default with a cage) or parts paired by name.
+fn bake_models_with(
+    high: &Model,
+    low: &Model,
+    frames: &CornerFrames,
+    settings: &BakeSettings,
+    cage: Option<&[Vec3]>,
+    pairing: Option<&Pairing>,
+) -> Option<BakedMap> {
     let mut high_soup = high.soup.clone();
     for p in &mut high_soup.vertices {
         *p = low.placement.to_world(high.placement.to_file(*p));
@@ -807,9 +840,97 @@ fn bake_models(
         high: &high_soup,
         high_face_normals: high.normals_computed,
         extrusion: extrusion * scale,
-        max_distance: max_distance * scale,
+        max_distance: match cage {
+            Some(_) => f32::INFINITY,
+            None => max_distance * scale,
+        },
+        cage,
+        pairing,
     };
     Some(bake_soups(&input, settings))
+}
+
+/// The `cage` target's check (see [`Target::Cage`]); `input` is the model's file as read.
+fn check_cage(model: &Model, input: &[u8]) -> Result<(), String> {
+    let triangles = model.soup.triangle_count();
+    let (obj, _) = split_model_input(input);
+    let names = part_names(model, triangles, |_| Ok(obj.clone())).map_err(|e| e.to_string())?;
+    let named = names.of_triangle.len() == triangles
+        && names
+            .of_triangle
+            .iter()
+            .all(|&n| (n as usize) < names.names.len());
+    if !named {
+        return Err(format!(
+            "{} names for {} triangles of {triangles}",
+            names.names.len(),
+            names.of_triangle.len()
+        ));
+    }
+    // Paired with itself: each triangle in a pair or in a part said unpaired, on both sides.
+    let pairing = Pairing::new(&names, &names);
+    let paired = |side: fn(&tutorial13::bake::parts::Pair) -> usize| -> usize {
+        pairing.pairs.iter().map(side).sum()
+    };
+    let unpaired = |parts: &[(String, usize)]| parts.iter().map(|p| p.1).sum::<usize>();
+    let low = paired(|p| p.low.triangles) + unpaired(&pairing.unpaired_low);
+    let high = paired(|p| p.high.triangles) + unpaired(&pairing.unpaired_high);
+    if (low, high) != (triangles, triangles) || pairing.pairs.iter().any(|p| p.key.is_empty()) {
+        return Err(format!(
+            "pairs over {low} and {high} triangles of {triangles}: {pairing:?}"
+        ));
+    }
+    // Its own cage: accepted, its corners where they were.
+    let corners = cage_corners(model, model).map_err(|e| format!("its own cage: {e}"))?;
+    let moved = corners
+        .iter()
+        .zip(&model.soup.vertices)
+        .map(|(c, p)| (*c - *p).length())
+        .fold(0.0f32, f32::max);
+    if !(moved <= 1e-4) {
+        return Err(format!("its own cage moves a corner by {moved}"));
+    }
+    let sphere = bake_sphere();
+    if sphere.model.soup.triangle_count() != triangles {
+        match cage_corners(&sphere.model, model) {
+            Ok(_) => return Err("a cage of other triangles is taken".into()),
+            Err(e) if e.contains('\n') => return Err(format!("a refusal on two lines: {e}")),
+            Err(_) => {}
+        }
+    }
+    // Baked with a cage pushed out along the normals, and with its parts paired.
+    let Some(frames) = bake_frames(model, Tangents::MikkTSpace, false)
+        .or_else(|| bake_frames(model, Tangents::Tutorial, false))
+    else {
+        return Ok(());
+    };
+    let mut pushed = model.clone();
+    let out = 0.05 * tutorial13::model::TUTORIAL_CYLINDER_RADIUS;
+    for (p, n) in pushed.soup.vertices.iter_mut().zip(&model.soup.normals) {
+        *p += n.normalize_or_zero() * out;
+    }
+    let settings = BakeSettings {
+        width: 16,
+        height: 16,
+        samples: 2,
+        margin: 2,
+        threads: 1,
+        ..BakeSettings::default()
+    };
+    if let Ok(cage) = cage_corners(&pushed, model) {
+        if let Some(map) = bake_models_with(model, model, &frames, &settings, Some(&cage), None) {
+            check_baked(&map, &model.soup, &frames, &settings)
+                .map_err(|e| format!("caged: {e}"))?;
+        }
+    }
+    if !pairing.pairs.is_empty() {
+        let with = Some(&pairing);
+        if let Some(map) = bake_models_with(model, model, &frames, &settings, None, with) {
+            check_baked(&map, &model.soup, &frames, &settings)
+                .map_err(|e| format!("paired: {e}"))?;
+        }
+    }
+    Ok(())
 }
 
 /// A baked map against what it must be (see [`Target::Bake`]).
@@ -960,15 +1081,19 @@ impl ReferenceRaster {
             if area < 0.0 {
                 std::mem::swap(&mut b, &mut c);
             }
-            let inside = |p: glam::DVec2| {
-                [(b, c), (c, a), (a, b)].iter().all(|&(from, to)| {
-                    let edge = to - from;
-                    let w = edge.perp_dot(p - from);
-                    let owns_edge = edge.y > 0.0 || (edge.y == 0.0 && edge.x < 0.0);
-                    w > 0.0 || (w == 0.0 && owns_edge)
-                })
-            };
             let (low, high) = (a.min(b).min(c), a.max(b).max(c));
+            // A point outside the corners' box is outside, whatever the edge functions say: on a
+            // triangle with corners 1e40 away they cancel to noise (fuzz/regressions/cage/).
+            let inside = |p: glam::DVec2| {
+                let boxed = p.cmpge(low).all() && p.cmple(high).all();
+                boxed
+                    && [(b, c), (c, a), (a, b)].iter().all(|&(from, to)| {
+                        let edge = to - from;
+                        let w = edge.perp_dot(p - from);
+                        let owns_edge = edge.y > 0.0 || (edge.y == 0.0 && edge.x < 0.0);
+                        w > 0.0 || (w == 0.0 && owns_edge)
+                    })
+            };
             let span = |l: f64, h: f64, size: usize| {
                 let start = (l - 1.0).floor().clamp(0.0, size as f64) as usize;
                 let end = (h + 1.0).ceil().clamp(0.0, size as f64) as usize;

@@ -3,8 +3,8 @@
 //!     cargo run -p tutorial13-fuzz --profile fuzz -- --seconds 1800
 //!
 //! Options: `--seconds N` (total, shared equally by the targets; default 60), `--target NAME`
-//! (obj, dds, bmp, pipeline, heightmap, model, photo, obj-tobj, lights, gltf, mikktspace or bake;
-//! repeatable; default all), `--seed N` (default: from the clock,
+//! (obj, dds, bmp, pipeline, heightmap, model, photo, obj-tobj, lights, gltf, mikktspace, bake or
+//! cage; repeatable; default all), `--seed N` (default: from the clock,
 //! printed), `--slow-ms N` (a case slower than this fails; default 2000), `--replay FILE` (run one
 //! input on the target named before it, else the one its folder is named after, and print the
 //! outcome), `--make-corpus` (rewrite the seed
@@ -136,7 +136,7 @@ fn parse(s: &str) -> u64 {
 
 fn usage(problem: &str) -> ! {
     eprintln!(
-        "fuzz: {problem}\nusage: fuzz [--seconds N] [--target obj|dds|bmp|pipeline|heightmap|model|photo|obj-tobj|lights|gltf|mikktspace|bake]... [--seed N] [--slow-ms N] [--replay FILE] [--make-corpus]"
+        "fuzz: {problem}\nusage: fuzz [--seconds N] [--target obj|dds|bmp|pipeline|heightmap|model|photo|obj-tobj|lights|gltf|mikktspace|bake|cage]... [--seed N] [--slow-ms N] [--replay FILE] [--make-corpus]"
     );
     std::process::exit(2);
 }

@@ -6,6 +6,7 @@ Run (Blender 3.4 or later; tested with Debian's 3.4.1):
     blender -b --factory-startup --python benches/blender/bake_pair.py -- --out DIR \
         [--size 2048] [--samples 1] [--extrusion 0.05] [--max-distance 0.1] [--margin 16] \
         [--margin-type ADJACENT_FACES] [--high-subdiv 9] [--low 32x16] [--amp 0.02] [--freq 12]
+        [--cage MIN,MAX] [--cage-twist T]
 
 Writes into DIR:
   high.obj              HIGH, triangulated, smooth vertex normals, UVs (the icosphere's own)
@@ -14,6 +15,7 @@ Writes into DIR:
   blender_normal.png    the bake, 8-bit RGBA
   blender_normal16.png  the bake, 16-bit RGBA
   blender_timings.json  timings and settings
+  cage.obj              with --cage: the cage object the bake used (LOW's faces, its corners moved)
 
 The meshes (Blender object space, Z up; both objects at the origin, unit transform):
   HIGH  an icosphere (2 + 10*4^(s-1) vertices, 20*4^(s-1) triangles; s = 9: 1,310,720 triangles)
@@ -29,6 +31,12 @@ The meshes (Blender object space, Z up; both objects at the origin, unit transfo
         (bmesh, BEAUTY) before both bake and export so that Blender's MikkTSpace and any other
         see the same triangles. Its material holds the bake target: an Image Texture node,
         Non-Color, float, alpha, selected and active, connected to nothing.
+
+  CAGE  with --cage MIN,MAX: LOW's mesh, each vertex moved out along its normal by
+        MIN + (MAX - MIN) (1 + z) / 2 (thin at the south pole, thick at the north) and by
+        --cage-twist T (1 - z^2) along the parallel (east), so that the rays from it run slanted.
+        The bake then uses it as its cage object (use_cage, cage_object; cage_extrusion 0), and
+        --max-distance 0 means no bound, as Blender's own default.
 
 OBJ axes: wm.obj_export's defaults, forward -Z and up Y, i.e. OBJ (X, Y, Z) = Blender (x, z, -y):
 OBJ files are Y-up, the spheres' poles on OBJ's Y axis. HIGH and LOW are exported alike, so the
@@ -66,6 +74,8 @@ def parse_args():
     p.add_argument("--low", default="32x16", help="SEGMENTSxRINGS of the UV sphere")
     p.add_argument("--amp", type=float, default=0.02)
     p.add_argument("--freq", type=float, default=12.0)
+    p.add_argument("--cage", help="MIN,MAX: a cage object LOW's normals out (see the header)")
+    p.add_argument("--cage-twist", type=float, default=0.0)
     return p.parse_args(argv)
 
 
@@ -129,6 +139,22 @@ def build_low(segments, rings, size):
     return obj, image
 
 
+def build_cage(low, offsets, twist):
+    lo, hi = (float(v) for v in offsets.split(","))
+    obj = low.copy()
+    obj.data = low.data.copy()
+    obj.name = obj.data.name = "CAGE"
+    bpy.context.collection.objects.link(obj)
+    for v in obj.data.vertices:
+        p, n = v.co.copy(), v.normal.copy()
+        east = n.cross((0.0, 0.0, 1.0))
+        if east.length > 1e-6:
+            east.normalize()
+        v.co = p + n * (lo + (hi - lo) * (1.0 + p.z) / 2.0) + east * (twist * (1.0 - p.z * p.z))
+    obj.data.update()
+    return obj
+
+
 def main():
     args = parse_args()
     out = os.path.abspath(args.out)
@@ -143,6 +169,7 @@ def main():
     high = build_high(args.high_subdiv, args.amp, args.freq)
     t["build_high_s"] = time.perf_counter() - t0
     low, image = build_low(segments, rings, args.size)
+    cage = build_cage(low, args.cage, args.cage_twist) if args.cage else None
 
     # Exports (OBJ: Y up, forward -Z, the defaults; see the header).
     t0 = time.perf_counter()
@@ -164,6 +191,11 @@ def main():
         gltf = "low.gltf"
     except Exception as e:  # the add-on may be missing from a build
         print("glTF export failed:", e)
+    if cage:
+        select_only(cage)
+        bpy.ops.wm.obj_export(filepath=os.path.join(out, "cage.obj"), export_selected_objects=True,
+                              export_uv=True, export_normals=True, export_materials=False,
+                              export_triangulated_mesh=True, apply_modifiers=True)
 
     # The bake.
     scene.render.engine = "CYCLES"
@@ -175,8 +207,10 @@ def main():
     bake.normal_space = "TANGENT"
     bake.normal_r, bake.normal_g, bake.normal_b = "POS_X", "POS_Y", "POS_Z"
     bake.use_selected_to_active = True
-    bake.use_cage = False
-    bake.cage_extrusion = args.extrusion
+    bake.use_cage = cage is not None
+    if cage:
+        bake.cage_object = cage
+    bake.cage_extrusion = 0.0 if cage else args.extrusion
     bake.max_ray_distance = args.max_distance
     bake.margin = args.margin
     bake.margin_type = args.margin_type
@@ -189,8 +223,10 @@ def main():
 
     t0 = time.perf_counter()
     result = bpy.ops.object.bake(
-        type="NORMAL", normal_space="TANGENT", use_selected_to_active=True, use_cage=False,
-        cage_extrusion=args.extrusion, max_ray_distance=args.max_distance, margin=args.margin,
+        type="NORMAL", normal_space="TANGENT", use_selected_to_active=True,
+        use_cage=cage is not None, cage_object=cage.name if cage else "",
+        cage_extrusion=0.0 if cage else args.extrusion, max_ray_distance=args.max_distance,
+        margin=args.margin,
         margin_type=args.margin_type, use_clear=False, target="IMAGE_TEXTURES",
         save_mode="INTERNAL")
     t["bake_operator_s"] = time.perf_counter() - t0
@@ -220,7 +256,8 @@ def main():
         "low_vertices": len(low.data.vertices),
         "size": args.size,
         "samples": args.samples,
-        "cage_extrusion": args.extrusion,
+        "cage_extrusion": 0.0 if cage else args.extrusion,
+        "cage": {"offsets": args.cage, "twist": args.cage_twist} if cage else None,
         "max_ray_distance": args.max_distance,
         "margin": args.margin,
         "margin_type": args.margin_type,

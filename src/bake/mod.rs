@@ -9,7 +9,9 @@
 //! normal is written in LOW's frame at the texel: the inverse of what the renderer does with the
 //! frame, so that drawing LOW with the map in that frame gives HIGH's normal back. A ray that meets
 //! nothing writes the flat normal. These are Blender's semantics (`cage_extrusion`,
-//! `max_ray_distance`), so that the same settings give the same map.
+//! `max_ray_distance`), so that the same settings give the same map. With a cage of its own
+//! ([`cage`], Blender's `cage_object`) a ray starts at the cage's point and goes toward LOW's; with
+//! parts matched by name ([`parts`]) a LOW part's rays meet only its HIGH part.
 //!
 //! The frames ([`Tangents`]):
 //! * MikkTSpace (glTF's rule, Blender's bake): the renderer rebuilds n = t.x·T + t.y·B + t.z·N per
@@ -24,6 +26,8 @@
 //!   the bake measures by how much ([`Skew`]).
 
 pub mod bvh;
+pub mod cage;
+pub mod parts;
 mod texels;
 
 use std::path::Path;
@@ -37,6 +41,7 @@ use crate::model::{load_model, MapOverrides, Model};
 use crate::tangents::stretch;
 use crate::{Error, Result};
 
+pub use parts::Pairing;
 pub use texels::{TexelState, UvLayout};
 
 /// The frame the map is baked for.
@@ -232,23 +237,28 @@ pub struct BakeInput<'a> {
     /// In this space's units.
     pub extrusion: f32,
     pub max_distance: f32,
+    /// A cage ([`cage::cage_corners`]): a point per LOW corner, in this space. Each ray starts at
+    /// the cage's point and goes toward LOW's (`extrusion` is not used).
+    pub cage: Option<&'a [Vec3]>,
+    /// Parts matched by name: a LOW triangle's rays meet only its pair's HIGH triangles.
+    pub pairing: Option<&'a Pairing>,
 }
 
 /// The bake on soups already in one space: raster, rays and margin.
 pub fn bake_soups(input: &BakeInput, settings: &BakeSettings) -> BakedMap {
     let clock = Instant::now();
-    let bvh = bvh::Bvh::build(&input.high.vertices, settings.threads);
+    let targets = parts::Targets::build(input.high, input.pairing, settings.threads);
     log::info!(
         "bake: BVH over {} triangles ({} nodes) in {:.2} s",
         input.high.triangle_count(),
-        bvh.node_count(),
+        targets.node_count(),
         clock.elapsed().as_secs_f64()
     );
     let clock = Instant::now();
     let layout = UvLayout::new(input.low, settings.width, settings.height, settings.samples);
     let sampler = Sampler {
         input,
-        bvh: &bvh,
+        targets: &targets,
         space: settings.space,
         measure_skew: matches!(input.frames.bitangents, Bitangents::Given(_)),
     };
@@ -277,7 +287,7 @@ pub fn bake_soups(input: &BakeInput, settings: &BakeSettings) -> BakedMap {
 /// One sample's ray and its normal in the map's space.
 struct Sampler<'a> {
     input: &'a BakeInput<'a>,
-    bvh: &'a bvh::Bvh,
+    targets: &'a parts::Targets<'a>,
     space: Space,
     measure_skew: bool,
 }
@@ -299,24 +309,36 @@ impl Sampler<'_> {
         let mix = |v: &[Vec3]| -> Vec3 { (0..3).map(|i| v[3 * t + i] * b[i]).sum() };
         let position = mix(&low.vertices);
         let normal = mix(&low.normals).normalize_or_zero();
-        let origin = position + normal * self.input.extrusion;
-        let hit = self.bvh.first_hit(origin, -normal, self.input.max_distance);
-        let missed = hit.is_none();
+        let (origin, direction) = match self.input.cage {
+            None => (position + normal * self.input.extrusion, -normal),
+            Some(cage) => {
+                let origin = mix(cage);
+                // Where the cage touches LOW the ray goes in along LOW's normal.
+                let direction = (position - origin).try_normalize().unwrap_or(-normal);
+                (origin, direction)
+            }
+        };
+        let max_distance = self.input.max_distance;
+        // A LOW part without a partner meets nothing and is not a miss: it is said once.
+        let paired = self.targets.paired(t);
+        let hit = self.targets.first_hit(t, origin, direction, max_distance);
+        let missed = hit.is_none() && paired;
         // Where a missed ray's HIGH is: past its end, or outside the cage.
-        let look = |direction: Vec3| {
+        let look = |direction: Vec3, bounded: bool| {
             missed
-                && normal != Vec3::ZERO
+                && bounded
+                && direction != Vec3::ZERO
                 && self
-                    .bvh
-                    .first_hit(origin, direction, f32::INFINITY)
+                    .targets
+                    .first_hit(t, origin, direction, f32::INFINITY)
                     .is_some()
         };
         let high_normal = hit.map(|hit| self.high_normal(hit));
         let mut sample = Sample {
             normal: Vec3::Z,
             missed,
-            missed_beyond: look(-normal),
-            missed_outside: look(normal),
+            missed_beyond: look(direction, max_distance < f32::INFINITY),
+            missed_outside: look(-direction, true),
             singular: false,
             stretch: None,
         };
@@ -381,6 +403,10 @@ pub struct BakeFiles {
     pub frames: CornerFrames,
     /// Placed units per LOW file unit.
     pub scale: f32,
+    /// The cage's corners in LOW's placed space ([`BakeFiles::load_cage`]).
+    pub cage: Option<Vec<Vec3>>,
+    /// LOW's parts paired with HIGH's ([`BakeFiles::match_names`]).
+    pub pairing: Option<Pairing>,
 }
 
 impl BakeFiles {
@@ -442,18 +468,90 @@ impl BakeFiles {
             high_soup,
             frames,
             scale,
+            cage: None,
+            pairing: None,
         })
+    }
+
+    /// Reads a cage for LOW (anything `--model` reads, its UVs not used): LOW's faces in LOW's
+    /// order, its corners moved ([`cage`]).
+    pub fn load_cage(&mut self, path: &Path) -> Result<()> {
+        let cage = crate::model::load_shape(path)?;
+        let corners = cage::cage_corners(&cage, &self.low).map_err(|reason| Error::Bake {
+            path: path.to_path_buf(),
+            reason: format!("not a cage for LOW: {reason}"),
+        })?;
+        let (split, shared) = (
+            cage::vertex_count(&cage.soup.vertices),
+            cage::vertex_count(&self.low.soup.vertices),
+        );
+        if split > shared {
+            log::info!(
+                "{}: the cage has {split} vertices where LOW has {shared}: where it splits one of \
+             LOW's vertices (a hard edge pushed apart) its rays leave a gap",
+                path.display()
+            );
+        }
+        self.cage = Some(corners);
+        Ok(())
+    }
+
+    /// Pairs LOW's parts with HIGH's by name ([`parts`]): refused where no name pairs.
+    pub fn match_names(&mut self) -> Result<&Pairing> {
+        let clock = Instant::now();
+        let read = crate::files::read;
+        let high =
+            crate::model::parts::part_names(&self.high, self.high_soup.triangle_count(), read)?;
+        let low = crate::model::parts::part_names(&self.low, self.low.soup.triangle_count(), read)?;
+        let pairing = Pairing::new(&low, &high);
+        log::info!(
+            "bake: parts named and paired in {:.2} s",
+            clock.elapsed().as_secs_f64()
+        );
+        if pairing.pairs.is_empty() {
+            let list = |names: &[String]| -> String {
+                let quoted = |n: &String| match n.as_str() {
+                    "" => "(unnamed)".to_string(),
+                    n => format!("'{n}'"),
+                };
+                let shown: Vec<String> = names.iter().take(6).map(quoted).collect();
+                let more = names.len().saturating_sub(6);
+                match more {
+                    0 => shown.join(", "),
+                    _ => format!("{} and {more} more", shown.join(", ")),
+                }
+            };
+            return Err(Error::Bake {
+                path: self.low.path.clone(),
+                reason: format!(
+                    "--match-names: no part's name pairs with one of {} (LOW's parts: {}; \
+                     HIGH's: {}); names pair without their suffixes _low/_lp and _high/_hp, case \
+                     ignored",
+                    self.high.path.display(),
+                    list(&low.names),
+                    list(&high.names)
+                ),
+            });
+        }
+        Ok(self.pairing.insert(pairing))
     }
 
     /// The bake, with `extrusion` and `max_distance` in LOW's file units.
     pub fn bake(&self, settings: &BakeSettings) -> Result<BakedMap> {
+        // With a cage, no maximum distance is no bound (Blender's `max_ray_distance` 0).
+        let max_distance = match self.cage.is_some() && settings.max_distance == 0.0 {
+            true => f32::INFINITY,
+            false => settings.max_distance * self.scale,
+        };
         let input = BakeInput {
             low: &self.low.soup,
             frames: &self.frames,
             high: &self.high_soup,
             high_face_normals: self.high.normals_computed,
             extrusion: settings.extrusion * self.scale,
-            max_distance: settings.max_distance * self.scale,
+            max_distance,
+            cage: self.cage.as_deref(),
+            pairing: self.pairing.as_ref(),
         };
         let map = bake_soups(&input, settings);
         if map.stats.covered == 0 {
@@ -499,6 +597,8 @@ mod found_by_fuzzing {
                 high_face_normals: false,
                 extrusion: 0.1,
                 max_distance: 0.2,
+                cage: None,
+                pairing: None,
             };
             let settings = BakeSettings {
                 width: 8,

@@ -19,6 +19,7 @@
 pub mod gltf;
 pub mod maps;
 pub mod mtl;
+pub mod parts;
 
 use crate::clock::Instant;
 use std::cell::RefCell;
@@ -183,6 +184,13 @@ pub struct Model {
     /// What was filled in or left out (maps not named, normals computed, options ignored): one line
     /// each, for the log.
     pub notices: Vec<String>,
+    /// Each soup triangle's index among the file's triangles (an OBJ's faces fanned as written, a
+    /// glTF's primitives as the scene meets them) where grouping by material moved them; empty
+    /// where the soup keeps the file's order. A bake pairs a cage's triangles with LOW's by it.
+    pub file_order: Vec<u32>,
+    /// A glTF's parts in the file's order ([`parts::Part`]); an OBJ's are read only when asked
+    /// ([`parts::part_names`]), which takes another pass over its text.
+    pub parts: Vec<parts::Part>,
 }
 
 /// Reads `path` and the `.mtl` files it names (relative to its folder), or a glTF file (`.gltf`,
@@ -355,7 +363,7 @@ pub fn load_model_bytes(
         &mut notices,
     );
 
-    let (soup, ranges) = group_by_material(soup, &triangle_materials);
+    let (soup, ranges, file_order) = group_by_material(soup, &triangle_materials);
     let placement = placement(&soup.vertices).ok_or_else(|| Error::Obj {
         path: path.to_path_buf(),
         reason: "every face is at one point: a model needs some size to be framed and lit".into(),
@@ -378,6 +386,8 @@ pub fn load_model_bytes(
         normals_computed: read.normals_missing,
         file_tangents: None,
         notices,
+        file_order,
+        parts: Vec::new(),
     })
 }
 
@@ -553,12 +563,13 @@ pub(crate) fn apply_overrides(material: &mut Material, overrides: &MapOverrides)
 }
 
 /// The soup with its triangles grouped by material (stable: each material's triangles keep their
-/// order; materials in the order they are first used), and the ranges. A counting sort: linear in
-/// the triangles, and no copy at all when the soup is one run of a material already.
+/// order; materials in the order they are first used), the ranges, and each new triangle's index in
+/// `soup` (empty when nothing moved: [`Model::file_order`]). A counting sort: linear in the
+/// triangles, and no copy at all when the soup is one run of a material already.
 pub(crate) fn group_by_material(
     soup: TriangleSoup,
     triangle_materials: &[usize],
-) -> (TriangleSoup, Vec<MaterialRange>) {
+) -> (TriangleSoup, Vec<MaterialRange>, Vec<u32>) {
     let count = triangle_materials.iter().max().map_or(0, |&m| m + 1);
     // Each material's rank by first use, and its number of triangles.
     let mut rank = vec![usize::MAX; count];
@@ -584,7 +595,7 @@ pub(crate) fn group_by_material(
         .windows(2)
         .all(|w| w[0] == w[1] || rank[w[0]] < rank[w[1]]);
     if grouped {
-        return (soup, ranges);
+        return (soup, ranges, Vec::new());
     }
     let mut next: Vec<usize> = vec![0; count];
     for range in &ranges {
@@ -596,14 +607,16 @@ pub(crate) fn group_by_material(
         uvs: vec![glam::Vec2::ZERO; corners],
         normals: vec![Vec3::ZERO; soup.normals.len()],
     };
+    let mut file_order = vec![0u32; triangle_materials.len()];
     for (t, &m) in triangle_materials.iter().enumerate() {
         let (from, to) = (3 * t..3 * t + 3, 3 * next[m]..3 * next[m] + 3);
+        file_order[next[m]] = t as u32;
         next[m] += 1;
         out.vertices[to.clone()].copy_from_slice(&soup.vertices[from.clone()]);
         out.uvs[to.clone()].copy_from_slice(&soup.uvs[from.clone()]);
         out.normals[to].copy_from_slice(&soup.normals[from]);
     }
-    (out, ranges)
+    (out, ranges, file_order)
 }
 
 /// The bounding sphere the model is placed by, or `None` if it has no size (or no finite one).
@@ -692,7 +705,8 @@ mod tests {
     }
 
     // Fails if interleaved materials are not grouped in first-use order with each one's triangles
-    // kept in order, or if the ranges do not match.
+    // kept in order, if the ranges do not match, or if a grouped triangle's file index is not the
+    // one it came from.
     #[test]
     fn triangles_are_grouped_by_material_in_first_use_order() {
         let triangle = |k: f32| [Vec3::splat(k); 3];
@@ -701,18 +715,31 @@ mod tests {
             uvs: vec![glam::Vec2::ZERO; 15],
             normals: vec![Vec3::Z; 15],
         };
-        let (grouped, ranges) = group_by_material(soup.clone(), &[2, 0, 2, 1, 0]);
+        let (grouped, ranges, file_order) = group_by_material(soup.clone(), &[2, 0, 2, 1, 0]);
         let order: Vec<f32> = grouped.vertices.chunks(3).map(|c| c[0].x).collect();
         assert_eq!(order, [0.0, 2.0, 1.0, 4.0, 3.0]);
+        // Each grouped triangle's index in the file: the same as the positions tell (and for an
+        // order that is not its own inverse).
+        assert_eq!(file_order, [0, 2, 1, 4, 3]);
+        let soup6 = TriangleSoup {
+            vertices: (0..6).flat_map(|t| triangle(t as f32)).collect(),
+            uvs: vec![glam::Vec2::ZERO; 18],
+            normals: vec![Vec3::Z; 18],
+        };
+        let (grouped, _, file_order) = group_by_material(soup6, &[1, 0, 0, 1, 2, 0]);
+        let order: Vec<u32> = grouped.vertices.chunks(3).map(|c| c[0].x as u32).collect();
+        assert_eq!(file_order, order);
+        assert_eq!(file_order, [0, 3, 1, 2, 5, 4]);
         let spans: Vec<(usize, std::ops::Range<usize>)> = ranges
             .iter()
             .map(|r| (r.material, r.triangles.clone()))
             .collect();
         assert_eq!(spans, [(2, 0..2), (0, 2..4), (1, 4..5)]);
         // Already grouped: the same soup back.
-        let (same, ranges) = group_by_material(soup.clone(), &[1, 1, 0, 0, 0]);
+        let (same, ranges, file_order) = group_by_material(soup.clone(), &[1, 1, 0, 0, 0]);
         assert_eq!(same, soup);
         assert_eq!(ranges.len(), 2);
+        assert!(file_order.is_empty());
     }
 
     // Fails if the smooth normals of a model without `vn` are keyed by anything but the file's

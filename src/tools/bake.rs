@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use super::Depth;
-use crate::bake::{BakeFiles, BakeSettings, BakeStats, BakedMap, Space, Tangents};
+use crate::bake::{BakeFiles, BakeSettings, BakeStats, BakedMap, Pairing, Space, Tangents};
 use crate::clock::Instant;
 use crate::normalmap::{encode_normal, encode_normal16, map_format, Green};
 use crate::normalmap::{write_normal_map, write_normal_map16};
@@ -32,9 +32,19 @@ pub struct BakeOptions {
     /// of LOW's bounding-sphere radius]
     #[arg(long, value_name = "D", allow_negative_numbers = true)]
     pub extrusion: Option<f32>,
-    /// How far a ray goes from the cage, in LOW's file units [default: 2 × the extrusion]
+    /// How far a ray goes from the cage, in LOW's file units [default: 2 × the extrusion; with
+    /// --cage, 0: no bound, as Blender's]
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
     pub max_distance: Option<f32>,
+    /// A cage: LOW with its corners moved out (the same faces in the same order), in place of
+    /// --extrusion; each ray starts at the cage's point and goes toward LOW's (Blender's cage object)
+    #[arg(long, value_name = "CAGE", conflicts_with = "extrusion")]
+    pub cage: Option<PathBuf>,
+    /// Pair LOW's parts with HIGH's by name (OBJ objects or groups, glTF nodes or meshes; the
+    /// suffixes _low/_lp and _high/_hp left out, case ignored): a LOW part's rays meet only its
+    /// HIGH part
+    #[arg(long)]
+    pub match_names: bool,
     /// Texels filled around each UV island's edge
     #[arg(long, value_name = "M", default_value_t = 16)]
     pub margin: u32,
@@ -98,15 +108,23 @@ pub fn bake(options: &BakeOptions) -> Result<()> {
         },
         ..BakeSettings::default()
     };
-    let files = BakeFiles::load(&options.high, &options.low, &settings)?;
+    let mut files = BakeFiles::load(&options.high, &options.low, &settings)?;
+    if let Some(cage) = &options.cage {
+        files.load_cage(cage)?;
+    }
+    if options.match_names {
+        report_pairs(files.match_names()?);
+    }
     let radius = files.low.placement.radius;
-    settings.extrusion = distance("--extrusion", options.extrusion, 0.05 * radius)?;
-    settings.max_distance = distance(
-        "--max-distance",
-        options.max_distance,
-        2.0 * settings.extrusion,
-    )?;
-    if settings.max_distance <= 0.0 {
+    if options.cage.is_none() {
+        settings.extrusion = distance("--extrusion", options.extrusion, 0.05 * radius)?;
+    }
+    let max_distance_default = match options.cage {
+        Some(_) => 0.0,
+        None => 2.0 * settings.extrusion,
+    };
+    settings.max_distance = distance("--max-distance", options.max_distance, max_distance_default)?;
+    if settings.max_distance <= 0.0 && options.cage.is_none() {
         return Err(Error::Argument(
             "--max-distance: must be more than 0 (the rays go nowhere)".into(),
         ));
@@ -215,8 +233,45 @@ fn report(options: &BakeOptions, settings: &BakeSettings, files: &BakeFiles, map
         settings.samples,
         stats.margin,
     );
-    report_misses(settings, stats);
+    report_misses(options, settings, stats);
     report_flaws(settings, stats);
+}
+
+/// The parts paired by name, one line each, and a notice for each part without a partner.
+fn report_pairs(pairing: &Pairing) {
+    let names = |names: &[String]| -> String {
+        let quoted: Vec<String> = names.iter().map(|n| format!("'{n}'")).collect();
+        quoted.join(", ")
+    };
+    for pair in &pairing.pairs {
+        println!(
+            "paired LOW's {} ({} triangles) with HIGH's {} ({} triangles)",
+            names(&pair.low.names),
+            pair.low.triangles,
+            names(&pair.high.names),
+            pair.high.triangles
+        );
+    }
+    let unnamed = |name: &str| match name {
+        "" => {
+            "the unnamed part (faces before any o or g, a node and mesh without a name)".to_string()
+        }
+        name => format!("'{name}'"),
+    };
+    for (name, triangles) in &pairing.unpaired_low {
+        log::warn!(
+            "--match-names: LOW's {} ({triangles} triangles) pairs with no part of HIGH: its \
+             texels get the flat normal",
+            unnamed(name)
+        );
+    }
+    for (name, triangles) in &pairing.unpaired_high {
+        log::warn!(
+            "--match-names: HIGH's {} ({triangles} triangles) pairs with no part of LOW: no ray \
+             meets it",
+            unnamed(name)
+        );
+    }
 }
 
 /// The frame the map is baked for, in words.
@@ -235,13 +290,17 @@ fn frame_name(settings: &BakeSettings) -> String {
 }
 
 /// The rays that met nothing, and what to change; or that every ray met HIGH.
-fn report_misses(settings: &BakeSettings, stats: &BakeStats) {
+fn report_misses(options: &BakeOptions, settings: &BakeSettings, stats: &BakeStats) {
     if stats.missed > 0 {
         let mut advice = Vec::new();
         if stats.missed_outside > 0 {
             advice.push(format!(
-                "for {} HIGH lies outside the cage: raise --extrusion",
-                stats.missed_outside
+                "for {} HIGH lies outside the cage: {}",
+                stats.missed_outside,
+                match options.cage {
+                    Some(_) => "move the cage out there",
+                    None => "raise --extrusion",
+                }
             ));
         }
         if stats.missed_beyond > 0 {
@@ -255,13 +314,21 @@ fn report_misses(settings: &BakeSettings, stats: &BakeStats) {
                 "HIGH is on neither side of LOW there (a hole, or LOW reaches past it)".into(),
             );
         }
+        let d = significant(settings.max_distance);
+        let within = match &options.cage {
+            Some(cage) if settings.max_distance == 0.0 => {
+                format!("from the cage ({})", cage.display())
+            }
+            Some(cage) => format!("within --max-distance {d} of the cage ({})", cage.display()),
+            None => format!(
+                "within --max-distance {d} of the cage (--extrusion {})",
+                significant(settings.extrusion)
+            ),
+        };
         println!(
-            "{} ({:.2} %) met nothing within --max-distance {} of the cage (--extrusion {}) \
-             and wrote the flat normal; {}",
+            "{} ({:.2} %) met nothing {within} and wrote the flat normal; {}",
             rays(stats.missed),
             100.0 * stats.missed as f64 / stats.rays.max(1) as f64,
-            significant(settings.max_distance),
-            significant(settings.extrusion),
             advice.join("; ")
         );
     } else {

@@ -30,12 +30,12 @@ fn sphere(
     path
 }
 
-fn bake_cli(args: &[&str]) -> std::process::Output {
+pub(crate) fn bake_cli(args: &[&str]) -> std::process::Output {
     run(tutorial13().arg("bake").args(args))
 }
 
 /// A PNG's texels as unit vectors (8 or 16 bits), row 0 at the top.
-fn decode(path: &Path) -> (u32, u32, Vec<Vec3>) {
+pub(crate) fn decode(path: &Path) -> (u32, u32, Vec<Vec3>) {
     let image = image::open(path).unwrap().into_rgb16();
     let texels = image
         .pixels()
@@ -520,21 +520,27 @@ fn bad_input_is_one_line_and_nothing_written() {
         ),
     ];
     for (args, reason) in cases {
-        let output = bake_cli(&args);
-        let err = text(&output.stderr);
-        assert!(!output.status.success(), "{args:?} succeeded");
-        assert!(!err.contains("panicked"), "{args:?}: {err}");
-        assert!(err.contains(reason), "{args:?}: {err}");
-        let error_lines = err
-            .lines()
-            .filter(|l| l.contains("error") || l.starts_with("tutorial13:"))
-            .count();
-        assert_eq!(error_lines, 1, "{args:?}: {err}");
-        assert!(
-            crate::common::files_under(&dir.join("out")).is_empty(),
-            "{args:?} wrote a file"
-        );
+        assert_refused(&args, reason, &dir.join("out"));
     }
+}
+
+/// `tutorial13 bake ARGS` fails without a panic, in one line holding `reason`, and writes nothing
+/// under `out`.
+pub(crate) fn assert_refused(args: &[&str], reason: &str, out: &Path) {
+    let output = bake_cli(args);
+    let err = text(&output.stderr);
+    assert!(!output.status.success(), "{args:?} succeeded");
+    assert!(!err.contains("panicked"), "{args:?}: {err}");
+    assert!(err.contains(reason), "{args:?}: {err}");
+    let error_lines = err
+        .lines()
+        .filter(|l| l.contains("error") || l.starts_with("tutorial13:"))
+        .count();
+    assert_eq!(error_lines, 1, "{args:?}: {err}");
+    assert!(
+        crate::common::files_under(out).is_empty(),
+        "{args:?} wrote a file"
+    );
 }
 
 // Fails if --tangents tutorial and mikktspace give the same map (the frames differ on a sphere:

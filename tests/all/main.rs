@@ -13,6 +13,7 @@ mod mikktspace_reference;
 mod asset_fallback;
 mod assets;
 mod bake;
+mod bake_cage;
 mod cli;
 mod combine;
 mod compare_view;

@@ -33,6 +33,7 @@ use glam::{Mat4, Vec2, Vec3};
 use self::materials::uv_set;
 use self::primitive::read_primitive;
 pub use self::uri::{decode_base64, encode_base64};
+use super::parts::Part;
 use super::{apply_overrides, group_by_material, placement, MapOverrides, Material, Model, Uvs};
 use crate::common::objloader::TriangleSoup;
 use crate::tangents::FileTangents;
@@ -98,6 +99,10 @@ struct Gathered {
     tangents_supplied: bool,
     normals_missing: bool,
     uvs_filled: bool,
+    /// Each primitive's material (an index into `corners`) and triangles, in the order met.
+    runs: Vec<(usize, usize)>,
+    /// Each mesh instance's part, in the order met.
+    parts: Vec<Part>,
 }
 
 impl Reader<'_> {
@@ -114,11 +119,14 @@ impl Reader<'_> {
             corners,
             tangents_supplied,
             normals_missing,
+            runs,
+            parts,
             ..
         } = gathered;
+        let file_order = file_order(&runs, &corners);
         let (soup, triangle_materials, file_tangents) = assemble(corners, tangents_supplied)?;
         // Each material's corners are already together: the grouping keeps them as they are.
-        let (mut soup, ranges) = group_by_material(soup, &triangle_materials);
+        let (mut soup, ranges, _) = group_by_material(soup, &triangle_materials);
         let placement = placement(&soup.vertices).ok_or_else(|| {
             "every triangle is at one point: a model needs some size to be framed and lit"
                 .to_string()
@@ -135,6 +143,8 @@ impl Reader<'_> {
             normals_computed: normals_missing,
             file_tangents,
             notices,
+            file_order,
+            parts,
         })
     }
 
@@ -145,7 +155,9 @@ impl Reader<'_> {
         let mut corners: Vec<Corners> = Vec::new();
         let (mut tangents_missing, mut tangents_supplied) = (false, false);
         let (mut normals_missing, mut uvs_filled) = (false, false);
-        for (mesh, world) in self.mesh_instances(document)? {
+        let (mut runs, mut parts) = (Vec::new(), Vec::<Part>::new());
+        for (node, mesh, world) in self.mesh_instances(document)? {
+            let part_start = runs.iter().map(|&(_, n)| n).sum::<usize>();
             for primitive in mesh.primitives() {
                 let at = format!("mesh {} primitive {}", mesh.index(), primitive.index());
                 let slot = primitive.material().index();
@@ -179,7 +191,16 @@ impl Reader<'_> {
                 append(&mut out.vertices, read.vertices);
                 append(&mut out.uvs, read.uvs);
                 append(&mut out.normals, read.normals);
+                runs.push((m, count / 3));
             }
+            // The node's name is the object's in the tool that wrote it (Blender's); its mesh's
+            // name is the data's, often shared.
+            let name = node.name().or(mesh.name()).unwrap_or_default();
+            let end = runs.iter().map(|&(_, n)| n).sum::<usize>();
+            parts.push(Part {
+                name: name.to_string(),
+                triangles: part_start..end,
+            });
         }
         Ok(Gathered {
             material_order,
@@ -188,6 +209,8 @@ impl Reader<'_> {
             tangents_supplied,
             normals_missing,
             uvs_filled,
+            runs,
+            parts,
         })
     }
 
@@ -240,12 +263,12 @@ impl Reader<'_> {
         Ok(materials)
     }
 
-    /// The meshes the scene draws, each with its node's world transform: the default scene (or
-    /// the first), else every node that is no node's child.
+    /// The meshes the scene draws, each with its node and the node's world transform: the default
+    /// scene (or the first), else every node that is no node's child.
     fn mesh_instances<'d>(
         &self,
         document: &'d gltf::Document,
-    ) -> Result<Vec<(gltf::Mesh<'d>, Mat4)>, String> {
+    ) -> Result<Vec<(gltf::Node<'d>, gltf::Mesh<'d>, Mat4)>, String> {
         let roots: Vec<gltf::Node> = match document.default_scene().or(document.scenes().next()) {
             Some(scene) => scene.nodes().collect(),
             None => {
@@ -272,7 +295,7 @@ impl Reader<'_> {
             }
             let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
             if let Some(mesh) = node.mesh() {
-                out.push((mesh, world));
+                out.push((node.clone(), mesh, world));
             }
             stack.extend(node.children().map(|c| (c, world)));
         }
@@ -313,6 +336,37 @@ fn read_document(bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>), Stri
         ));
     }
     Ok((document, blob))
+}
+
+/// Each soup triangle's index in the order the primitives were met ([`Model::file_order`]): the
+/// soup holds each material's corners (`corners`) one after the other, each material's in the order
+/// met; `runs` are the primitives' materials and triangles. Empty where the two orders are one.
+fn file_order(runs: &[(usize, usize)], corners: &[Corners]) -> Vec<u32> {
+    let mut next: Vec<usize> = corners
+        .iter()
+        .scan(0, |start, c| {
+            let first = *start;
+            *start += c.vertices.len() / 3;
+            Some(first)
+        })
+        .collect();
+    let mut order = Vec::new();
+    let mut file = 0;
+    for &(m, triangles) in runs {
+        for _ in 0..triangles {
+            order.push((next[m], file as u32));
+            next[m] += 1;
+            file += 1;
+        }
+    }
+    if order.iter().all(|&(soup, file)| soup == file as usize) {
+        return Vec::new();
+    }
+    let mut file_order = vec![0u32; order.len()];
+    for (soup, file) in order {
+        file_order[soup] = file;
+    }
+    file_order
 }
 
 /// The materials' corners one after the other, as one soup, with each triangle's material and
@@ -404,6 +458,23 @@ fn append<T>(to: &mut Vec<T>, mut more: Vec<T>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    // Fails if a triangle of primitives whose materials interleave is not given its index in the
+    // order the primitives were met, or if an order that is the soup's is not left empty.
+    #[test]
+    fn the_file_order_follows_the_primitives_met() {
+        let corners = |triangles: usize| Corners {
+            vertices: vec![Vec3::ZERO; 3 * triangles],
+            ..Corners::default()
+        };
+        // Material 0's primitives hold the file's triangles 0, 1 and 3; material 1's 2, 4 and 5.
+        let runs = [(0, 2), (1, 1), (0, 1), (1, 2)];
+        assert_eq!(
+            file_order(&runs, &[corners(3), corners(3)]),
+            [0, 1, 3, 2, 4, 5]
+        );
+        assert!(file_order(&[(0, 2), (0, 1), (1, 3)], &[corners(3), corners(3)]).is_empty());
+    }
 
     // Fails if a node's transform is not applied (the fuzz corpus's quad sits under a node that
     // moves it by +2 in x and a child that mirrors x), if the mirror leaves the winding clockwise
