@@ -5,7 +5,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use tutorial13::normalmap::decode_image;
-use tutorial13::photo::{height_from_photo, Photo};
+use tutorial13::photometric::photo::{height_from_photo, Photo};
 use tutorial13::photometric::{recover, PhotometricOptions};
 
 use super::{rejected, Outcome};
