@@ -64,7 +64,12 @@ pub(super) struct BakeSphere {
 pub(super) fn bake_sphere() -> &'static BakeSphere {
     static SPHERE: std::sync::OnceLock<BakeSphere> = std::sync::OnceLock::new();
     SPHERE.get_or_init(|| {
-        let text = tutorial13::mesh::sphere_obj_text(8, 4, &tutorial13::mesh::round, false);
+        let text = tutorial13::assets::obj_text::sphere_obj_text(
+            8,
+            4,
+            &tutorial13::assets::obj_text::round,
+            false,
+        );
         let nothing = |_: &Path| Err(std::io::ErrorKind::NotFound.into());
         let model = load_model_bytes(
             text.as_bytes(),

@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 
 use glam::{DVec3, Vec2, Vec3};
+use tutorial13::assets::obj_text::{bumps, relief_point, round, sphere_obj_text, Relief};
 use tutorial13::bake::{BakeFiles, BakeSettings, BakedMap, Space, Tangents, TexelState};
-use tutorial13::mesh::{bumps, relief_point, round, sphere_obj_text, Relief};
 use tutorial13::model::{load_model, MapOverrides};
 
 use crate::common::{run, scratch, text, tutorial13};

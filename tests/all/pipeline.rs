@@ -5,12 +5,11 @@ use std::path::Path;
 
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
+use tutorial13::assets::obj_text::{charted_cylinder_obj_text, grid_cylinder_obj_text};
 use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
 use tutorial13::common::vboindexer::{self, IndexOptions, Indices};
-use tutorial13::mesh::{
-    build_mesh, charted_cylinder_obj_text, grid_cylinder_obj_text, MeshOptions,
-};
+use tutorial13::mesh::{build_mesh, MeshOptions};
 use tutorial13::pipeline::indexer::index_vbo_hashed;
 use tutorial13::pipeline::obj_parse::{load_obj_bytes_threaded, load_obj_threaded};
 use tutorial13::scenes::cylinder::tutorial13::load_mesh;
