@@ -199,7 +199,7 @@ fn read_low(path: &Path) -> Low {
             .collect(),
         normals: model.soup.normals.iter().map(|n| n.as_dvec3()).collect(),
         uvs: model.soup.uvs.clone(),
-        tangents: tutorial13::tangents::mikktspace_tangents(&model.soup).unwrap(),
+        tangents: tutorial13::tangent_source::mikktspace_tangents(&model.soup).unwrap(),
     }
 }
 
@@ -987,7 +987,7 @@ fn a_gltf_lows_own_tangents_are_baked_in() {
     let bare = dir.join("bare.glb");
     std::fs::write(&bare, obj_as_glb(&low_obj, true, None)).unwrap();
     let soup = load_model(&bare, &MapOverrides::default()).unwrap().soup;
-    let mikk = tutorial13::tangents::mikktspace_tangents(&soup).unwrap();
+    let mikk = tutorial13::tangent_source::mikktspace_tangents(&soup).unwrap();
     let turned: Vec<[f32; 4]> = mikk
         .iter()
         .zip(&soup.normals)
