@@ -12,7 +12,7 @@ use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::model::{load_model_bytes, MapOverrides, Model};
 use tutorial13::pipeline::mikktspace::mikktspace_tangents_on;
 
-use super::model::split_model_input;
+use super::model::load_model_input;
 use super::{message_kind, Outcome, Target};
 
 /// The `bake` target's check (see [`Target::Bake`]).
@@ -37,20 +37,7 @@ pub(super) fn load_bake_model(input: &[u8]) -> tutorial13::Result<Model> {
             nothing_beside,
         );
     }
-    let (obj, mtl) = split_model_input(input);
-    let read_mtl = |p: &Path| {
-        if p.file_name() == Some("fuzz.mtl".as_ref()) {
-            Ok(mtl.clone())
-        } else {
-            Err(std::io::Error::from(std::io::ErrorKind::NotFound))
-        }
-    };
-    load_model_bytes(
-        &obj,
-        Path::new(Target::Bake.file_name()),
-        &MapOverrides::default(),
-        read_mtl,
-    )
+    load_model_input(input, Path::new(Target::Bake.file_name()))
 }
 
 /// The `bake` target's fixed other model: a UV sphere of 8 segments and 4 rings (its UVs cover

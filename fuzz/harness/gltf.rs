@@ -9,18 +9,16 @@ use super::{rejected, Outcome};
 
 /// The `gltf` target's check (see [`Target::Gltf`](super::Target::Gltf)).
 pub(super) fn check(input: &[u8], path: &Path) -> Result<Outcome, String> {
-    {
-        let nothing_beside = |_: &Path| Err(std::io::ErrorKind::NotFound.into());
-        // Read for its shape too (a bake's HIGH: a primitive without UVs is taken).
-        if let Ok(shape) = load_shape_bytes(input, path, nothing_beside) {
-            check_model(&shape)?;
-        }
-        match load_model_bytes(input, path, &MapOverrides::default(), nothing_beside) {
-            Err(e) => rejected(path, e),
-            Ok(model) => {
-                check_model(&model)?;
-                check_file_tangents(&model).map(|_| Outcome::Loaded)
-            }
+    let nothing_beside = |_: &Path| Err(std::io::ErrorKind::NotFound.into());
+    // Read for its shape too (a bake's HIGH: a primitive without UVs is taken).
+    if let Ok(shape) = load_shape_bytes(input, path, nothing_beside) {
+        check_model(&shape)?;
+    }
+    match load_model_bytes(input, path, &MapOverrides::default(), nothing_beside) {
+        Err(e) => rejected(path, e),
+        Ok(model) => {
+            check_model(&model)?;
+            check_file_tangents(&model).map(|_| Outcome::Loaded)
         }
     }
 }

@@ -13,20 +13,23 @@ pub const MTL_SEPARATOR: &str = "#--- fuzz.mtl ---\n";
 
 /// The `model` target's check (see [`Target::Model`](super::Target::Model)).
 pub(super) fn check(input: &[u8], path: &Path) -> Result<Outcome, String> {
-    {
-        let (obj, mtl) = split_model_input(input);
-        let read_mtl = |p: &Path| {
-            if p.file_name() == Some("fuzz.mtl".as_ref()) {
-                Ok(mtl.clone())
-            } else {
-                Err(std::io::Error::from(std::io::ErrorKind::NotFound))
-            }
-        };
-        match load_model_bytes(&obj, path, &MapOverrides::default(), read_mtl) {
-            Err(e) => rejected(path, e),
-            Ok(model) => check_model(&model).map(|_| Outcome::Loaded),
-        }
+    match load_model_input(input, path) {
+        Err(e) => rejected(path, e),
+        Ok(model) => check_model(&model).map(|_| Outcome::Loaded),
     }
+}
+
+/// A model input (the OBJ, then the MTL its `mtllib fuzz.mtl` reads) loaded in memory as `path`.
+pub(super) fn load_model_input(input: &[u8], path: &Path) -> tutorial13::Result<Model> {
+    let (obj, mtl) = split_model_input(input);
+    let read_mtl = |p: &Path| {
+        if p.file_name() == Some("fuzz.mtl".as_ref()) {
+            Ok(mtl.clone())
+        } else {
+            Err(std::io::Error::from(std::io::ErrorKind::NotFound))
+        }
+    };
+    load_model_bytes(&obj, path, &MapOverrides::default(), read_mtl)
 }
 
 /// A model input split into the OBJ and the MTL its `mtllib fuzz.mtl` reads.

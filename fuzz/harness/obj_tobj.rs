@@ -10,12 +10,10 @@ use crate::differential::differ_from_tobj;
 
 /// The `obj-tobj` target's check (see [`Target::ObjTobj`](super::Target::ObjTobj)).
 pub(super) fn check(input: &[u8], path: &Path) -> Result<Outcome, String> {
-    {
-        let (obj, mtl) = split_model_input(input);
-        differ_from_tobj(&obj, &mtl)?;
-        match load_obj_bytes_threaded(&obj, path) {
-            Err(e) => rejected(path, e),
-            Ok(_) => Ok(Outcome::Loaded),
-        }
+    let (obj, mtl) = split_model_input(input);
+    differ_from_tobj(&obj, &mtl)?;
+    match load_obj_bytes_threaded(&obj, path) {
+        Err(e) => rejected(path, e),
+        Ok(_) => Ok(Outcome::Loaded),
     }
 }
