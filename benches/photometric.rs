@@ -16,7 +16,7 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
 use tutorial13::normalmap::Green;
-use tutorial13::photo::{Encoding, Photo};
+use tutorial13::photometric::photo::{Encoding, Photo};
 use tutorial13::photometric::{load_photos, recover, recover_calibrated, run};
 use tutorial13::photometric::{Calibration, Job, PhotometricOptions, Solver};
 

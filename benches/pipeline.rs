@@ -19,7 +19,7 @@ use tutorial13::common::vboindexer::{self, IndexOptions};
 use tutorial13::mesh::{build_mesh, MeshOptions};
 use tutorial13::pipeline::indexer::index_vbo_tbn_hashed;
 use tutorial13::pipeline::obj_parse::load_obj_threaded;
-use tutorial13::tangents::TangentSource;
+use tutorial13::tangent_source::TangentSource;
 
 fn write_obj(name: &str, segments: u32, rings: u32) -> PathBuf {
     let dir = std::env::temp_dir().join("tutorial13-bench");

@@ -149,8 +149,8 @@ const INTENSITIES_SEED: &str = "0.82 0.79 0.91\n1 1 1\n# dim\n0.5\n";
 
 /// The seed corpus: small files made here (the tutorial's own files are not redistributable).
 fn make_corpus() {
+    use tutorial13::assets::obj_text::grid_cylinder_obj_text;
     use tutorial13::assets::{encode_bmp, encode_dds_dxt3};
-    use tutorial13::mesh::grid_cylinder_obj_text;
 
     let write = |target: Target, name: &str, bytes: &[u8]| {
         let dir = harness::corpus_dir(target);

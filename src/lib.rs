@@ -7,7 +7,7 @@
 //! | errors and files  | [`error`], [`files`], [`progress`], [`clock`], [`statistics`] | the crate's error type; atomic file writing; a line for a long load; the clock; min and median of timings |
 //! | the tutorial's `common/` | [`common`] | objloader, tangentspace, vboindexer, texture, shader, controls |
 //! | the fast pipeline   | [`pipeline`]  | the OBJ parse on every core and the linear-time indexers: the `common/` ports' results, to the bit, for a learner's large model |
-//! | CPU helpers         | [`mesh`], [`normalmap`], [`photo`], [`photometric`], [`assets`], [`model`], [`bake`], [`combine`] | the CPU pipeline's switches, mesh generators, height map → normal map, photos → normal map (one photo's guess, photometric stereo), the project's own assets, a learner's OBJ with its MTL maps, a detailed model's normals baked into a simple one's UVs, two normal maps combined |
+//! | CPU helpers         | [`mesh`], [`tangent_source`], [`normalmap`], [`photometric`], [`assets`], [`model`], [`bake`], [`combine`] | the CPU pipeline's switches, where a mesh's tangents come from, height map → normal map, photos → normal map (one photo's guess, photometric stereo), the project's own assets and OBJ text made by code, a learner's OBJ with its MTL maps, a detailed model's normals baked into a simple one's UVs, two normal maps combined |
 //! | GL helpers          | [`gl`]        | the `Gl` handle, context info, error draining, mesh buffers, read-back and image files, the headless context and offscreen targets |
 //! | debugging aids      | [`debug`]     | the TBN lines (immediate mode and line shader), colour views  |
 //! | scenes              | [`scenes`]    | `tutorial13.rs` (`tutorial13.cpp`), the cylinder scene, the [`scenes::Scene`] seam |
@@ -32,13 +32,12 @@ pub mod gl;
 pub mod mesh;
 pub mod model;
 pub mod normalmap;
-pub mod photo;
 pub mod photometric;
 pub mod pipeline;
 pub mod progress;
 pub mod scenes;
 pub mod statistics;
-pub mod tangents;
+pub mod tangent_source;
 pub mod tools;
 pub mod tour;
 

@@ -5,8 +5,8 @@ use std::time::Duration;
 
 use criterion::Criterion;
 use glam::{Vec2, Vec3};
+use tutorial13::assets::obj_text::{charted_cylinder_obj_text, grid_cylinder_obj_text};
 use tutorial13::common::objloader::TriangleSoup;
-use tutorial13::mesh::{charted_cylinder_obj_text, grid_cylinder_obj_text};
 
 /// `segments × rings × 2` triangles, about 0.06 apart around and 0.05 along the axis (so that no two
 /// vertices are within the tutorial's 0.01 and the mesh indexes to `(segments + 1) × (rings + 1)`).

@@ -36,10 +36,12 @@
 use std::path::{Path, PathBuf};
 
 mod fallback;
+pub mod obj_text;
 
 pub(crate) use fallback::say_taken_from_crate;
 pub use fallback::{crate_assets_dir, find_assets, taken_from_crate, AssetFiles};
 
+use self::obj_text::tutorial_cylinder_obj_text;
 use crate::files::write_bytes_atomically;
 use crate::normalmap::{normal_map, HeightMap, Kernel, NormalMapOptions};
 use crate::{Error, Result};
@@ -54,10 +56,6 @@ const CYLINDER_SEGMENTS: u32 = 32;
 /// Bump strength of `normal.bmp` (height units per texel → slope): the grain tilts the normal by a
 /// few degrees, the bevels by up to ~40°, the walls of the pits by up to ~60°.
 const NORMAL_STRENGTH: f32 = 14.0;
-/// The tutorial's U: 2.2407 on the first column, falling by 3.7134 / 32 per segment (so the texture
-/// reads left to right seen from outside) and ending on a seam duplicate at 2.3567.
-const U_START: f64 = 2.2407;
-const U_TURNS: f64 = 3.7134;
 
 /// What [`make_assets`] did with each file.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -153,81 +151,6 @@ pub fn write_error(path: impl Into<PathBuf>, reason: String) -> Error {
     Error::Write {
         path: path.into(),
         reason,
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Cylinder
-
-/// The tutorial's cylinder as OBJ text, in its file's layout (see [`crate::mesh::grid_cylinder_obj_text`]
-/// for cylinders of any size): radius 1, y from 0 to 2, `segments` (at least 3) quads
-/// around, no caps.
-///
-/// Laid out like the tutorial's file: the bottom ring then the top ring of positions (ring point `i`
-/// at angle `2πi/segments` from -Z towards +X), one radial normal per column, two UVs per column plus
-/// a seam column (so `2 * (segments + 1)` UVs), and two triangles per quad wound counter-clockwise
-/// seen from outside.
-pub fn tutorial_cylinder_obj_text(segments: u32) -> String {
-    use std::fmt::Write as _;
-
-    let n = segments.max(3);
-    let mut text = String::new();
-    let _ = writeln!(
-        text,
-        "# tutorial13: cylinder, radius 1, height 2, {n} segments"
-    );
-    let ring: Vec<(f64, f64)> = (0..n)
-        .map(|i| {
-            let angle = std::f64::consts::TAU * f64::from(i) / f64::from(n);
-            (angle.sin(), -angle.cos())
-        })
-        .collect();
-    for y in [0.0, 2.0] {
-        for &(x, z) in &ring {
-            let _ = writeln!(text, "v {} {} {}", fixed(x), fixed(y), fixed(z));
-        }
-    }
-    // Column i's U; the last column repeats ring point n-1 one turn further, so that the seam quad
-    // (n-1 → 0) continues the U ramp instead of running backwards across the whole texture.
-    let du = U_TURNS / f64::from(n);
-    let column_u = |i: u32| U_START - f64::from(i) * du;
-    for u in (0..n).map(column_u).chain([column_u(n - 1) + U_TURNS]) {
-        let _ = writeln!(text, "vt {} {}", fixed(u), fixed(0.0));
-        let _ = writeln!(text, "vt {} {}", fixed(u), fixed(1.0));
-    }
-    for &(x, z) in &ring {
-        let _ = writeln!(text, "vn {} {} {}", fixed(x), fixed(0.0), fixed(z));
-    }
-    let _ = writeln!(text, "s 1");
-    for i in 0..n {
-        // 1-based OBJ indices of this quad's corners: bottom/top at columns i and i+1 (wrapping).
-        let j = (i + 1) % n;
-        let (b0, t0, b1, t1) = (i + 1, n + i + 1, j + 1, n + j + 1);
-        // UV columns: i's pair, and the next pair; the seam quad uses the duplicate pair for i.
-        let (uv_col0, uv_col1) = if j == 0 { (n, 0) } else { (i, j) };
-        let (uv_b0, uv_t0) = (2 * uv_col0 + 1, 2 * uv_col0 + 2);
-        let (uv_b1, uv_t1) = (2 * uv_col1 + 1, 2 * uv_col1 + 2);
-        let (n0, n1) = (i + 1, j + 1);
-        // Ring angle grows towards +X from -Z, i.e. clockwise seen from above; going up then along
-        // the ring is counter-clockwise seen from outside.
-        let _ = writeln!(
-            text,
-            "f {b0}/{uv_b0}/{n0} {t0}/{uv_t0}/{n0} {t1}/{uv_t1}/{n1}"
-        );
-        let _ = writeln!(
-            text,
-            "f {b0}/{uv_b0}/{n0} {t1}/{uv_t1}/{n1} {b1}/{uv_b1}/{n1}"
-        );
-    }
-    text
-}
-
-/// Six decimals, never `-0.000000`.
-fn fixed(x: f64) -> String {
-    let s = format!("{x:.6}");
-    match s.strip_prefix('-') {
-        Some(rest) if rest.bytes().all(|b| b == b'0' || b == b'.') => rest.to_string(),
-        _ => s,
     }
 }
 

@@ -39,7 +39,7 @@ use crate::clock::Instant;
 use crate::common::objloader::TriangleSoup;
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::model::{load_model, MapOverrides, Model};
-use crate::tangents::stretch;
+use crate::tangent_source::stretch;
 use crate::{Error, Result};
 
 pub use parts::Pairing;
@@ -736,7 +736,7 @@ impl BakeFiles {
         let frames = match settings.tangents {
             Tangents::MikkTSpace => CornerFrames::mikktspace(
                 &low.soup,
-                &crate::tangents::mikktspace_tangents(&low.soup)?,
+                &crate::tangent_source::mikktspace_tangents(&low.soup)?,
             ),
             Tangents::File => {
                 let file = low.file_tangents.as_ref().ok_or_else(|| Error::Bake {

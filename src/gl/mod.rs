@@ -9,10 +9,10 @@ pub mod context;
 pub mod current;
 pub mod extensions;
 pub mod image;
+pub mod map_uploads;
 pub mod objects;
 pub mod offscreen;
 pub mod state;
-pub mod textures;
 pub mod uniforms;
 
 use std::fmt;

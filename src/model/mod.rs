@@ -30,7 +30,7 @@ use glam::{DVec3, Vec3};
 
 use crate::common::objloader::{ObjMode, ObjRead, TriangleSoup};
 use crate::pipeline::obj_parse::read_obj_threaded;
-use crate::tangents::FileTangents;
+use crate::tangent_source::FileTangents;
 use crate::{Error, Result};
 
 /// The centre of the tutorial's cylinder's bounding box: it spans x and z from -1 to 1, y from 0 to 2.

@@ -33,13 +33,16 @@
 //!
 //! Its parts: `capture.rs` parses the lights and their brightnesses (flags and files),
 //! `lights.rs` measures the lights' spread and checks a set, `stereo.rs` solves a band of rows,
-//! `masks.rs` caches each mask's solve, `photos.rs` reads the photos and the mask, and `run.rs`
-//! is the command. This file holds the options, the results and the solve over bands of rows.
+//! `masks.rs` caches each mask's solve, `load.rs` reads the photos and the mask, and `run.rs`
+//! is the command; `photo.rs` is a photo as both photo tools read it (this command and
+//! `normalmap --from-photo`, whose one-photo guess of a height map it holds too). This file holds
+//! the options, the results and the solve over bands of rows.
 
 mod capture;
 mod lights;
+mod load;
 mod masks;
-mod photos;
+pub mod photo;
 mod run;
 mod stereo;
 
@@ -48,11 +51,11 @@ use glam::Vec3;
 pub use self::capture::{parse_intensities_file, parse_intensity, parse_light, parse_lights_file};
 pub use self::lights::light_spread_degrees;
 use self::lights::unit_lights;
-pub use self::photos::{load_photos, reserve_for_photos};
+pub use self::load::{load_photos, reserve_for_photos};
+use self::photo::{Encoding, Photo, Samples};
 pub use self::run::{run, Job};
 use self::stereo::{Band, Stereo};
 use crate::normalmap::Green;
-use crate::photo::{Encoding, Photo, Samples};
 use crate::{Error, Result};
 
 /// Below this spread of the light directions out of one plane, they are refused as coplanar.

@@ -7,10 +7,10 @@ use glam::Vec3;
 
 use super::capture::{parse_intensities_file, parse_intensity, parse_light, parse_lights_file};
 use super::lights::unit_lights;
-use super::photos::{load_mask, load_photos};
+use super::load::{load_mask, load_photos};
 use super::{recover_calibrated, Calibration, PhotometricOptions, Recovered, Solver};
 use crate::normalmap::{map_format, write_normal_map, write_normal_map16, Green};
-use crate::photo::Encoding;
+use crate::photometric::photo::Encoding;
 use crate::{Error, Result};
 
 /// `tutorial13 photometric`, as the command line gives it.

@@ -8,7 +8,7 @@ use super::masks::Solves;
 use super::{Calibration, PhotometricOptions, Solver, COARSE, MASKED_PHOTOS, ROBUST_FROM};
 use super::{ROBUST_BRIGHTEST, ROBUST_DARKEST, SATURATED};
 use crate::normalmap::{encode_normal, encode_normal16, Green};
-use crate::photo::{Photo, LUMINANCE};
+use crate::photometric::photo::{Photo, LUMINANCE};
 
 /// How a texel's normal is fitted.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -323,7 +323,7 @@ mod tests {
     use super::super::lights::tests::ring;
     use super::super::sixteen;
     use super::*;
-    use crate::photo::Encoding;
+    use crate::photometric::photo::Encoding;
 
     // Fails if a photo's texel is kept or left out on the wrong side of either line: a luminance of
     // exactly `shadow` is lit, just below is not; for 8 bits the first saturated value is

@@ -9,7 +9,7 @@ use crate::normalmap::{
     map_format, normal_map, write_normal_map, write_normal_map16, Green, HeightMap, Kernel,
     NormalMapOptions,
 };
-use crate::photo::{height_from_photo, Photo, DEFAULT_RADIUS};
+use crate::photometric::photo::{height_from_photo, Photo, DEFAULT_RADIUS};
 use crate::{Error, Result};
 
 /// Make a tangent-space normal map from a grey-scale height map (white high, black low; any size;

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use super::Depth;
 use crate::normalmap::Green;
-use crate::photo::Encoding;
+use crate::photometric::photo::Encoding;
 use crate::photometric::{Job, Solver, DEFAULT_SHADOW};
 use crate::Result;
 

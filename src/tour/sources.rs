@@ -25,7 +25,7 @@ rust_sources![
     "src/debug/views.rs",
     "src/normalmap.rs",
     "src/combine.rs",
-    "src/photo.rs",
+    "src/photometric/photo.rs",
     "src/scenes/cylinder/tutorial13.rs",
     "src/scenes/cylinder/programs.rs",
 ];

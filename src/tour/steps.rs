@@ -361,7 +361,7 @@ pub static STEPS: [Step; 18] = [
             controls: &[],
             camera: Camera::Start,
         },
-        rust: &["photo::height_from_photo"],
+        rust: &["photometric::photo::height_from_photo"],
         regions: &[],
         cpp: &[],
     },

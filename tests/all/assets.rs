@@ -4,9 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use tutorial13::assets::{
-    brick_height_map, make_assets, normal_map_from_height, tutorial_cylinder_obj_text, ASSET_FILES,
-};
+use tutorial13::assets::obj_text::tutorial_cylinder_obj_text;
+use tutorial13::assets::{brick_height_map, make_assets, normal_map_from_height, ASSET_FILES};
 
 use crate::common;
 

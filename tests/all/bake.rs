@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 
 use glam::{DVec3, Vec2, Vec3};
+use tutorial13::assets::obj_text::{bumps, relief_point, round, sphere_obj_text, Relief};
 use tutorial13::bake::{BakeFiles, BakeSettings, BakedMap, Space, Tangents, TexelState};
-use tutorial13::mesh::{bumps, relief_point, round, sphere_obj_text, Relief};
 use tutorial13::model::{load_model, MapOverrides};
 
 use crate::common::{run, scratch, text, tutorial13};
@@ -199,7 +199,7 @@ fn read_low(path: &Path) -> Low {
             .collect(),
         normals: model.soup.normals.iter().map(|n| n.as_dvec3()).collect(),
         uvs: model.soup.uvs.clone(),
-        tangents: tutorial13::tangents::mikktspace_tangents(&model.soup).unwrap(),
+        tangents: tutorial13::tangent_source::mikktspace_tangents(&model.soup).unwrap(),
     }
 }
 
@@ -1042,7 +1042,7 @@ fn a_gltf_lows_own_tangents_are_baked_in() {
     let bare = dir.join("bare.glb");
     std::fs::write(&bare, obj_as_glb(&low_obj, true, None)).unwrap();
     let soup = load_model(&bare, &MapOverrides::default()).unwrap().soup;
-    let mikk = tutorial13::tangents::mikktspace_tangents(&soup).unwrap();
+    let mikk = tutorial13::tangent_source::mikktspace_tangents(&soup).unwrap();
     let turned: Vec<[f32; 4]> = mikk
         .iter()
         .zip(&soup.normals)

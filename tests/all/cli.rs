@@ -779,7 +779,7 @@ fn each_cylinder_flag_draws_the_frame_of_its_option() {
     use tutorial13::debug::compare::CompareMode;
     use tutorial13::scenes::cylinder::{self, Comparing, Cylinder};
     use tutorial13::scenes::Setting;
-    use tutorial13::tangents::TangentSource;
+    use tutorial13::tangent_source::TangentSource;
     let dir = common::scratch("cylinder_flags");
     let pair = [TangentSource::Tutorial, TangentSource::MikkTSpace];
     let compare = |mode| cylinder::COMPARE.to(Comparing::pair(pair, mode));

@@ -11,7 +11,7 @@ use tutorial13::gl::Profile;
 use tutorial13::scenes::cylinder::{self, Comparing, Cylinder};
 use tutorial13::scenes::Scene;
 use tutorial13::scenes::SceneOptions;
-use tutorial13::tangents::TangentSource;
+use tutorial13::tangent_source::TangentSource;
 
 fn alone(source: TangentSource) -> RgbImage {
     cylinder_frame(own_assets(), |o| {

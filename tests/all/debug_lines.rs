@@ -681,7 +681,11 @@ fn rebuild_takes_the_new_mesh() {
     look_from_above(&mut r);
     // Another mesh: the tutorial's cylinder shape with 24 segments instead of 32.
     let obj = common::scratch("rebuild").join("cylinder.obj");
-    std::fs::write(&obj, tutorial13::assets::tutorial_cylinder_obj_text(24)).unwrap();
+    std::fs::write(
+        &obj,
+        tutorial13::assets::obj_text::tutorial_cylinder_obj_text(24),
+    )
+    .unwrap();
     let other = std::rc::Rc::new(
         tutorial13::scenes::cylinder::tutorial13::load_mesh(&obj, Default::default())
             .unwrap()

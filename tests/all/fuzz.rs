@@ -1,7 +1,7 @@
 //! The fuzz harness inside `cargo test`: every saved failing input and every seed replays cleanly,
 //! and a short seeded run of each target finds nothing. Long runs: `fuzz/main.rs`.
 
-#[path = "../../fuzz/harness.rs"]
+#[path = "../../fuzz/harness/mod.rs"]
 mod harness;
 
 use std::time::{Duration, Instant};

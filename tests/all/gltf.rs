@@ -464,7 +464,7 @@ fn normal_tangent_cells_shade_like_their_bumps() {
 #[test]
 fn primitives_without_tangents_get_mikktspace_the_others_keep_the_files() {
     use tutorial13::mesh::MeshOptions;
-    use tutorial13::tangents::{mikktspace_tangents, welded_mesh, TangentSource};
+    use tutorial13::tangent_source::{mikktspace_tangents, welded_mesh, TangentSource};
 
     let dir = common::scratch("gltf_mixed_tangents");
     write_cells(&dir, "bumps", false, Supplied::Bumps, Storage::File);

@@ -11,7 +11,7 @@ use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::vboindexer::{IndexedMesh, Indices};
 use tutorial13::pipeline::mikktspace::{mikktspace_tangents, mikktspace_tangents_on};
 use tutorial13::pipeline::obj_parse::load_obj_threaded;
-use tutorial13::tangents::{mikktspace_mesh, welded_mesh};
+use tutorial13::tangent_source::{mikktspace_mesh, welded_mesh};
 
 use crate::common::{mesh_bit_difference, own_assets};
 use crate::mikktspace_reference::{first_difference, reference_can_take, reference_tangents};
@@ -411,8 +411,8 @@ proptest! {
 }
 
 /// The weld of a tangent per corner as it was first written (a hash map of all twelve floats'
-/// bits, vertices in the order of their first corner): what `tangents::welded_mesh` and
-/// `tangents::mikktspace_mesh` must still give.
+/// bits, vertices in the order of their first corner): what `tangent_source::welded_mesh` and
+/// `tangent_source::mikktspace_mesh` must still give.
 fn reference_weld(soup: &TriangleSoup, tangents: &[[f32; 4]]) -> IndexedMesh {
     let mut mesh = IndexedMesh::empty();
     let mut indices = Vec::new();

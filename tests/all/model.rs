@@ -236,7 +236,7 @@ fn a_model_without_uvs_is_an_error() {
 #[test]
 fn a_far_large_model_is_framed() {
     let dir = common::scratch("far_large");
-    let cylinder = tutorial13::mesh::grid_cylinder_obj_text(48, 4, 100.0, 200.0, 1.0);
+    let cylinder = tutorial13::assets::obj_text::grid_cylinder_obj_text(48, 4, 100.0, 200.0, 1.0);
     let moved: String = cylinder
         .lines()
         .map(|line| match line.strip_prefix("v ") {
@@ -578,11 +578,11 @@ fn a_dropped_obj_opens_as_the_model() {
 fn a_dense_model_is_warned_of_merged_corners() {
     let dir = common::scratch("dense");
     // 1000 segments around a cylinder placed at the tutorial's size: neighbours 0.006 apart.
-    let dense = tutorial13::mesh::grid_cylinder_obj_text(1000, 2, 1.0, 2.0, 1.0);
+    let dense = tutorial13::assets::obj_text::grid_cylinder_obj_text(1000, 2, 1.0, 2.0, 1.0);
     std::fs::write(dir.join("dense.obj"), dense).unwrap();
     let (_, stderr) = shot(&dir, "dense.png", &["--model", "dense.obj"]);
     assert!(stderr.contains("tolerance moved"), "{stderr}");
-    let sparse = tutorial13::mesh::grid_cylinder_obj_text(200, 2, 1.0, 2.0, 1.0);
+    let sparse = tutorial13::assets::obj_text::grid_cylinder_obj_text(200, 2, 1.0, 2.0, 1.0);
     std::fs::write(dir.join("sparse.obj"), sparse).unwrap();
     let (_, stderr) = shot(&dir, "sparse.png", &["--model", "sparse.obj"]);
     assert!(!stderr.contains("tolerance moved"), "{stderr}");

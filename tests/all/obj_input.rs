@@ -7,7 +7,8 @@ use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::pipeline::obj_parse::load_obj_bytes_threaded;
 
 use crate::differential::differ_from_tobj;
-use tutorial13::mesh::{self, build_mesh, MeshOptions};
+use tutorial13::assets::obj_text;
+use tutorial13::mesh::{build_mesh, MeshOptions};
 use tutorial13::Result;
 
 use crate::common;
@@ -176,11 +177,11 @@ fn the_obj_reader_reads_as_tobj_does() {
     let large = [
         (
             "grid cylinder",
-            mesh::grid_cylinder_obj_text(400, 100, 1.0, 2.0, 1.0),
+            obj_text::grid_cylinder_obj_text(400, 100, 1.0, 2.0, 1.0),
         ),
         (
             "charted cylinder",
-            mesh::charted_cylinder_obj_text(300, 100, 1.0, 2.0, 8),
+            obj_text::charted_cylinder_obj_text(300, 100, 1.0, 2.0, 8),
         ),
         ("exported", exported_model(30, 40, false, true)),
         (
@@ -190,7 +191,7 @@ fn the_obj_reader_reads_as_tobj_does() {
         ("exported, no normals", exported_model(30, 40, false, false)),
         (
             "tutorial's cylinder",
-            tutorial13::assets::tutorial_cylinder_obj_text(12),
+            obj_text::tutorial_cylinder_obj_text(12),
         ),
     ];
     for (what, text) in &large {

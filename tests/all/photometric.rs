@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 use image::RgbImage;
 use tutorial13::normalmap::round_to_u8;
-use tutorial13::photo::{Encoding, Photo};
+use tutorial13::photometric::photo::{Encoding, Photo};
 use tutorial13::photometric::{recover, PhotometricOptions};
 
 use crate::capture_rig::rig;
@@ -658,7 +658,7 @@ fn from_photo_of_one_colour_is_flat_at_any_radius() {
 #[test]
 fn from_photo_radius_decides_which_widths_are_relief() {
     use tutorial13::normalmap::{normal_map, Green, Kernel, NormalMapOptions};
-    use tutorial13::photo::height_from_photo;
+    use tutorial13::photometric::photo::height_from_photo;
 
     let dir = scratch("from-photo-radius");
     let period = 64.0f64;
@@ -1324,8 +1324,8 @@ fn a_set_too_large_for_memory_is_refused_with_its_size() {
 // the first one's depth): 8-bit stays 8-bit, and 8 + 16 + 8 becomes 16-bit with v × 257.
 #[test]
 fn load_photos_widens_a_set_only_if_one_is_deeper() {
-    use tutorial13::photo::Samples;
     use tutorial13::photometric::load_photos;
+    use tutorial13::photometric::photo::Samples;
 
     let dir = scratch("widen");
     let eight = image::RgbImage::from_fn(3, 2, |x, y| image::Rgb([x as u8 * 80, y as u8 * 200, 7]));

@@ -5,13 +5,13 @@ use std::path::Path;
 
 use glam::{Vec2, Vec3};
 use proptest::prelude::*;
+use tutorial13::assets::obj_text::{charted_cylinder_obj_text, grid_cylinder_obj_text};
 use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentBasis, TangentOptions};
 use tutorial13::common::vboindexer::{self, IndexOptions, Indices};
 use tutorial13::gl::Profile;
 use tutorial13::mesh::{
-    build_mesh, charted_cylinder_obj_text, grid_cylinder_obj_text, BuiltBy, Code, MeshOptions,
-    PORTS_UP_TO_OBJ_BYTES, PORTS_UP_TO_TRIANGLES,
+    build_mesh, BuiltBy, Code, MeshOptions, PORTS_UP_TO_OBJ_BYTES, PORTS_UP_TO_TRIANGLES,
 };
 use tutorial13::pipeline::indexer::{index_vbo_hashed, index_vbo_tbn_hashed};
 use tutorial13::pipeline::obj_parse::{load_obj_bytes_threaded, load_obj_threaded};

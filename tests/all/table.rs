@@ -8,7 +8,7 @@ use tutorial13::frontends::panel::PanelWidget;
 use tutorial13::gl::Profile;
 use tutorial13::scenes::cylinder::{self, Cylinder};
 use tutorial13::scenes::{ControlValue, SceneControls, SceneOptions, SetTo, SCENES};
-use tutorial13::tangents::TangentSource;
+use tutorial13::tangent_source::TangentSource;
 
 use crate::common::*;
 

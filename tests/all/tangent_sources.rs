@@ -16,7 +16,7 @@ use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::mesh::MeshOptions;
 use tutorial13::pipeline::obj_parse::load_obj_threaded;
 use tutorial13::scenes::cylinder;
-use tutorial13::tangents::{mikktspace_tangents, TangentSource};
+use tutorial13::tangent_source::{mikktspace_tangents, TangentSource};
 
 /// The project's textures with `obj` as the mesh.
 fn assets_with_mesh(name: &str, obj: &str) -> PathBuf {

@@ -5,6 +5,7 @@
 use crate::common::*;
 use glam::{Mat3, Vec3};
 use image::RgbImage;
+use tutorial13::assets::obj_text::grid_cylinder_obj_text;
 use tutorial13::common::controls::Controls;
 use tutorial13::common::tangentspace::{compute_tangent_basis, TangentOptions};
 use tutorial13::common::vboindexer::IndexedMesh;
@@ -12,7 +13,6 @@ use tutorial13::debug::lines::LineMode;
 use tutorial13::debug::views::{ColorView, DebugVector, ShaderSwitches};
 use tutorial13::frontends::headless::HeadlessRenderer;
 use tutorial13::gl::Profile;
-use tutorial13::mesh::grid_cylinder_obj_text;
 use tutorial13::pipeline::obj_parse::load_obj_threaded;
 use tutorial13::scenes::cylinder::tutorial13::LIGHT_POS;
 use tutorial13::scenes::cylinder::{self, Cylinder};

@@ -901,27 +901,28 @@ fn k_twice_shows_the_native_heat_map() {
 /// `segments / 2`; LOW a 32 × 16 UV sphere with its MTL and a PNG diffuse map. The files of each,
 /// model first.
 fn bake_pair(dir: &Path, segments: u32) -> (Vec<&'static str>, Vec<&'static str>) {
-    let relief = tutorial13::mesh::bumps(0.02, 6.0);
-    let sculpt: String = tutorial13::mesh::sphere_obj_text(segments, segments / 2, &relief, false)
-        .lines()
-        .filter(|l| !l.starts_with("vt "))
-        .map(|l| match l.strip_prefix("f ") {
-            Some(corners) => {
-                let corners: Vec<String> = corners
-                    .split(' ')
-                    .map(|c| {
-                        let parts: Vec<&str> = c.split('/').collect();
-                        format!("{}//{}", parts[0], parts[2])
-                    })
-                    .collect();
-                format!("f {}\n", corners.join(" "))
-            }
-            None => format!("{l}\n"),
-        })
-        .collect();
+    let relief = tutorial13::assets::obj_text::bumps(0.02, 6.0);
+    let sculpt: String =
+        tutorial13::assets::obj_text::sphere_obj_text(segments, segments / 2, &relief, false)
+            .lines()
+            .filter(|l| !l.starts_with("vt "))
+            .map(|l| match l.strip_prefix("f ") {
+                Some(corners) => {
+                    let corners: Vec<String> = corners
+                        .split(' ')
+                        .map(|c| {
+                            let parts: Vec<&str> = c.split('/').collect();
+                            format!("{}//{}", parts[0], parts[2])
+                        })
+                        .collect();
+                    format!("f {}\n", corners.join(" "))
+                }
+                None => format!("{l}\n"),
+            })
+            .collect();
     std::fs::write(dir.join("sculpt.obj"), sculpt).expect("sculpt.obj");
-    let round = tutorial13::mesh::round;
-    let low = tutorial13::mesh::sphere_obj_text(32, 16, &round, false);
+    let round = tutorial13::assets::obj_text::round;
+    let low = tutorial13::assets::obj_text::sphere_obj_text(32, 16, &round, false);
     let low = format!("mtllib low.mtl\nusemtl skin\n{low}");
     std::fs::write(dir.join("low.obj"), low).expect("low.obj");
     let mtl = "newmtl skin\nKd 0.8 0.8 0.8\nmap_Kd low_diffuse.png\n";

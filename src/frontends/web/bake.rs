@@ -21,7 +21,7 @@ use crate::clock::Instant;
 use crate::model::Format;
 use crate::scenes::cylinder::{CylinderFiles, TANGENTS};
 use crate::scenes::SceneOptions;
-use crate::tangents::TangentSource;
+use crate::tangent_source::TangentSource;
 
 /// HIGH (the detailed model) or LOW (the one whose UVs the map fills).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

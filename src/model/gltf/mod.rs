@@ -36,7 +36,7 @@ pub use self::uri::{decode_base64, encode_base64};
 use super::parts::Part;
 use super::{apply_overrides, group_by_material, placement, MapOverrides, Material, Model, Uvs};
 use crate::common::objloader::TriangleSoup;
-use crate::tangents::FileTangents;
+use crate::tangent_source::FileTangents;
 use crate::{Error, Result};
 
 /// The extension that moves and turns UVs per texture; this reader does not apply it.

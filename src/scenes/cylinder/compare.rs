@@ -4,7 +4,7 @@
 use crate::debug::compare::{CompareMode, CompareView};
 use crate::debug::views::ColorView;
 use crate::gl::buffers::MeshBuffers;
-use crate::tangents::TangentSource;
+use crate::tangent_source::TangentSource;
 use crate::Result;
 
 use super::Cylinder;

@@ -13,7 +13,7 @@ use crate::scenes::flags::{given, parse_finite, read_green_down, read_slider, Sh
 use crate::scenes::lights::{light_slider, power_slider, PointLight, LIGHT_RANGE};
 use crate::scenes::starts::{Handle, Setting};
 use crate::scenes::table::{ChoiceValue, Choices, Control};
-use crate::tangents::TangentSource;
+use crate::tangent_source::TangentSource;
 use crate::Result;
 
 pub use super::compare::Comparing;

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::common::texture::{load_bmp_custom, load_dds, Texture};
-use crate::gl::textures::upload_map;
+use crate::gl::map_uploads::upload_map;
 use crate::gl::Gl;
 use crate::model::maps::{decode, Slot};
 use crate::model::{MapOverrides, MapSource, Model};

@@ -9,7 +9,7 @@ use glam::Vec3;
 use crate::common::objloader::TriangleSoup;
 use crate::mesh::MeshOptions;
 use crate::model::Model;
-use crate::tangents::{FileTangents, TangentSource};
+use crate::tangent_source::{FileTangents, TangentSource};
 use crate::Result;
 
 use super::Cylinder;
@@ -54,8 +54,11 @@ pub(super) fn warn_of_far_frame(
         .step_by((corners / 4096).max(1))
         .map(|i| {
             let v = mesh.indices.get(i) as usize;
-            crate::tangents::frame_stretch(mesh.tangents[v], mesh.bitangents[v], mesh.normals[v])
-                as f32
+            crate::tangent_source::frame_stretch(
+                mesh.tangents[v],
+                mesh.bitangents[v],
+                mesh.normals[v],
+            ) as f32
         })
         .collect();
     stretches.sort_unstable_by(f32::total_cmp);
@@ -65,7 +68,7 @@ pub(super) fn warn_of_far_frame(
         stretches[stretches.len() / 2]
     };
     let mikktspace = (model.soup.triangle_count() <= COMPARE_UP_TO)
-        .then(|| crate::tangents::mikktspace_tangents(&model.soup).ok())
+        .then(|| crate::tangent_source::mikktspace_tangents(&model.soup).ok())
         .flatten();
     let angles = mikktspace.map(|tangents| {
         let mut angles: Vec<f32> = (0..corners)

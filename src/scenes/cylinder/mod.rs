@@ -28,7 +28,7 @@ use crate::gl::Gl;
 use crate::mesh::MeshOptions;
 use crate::model::{load_model, MapOverrides, TUTORIAL_CYLINDER_CENTER, TUTORIAL_CYLINDER_RADIUS};
 use crate::progress::Progress;
-use crate::tangents::TangentSource;
+use crate::tangent_source::TangentSource;
 use crate::Result;
 
 use super::descriptor::SceneType;

@@ -8,7 +8,7 @@ use crate::debug::views::ShaderSwitches;
 use crate::gl::buffers::MeshBuffers;
 use crate::gl::Gl;
 use crate::scenes::scene::{FrameInput, ShaderSet};
-use crate::tangents::TangentSource;
+use crate::tangent_source::TangentSource;
 use crate::Result;
 
 use super::tutorial13::{NormalMappingProgram, Tutorial13, SHADERS};

@@ -1,6 +1,7 @@
 //! Uploads of a learner's maps ([`crate::model::maps`]): RGBA pictures with the tutorial's sampling
 //! (`loadBMP_custom`'s: repeat, trilinear, generated mipmaps), and the 1×1 textures that stand in for
-//! a map a material does not name.
+//! a map a material does not name. (The port of the tutorial's `texture.cpp`, DDS and BMP, is
+//! [`crate::common::texture`].)
 
 use crate::common::texture::{upload_texels, Texture};
 use crate::common::Gl;

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::normalmap::decode_image;
-use crate::photo::Photo;
+use crate::photometric::photo::Photo;
 use crate::{Error, Result};
 
 /// The mask at `path`: a texel is inside where any channel is nonzero. It must be the size of the

@@ -19,6 +19,9 @@
 //! T = dP/du and flips the bitangent instead (w = −1): the two frames agree on B and are opposite on
 //! T, so a map's red channel lights the other way. The per-pixel frame follows the UVs as MikkTSpace
 //! does.
+//!
+//! This module chooses among the sources; the computations are elsewhere: the port of
+//! `tangentspace.cpp` in [`crate::common::tangentspace`], MikkTSpace in [`crate::pipeline::mikktspace`].
 
 use std::borrow::Cow;
 use std::ops::Range;
