@@ -77,7 +77,7 @@ fn page_keys_step_through_the_whole_tour_and_back() {
     });
     assert!(renderer.host.tour_step().is_none());
     let mut forward_states = Vec::new();
-    let mut walk = |renderer: &mut HeadlessRenderer, key: Key, i: usize, way: &str| {
+    let walk = |renderer: &mut HeadlessRenderer, key: Key, i: usize, way: &str| {
         press(renderer, key);
         let at = renderer.host.tour_step().map(Step::number);
         assert_eq!(at, Some(i + 1), "{key} on the way {way}");
