@@ -113,7 +113,8 @@ fn page_keys_step_through_the_whole_tour_and_back() {
 }
 
 // Fails if the tour's pane draws outside the rectangle it reports (over the scene between it and
-// the panel, or shifting the panel), if it draws nothing there (an empty pane), if the panel's own
+// the panel, or shifting the panel), if it draws nothing there (an empty pane), if the copy of it
+// from the panel's cache is not egui's painting of it (columns left out), if the panel's own
 // pixels change with it, or if closing it (its button, clicked through the host's pointer events)
 // does not give back the frame of the panel alone, to the pixel.
 #[test]
@@ -130,6 +131,18 @@ fn the_tour_pane_draws_only_where_it_is() {
     let close = panel
         .widget_rect(&PanelWidget::Tour(TourClick::Close))
         .expect("the pane has its close button");
+
+    // The pane is copied from the panel's cache each frame: the copy must be egui's painting.
+    renderer.host.panel_mut().unwrap().paint_every_frame = true;
+    let painted = common::frame(&mut renderer);
+    renderer.host.panel_mut().unwrap().paint_every_frame = false;
+    let d = common::frame_diff(&painted, &with_pane);
+    assert_eq!(
+        d.differing(),
+        0,
+        "the cached pane differs within {:?}",
+        d.bbox
+    );
 
     renderer.host.close_tour();
     let panel_alone = common::frame(&mut renderer);
