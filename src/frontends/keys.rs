@@ -151,14 +151,14 @@ pub const HOST_KEYS: &[HostKey] = &[
     },
     HostKey {
         key: Key::PageDown,
-        help: "the tutorial's tour: its next section (--tour 1 starts at the first)",
+        help: "the tour of the tutorial: next section",
         action: HostAction::TourNext,
         look_only: false,
         on_page: true,
     },
     HostKey {
         key: Key::PageUp,
-        help: "the tour's section before, its state as it was",
+        help: "the tour: the section before",
         action: HostAction::TourBack,
         look_only: false,
         on_page: true,

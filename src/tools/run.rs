@@ -76,8 +76,8 @@ pub struct RunOptions {
     #[arg(long)]
     pub prefer_hardware: bool,
 
-    /// The tutorial's sections as steps: `list` prints them; a number or name draws that step's
-    /// state (with --headless)
+    /// The tutorial's sections as steps: `list` prints them; a number or name starts at that step,
+    /// its code in a pane (PageDown / PageUp step)
     #[arg(long, value_name = "N|NAME|list")]
     pub tour: Option<String>,
 
