@@ -3,7 +3,7 @@
 //! the way back; the tour's pane is drawn where it says it is and nowhere else.
 
 use image::RgbImage;
-use tutorial13::frontends::events::Event;
+use tutorial13::frontends::events::{AfterFetch, Event, Request};
 use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::frontends::keys::Key;
 use tutorial13::frontends::panel::PanelWidget;
@@ -202,4 +202,46 @@ fn bad_tour_values_are_one_line_in_the_window_too() {
         let line = assert_one_line_failure(&out, &format!("--tour {value:?}"));
         assert!(line.contains(&format!("--tour {value}")), "{line}");
     }
+}
+
+// Fails if keys pressed while a step's files are still coming in (the page fetches them) do not
+// step on from the step asked last (two PageDowns must reach step 2, not step 1 twice), or if a
+// step whose files come in after a later key's is shown over it (the last key's step must stay).
+#[test]
+fn keys_while_files_come_in_step_on_from_the_last_asked() {
+    let mut renderer = common::renderer(&HeadlessOptions {
+        scene: project_assets(),
+        ..Default::default()
+    });
+    let mut fetches = Vec::new();
+    for _ in 0..2 {
+        for pressed in [true, false] {
+            let key = Key::PageDown;
+            let event = Event::Key {
+                key,
+                pressed,
+                repeat: false,
+                ctrl: false,
+            };
+            // The host's own event: its requests wait, as a page's fetch keeps them waiting.
+            renderer.host.event(event).unwrap();
+        }
+    }
+    while let Some(request) = renderer.host.next_request() {
+        if let Request::Fetch { then, .. } = request {
+            fetches.push(then);
+        }
+    }
+    assert_eq!(fetches, [AfterFetch::Tour(0), AfterFetch::Tour(1)]);
+    // The second step's files come in first, then the first's.
+    for then in fetches.into_iter().rev() {
+        renderer.host.fetched(then).unwrap();
+    }
+    assert_eq!(renderer.host.tour_step().map(Step::number), Some(2));
+    let frame = common::frame(&mut renderer);
+    assert_eq!(
+        common::differing_pixels(&common::frame(&mut tour_n(&STEPS[1])), &frame),
+        0,
+        "step 2's frame"
+    );
 }

@@ -99,6 +99,9 @@ pub struct SceneHost {
     panel_shown: bool,
     /// Where the learner is in the tutorial's tour (an index in [`STEPS`]), while its pane shows.
     tour: Option<usize>,
+    /// The step PageDown or PageUp asked for last, while its scene's files come in: the next key
+    /// steps on from it, and a step whose files came in after a later key's is not shown.
+    tour_asked: Option<usize>,
     /// The panel's input for its next frame, made from the events.
     panel_events: Vec<egui::Event>,
     /// Which front end this is: the keys it has and lists, how it looks around.
@@ -143,6 +146,7 @@ impl SceneHost {
             shader_error: None,
             panel_shown: false,
             tour: None,
+            tour_asked: None,
             panel_events: Vec::new(),
             front_end,
             host_keys: HOST_KEYS,
@@ -239,10 +243,14 @@ impl SceneHost {
             AfterFetch::Switch { from, to } if self.descriptor == from => self.switch_scene(to),
             AfterFetch::Switch { .. } => Ok(()),
             AfterFetch::Open(path) => self.open_file(&path),
-            AfterFetch::Tour(index) => match STEPS.get(index) {
-                Some(step) => self.show_step(step),
-                None => Ok(()),
-            },
+            AfterFetch::Tour(index) if self.tour_asked == Some(index) => {
+                self.tour_asked = None;
+                match STEPS.get(index) {
+                    Some(step) => self.show_step(step),
+                    None => Ok(()),
+                }
+            }
+            AfterFetch::Tour(_) => Ok(()),
         }
     }
 
@@ -274,12 +282,12 @@ impl SceneHost {
     /// PageDown (`forward`) or PageUp: the tour's next step or the one before, once its scene's
     /// files are in (the first step where the tour was closed); the last and the first stay.
     fn step_tour(&mut self, forward: bool) {
-        let index = match (self.tour, forward) {
+        let index = match (self.tour_asked.or(self.tour), forward) {
             (None, _) => 0,
             (Some(at), true) => (at + 1).min(STEPS.len() - 1),
             (Some(at), false) => at.saturating_sub(1),
         };
-        if Some(index) == self.tour {
+        if Some(index) == self.tour_asked.or(self.tour) {
             let end = if forward { "last" } else { "first" };
             return log::info!("the tour's {end} step is shown");
         }
@@ -287,6 +295,7 @@ impl SceneHost {
         if self.panel.is_some() {
             self.panel_shown = true;
         }
+        self.tour_asked = Some(index);
         let then = AfterFetch::Tour(index);
         match STEPS[index].state.descriptor() {
             Ok(scene) => self.request(Request::Fetch { scene, then }),
@@ -297,6 +306,7 @@ impl SceneHost {
     /// The tour's pane closed (the scene stays in its step's state).
     pub fn close_tour(&mut self) {
         self.tour = None;
+        self.tour_asked = None;
     }
 
     /// A button of the tour's pane, as its key does.
