@@ -81,6 +81,8 @@ pub enum AfterFetch {
     },
     /// A dropped model, opened by the scene that opens it.
     Open(PathBuf),
+    /// PageDown, PageUp: the tour's step of this index in `tour::STEPS` (its scene's files in).
+    Tour(usize),
 }
 
 /// How a front end's frames keep time.

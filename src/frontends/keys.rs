@@ -29,6 +29,8 @@ pub enum Key {
     Enter,
     /// F1 to F12.
     F(u8),
+    PageDown,
+    PageUp,
 }
 
 impl fmt::Display for Key {
@@ -40,6 +42,8 @@ impl fmt::Display for Key {
             Key::Tab => f.write_str("Tab"),
             Key::Enter => f.write_str("Enter"),
             Key::F(n) => write!(f, "F{n}"),
+            Key::PageDown => f.write_str("PageDown"),
+            Key::PageUp => f.write_str("PageUp"),
         }
     }
 }
@@ -83,6 +87,8 @@ pub enum HostAction {
     ReloadShaders,
     Screenshot,
     TogglePanel,
+    TourNext,
+    TourBack,
     Quit,
 }
 
@@ -140,6 +146,20 @@ pub const HOST_KEYS: &[HostKey] = &[
         key: Key::F(1),
         help: "show / hide the panel (keys, switches, sliders)",
         action: HostAction::TogglePanel,
+        look_only: false,
+        on_page: true,
+    },
+    HostKey {
+        key: Key::PageDown,
+        help: "the tour of the tutorial: next section",
+        action: HostAction::TourNext,
+        look_only: false,
+        on_page: true,
+    },
+    HostKey {
+        key: Key::PageUp,
+        help: "the tour: the section before",
+        action: HostAction::TourBack,
         look_only: false,
         on_page: true,
     },

@@ -7,7 +7,7 @@
 //! pixels.
 //!
 //! The files, each using only those above it: [`keys`] (key names, the front ends' own keys and the
-//! key lists), [`frame_clock`], [`events`], [`panel`] (egui over the frame), [`host`], then the
+//! key lists), [`frame_clock`], [`events`], [`tour_pane`] and [`panel`] (egui over the frame), [`host`], then the
 //! front ends; [`page_contract`] (the page's URL) and [`page_input`] (the page's DOM names) are the
 //! page's, compiled natively too so that their tests run with the others.
 
@@ -20,6 +20,7 @@ pub mod keys;
 pub mod page_contract;
 pub mod page_input;
 pub mod panel;
+pub mod tour_pane;
 #[cfg(target_arch = "wasm32")]
 pub mod web;
 #[cfg(not(target_arch = "wasm32"))]

@@ -10,10 +10,14 @@
 //!   that the DXT textures are decoded on the CPU (the page's script hides the extension from the
 //!   module before WebGL2 is asked for; the module checks it is hidden).
 //!
+//! - `tour=N` (or a step's name): the tutorial's tour at that step, its pane shown, as `--tour N`;
+//!   the step's scene replaces `scene=`.
+//!
 //! Other keys (the tests' `click`, `key`, `drag`, `wheel`, `drop`) are the page's script's, and are
 //! let through.
 
 use crate::scenes::{self, SceneDescriptor};
+use crate::tour::{Step, STEPS};
 
 /// The seconds each frame of `frames=N` moves the camera by (the page's timer's period): time stays
 /// at 0, but a drag turns the camera and a held arrow key moves it `speed × FROZEN_STEP_S` a frame,
@@ -28,6 +32,8 @@ pub struct PageContract {
     pub frames: Option<u32>,
     /// `false` with `s3tc=off`: the DXT textures must be decoded on the CPU.
     pub s3tc: bool,
+    /// `tour=N`: the tour's step to start at (`scene` is its scene).
+    pub tour: Option<&'static Step>,
 }
 
 impl Default for PageContract {
@@ -37,6 +43,7 @@ impl Default for PageContract {
             panel: true,
             frames: None,
             s3tc: true,
+            tour: None,
         }
     }
 }
@@ -68,8 +75,21 @@ impl PageContract {
                             format!("frames={value}: a number of frames, 1 or more")
                         })?);
                 }
+                "tour" => {
+                    let step = crate::tour::find(value).map_err(|_| {
+                        format!(
+                            "tour={value}: a step's number from 1 to {} or its name, such as {}",
+                            STEPS.len(),
+                            STEPS[0].name
+                        )
+                    })?;
+                    contract.tour = Some(step);
+                }
                 _ => {}
             }
+        }
+        if let Some(step) = contract.tour {
+            contract.scene = step.state.descriptor().map_err(|e| e.to_string())?;
         }
         Ok(contract)
     }
@@ -107,6 +127,22 @@ mod tests {
             let query = format!("?scene={}", scene.name);
             assert_eq!(fields(&query).map(|f| f.0), Ok(scene.name));
         }
+        // A step by number or name, its scene taking the place of `scene=`.
+        for (i, step) in STEPS.iter().enumerate() {
+            for value in [(i + 1).to_string(), step.name.to_string()] {
+                let c = PageContract::parse(&format!("?scene=wall&tour={value}")).unwrap();
+                assert!(
+                    c.tour.is_some_and(|t| std::ptr::eq(t, step)),
+                    "tour={value}"
+                );
+                assert_eq!(c.scene.name, step.state.scene, "tour={value}");
+            }
+        }
+        assert!(PageContract::parse("").unwrap().tour.is_none());
+    }
+
+    fn tour_error(value: &str) -> String {
+        format!("tour={value}: a step's number from 1 to 18 or its name, such as normal-textures")
     }
 
     // Fails if a bad value is let through, or its message does not name the pair and what it
@@ -138,6 +174,10 @@ mod tests {
                 "frames=99999999999: a number of frames, 1 or more".into(),
             ),
             ("?panel=no", "panel=no: on or off".into()),
+            ("?tour=0", tour_error("0")),
+            ("?tour=19", tour_error("19")),
+            ("?tour=", tour_error("")),
+            ("?tour=Results", tour_error("Results")),
             ("?s3tc=false", "s3tc=false: on or off".into()),
             (
                 "?scene=wall&frames=2x",

@@ -7,7 +7,7 @@ use glam::Vec2;
 use super::keys::{Arrow, Key};
 
 /// A DOM `KeyboardEvent.key` as the key lists name it: the arrows, a letter (upper-case, either
-/// case typed) or digit, Escape, Tab, Enter, F1 to F12; `None` for any other.
+/// case typed) or digit, Escape, Tab, Enter, F1 to F12, PageDown, PageUp; `None` for any other.
 pub fn key(name: &str) -> Option<Key> {
     let mut chars = name.chars();
     if let (Some(c), None) = (chars.next(), chars.next()) {
@@ -23,6 +23,8 @@ pub fn key(name: &str) -> Option<Key> {
         "Escape" => Key::Esc,
         "Tab" => Key::Tab,
         "Enter" => Key::Enter,
+        "PageDown" => Key::PageDown,
+        "PageUp" => Key::PageUp,
         _ => {
             let n: u8 = name.strip_prefix('F')?.parse().ok()?;
             return (1..=12).contains(&n).then_some(Key::F(n));

@@ -12,6 +12,7 @@
 use glow::HasContext;
 
 use super::keys::{panel_key_rows, FrontEnd};
+use super::tour_pane::{show_tour, TourClick, TourExcerpts};
 use crate::gl::extensions::GlExtensions;
 use crate::gl::offscreen::{ColorBuffer, OffscreenTarget};
 use crate::gl::Gl;
@@ -31,6 +32,8 @@ pub enum PanelAction {
     Set(usize, SetTo),
     /// Every slider back to its start value.
     StartValues,
+    /// A button of the tour's pane.
+    Tour(TourClick),
 }
 
 /// A widget of the panel, for finding where it is (tests, and a learner's scripts driving the
@@ -47,6 +50,8 @@ pub enum PanelWidget {
     StartValues,
     /// The once-a-second "ms/frame" figure (a label).
     Figure,
+    /// A button of the tour's pane.
+    Tour(TourClick),
 }
 
 /// Besides the scene, what the panel shows: the front end's own figures.
@@ -58,6 +63,8 @@ pub struct PanelInfo {
     pub shader_error: Option<String>,
     /// Whose keys the key list gives (the page has fewer).
     pub front_end: FrontEnd,
+    /// The tour's step (an index in `tour::STEPS`) whose pane shows; `None`: no pane.
+    pub tour: Option<usize>,
 }
 
 /// egui's context and its glow painter, on the scene's GL context.
@@ -67,6 +74,10 @@ pub struct Panel {
     gl: Gl,
     /// The panel's rectangle in the last frame, in pixels (x right, y down from the top-left).
     rect: Option<egui::Rect>,
+    /// The tour's pane's, where it showed.
+    tour_rect: Option<egui::Rect>,
+    /// The excerpts of the tour's step last shown (resolved once per step).
+    tour_excerpts: Option<TourExcerpts>,
     /// Whether a frame was laid out already (see [`Panel::run`]).
     laid_out: bool,
     /// Where each widget was in the last frame, in pixels.
@@ -113,6 +124,8 @@ impl Panel {
             painter,
             gl: gl.clone(),
             rect: None,
+            tour_rect: None,
+            tour_excerpts: None,
             laid_out: false,
             widgets: Vec::new(),
             shown: None,
@@ -154,6 +167,11 @@ impl Panel {
         self.rect
     }
 
+    /// The tour's pane's rectangle in the last frame, in pixels; `None` where it did not show.
+    pub fn tour_rect(&self) -> Option<egui::Rect> {
+        self.tour_rect
+    }
+
     /// Where `widget` was in the last frame, in pixels (x right, y down from the top-left); `None`
     /// if the panel did not show it.
     pub fn widget_rect(&self, widget: &PanelWidget) -> Option<egui::Rect> {
@@ -188,10 +206,22 @@ impl Panel {
         let mut actions = Vec::new();
         let mut widgets = Vec::new();
         let mut panel_rect = None;
+        let mut tour_rect = None;
+        let cached = self.tour_excerpts.take();
+        self.tour_excerpts = info.tour.and_then(|index| TourExcerpts::of(index, cached));
+        let tour = self.tour_excerpts.as_ref();
         let mut layout = |ui: &mut egui::Ui| {
             // A pass egui discards runs the closure again: only the last pass's clicks count.
             actions.clear();
             widgets.clear();
+            // The tour's pane first, so that the panel leaves it its side.
+            tour_rect = tour.map(|tour| {
+                let (rect, buttons, clicked) = show_tour(ui, tour);
+                let buttons = buttons.into_iter().map(|(b, r)| (PanelWidget::Tour(b), r));
+                widgets.extend(buttons);
+                actions.extend(clicked.map(PanelAction::Tour));
+                rect
+            });
             let response = egui::Panel::left("tutorial13-panel")
                 .exact_size(PANEL_WIDTH)
                 .resizable(false)
@@ -225,6 +255,7 @@ impl Panel {
         output.textures_delta = textures;
         let ppp = output.pixels_per_point;
         self.rect = panel_rect.map(|r| r * ppp);
+        self.tour_rect = tour_rect.map(|r| r * ppp);
         self.widgets = widgets.into_iter().map(|(w, r)| (w, r * ppp)).collect();
         self.repaint = output
             .viewport_output
@@ -255,6 +286,10 @@ impl Panel {
             .is_some_and(|(view, _, _)| view.compare.is_some());
         let direct = samples > 0 || overlays || self.paint_every_frame;
         let columns = self.rect.map_or(0, |r| r.right().ceil().max(0.0) as u32);
+        // The tour's pane's columns, to the frame's right edge (none while it is closed).
+        let tour_columns = self
+            .tour_rect
+            .map(|r| (r.left().floor().max(0.0) as u32, size.0));
         match frame {
             PanelFrame::Laid(output) if direct => {
                 self.cache = None;
@@ -274,6 +309,9 @@ impl Panel {
                     unsafe { gl.bind_framebuffer(glow::FRAMEBUFFER, destination) };
                     let cache = self.cache.as_ref().expect("made above");
                     cache.blit_columns_to(destination, 0, columns);
+                    if let Some((x0, x1)) = tour_columns {
+                        cache.blit_columns_to(destination, x0, x1);
+                    }
                 }
                 Err(e) => {
                     log::warn!("{e} (the panel is painted every frame)");
@@ -281,7 +319,12 @@ impl Panel {
                 }
             },
             PanelFrame::Unchanged => match &self.cache {
-                Some(cache) if !direct => cache.blit_columns_to(destination, 0, columns),
+                Some(cache) if !direct => {
+                    cache.blit_columns_to(destination, 0, columns);
+                    if let Some((x0, x1)) = tour_columns {
+                        cache.blit_columns_to(destination, x0, x1);
+                    }
+                }
                 // Nothing cached to copy: the next frame lays out again.
                 _ => self.shown = None,
             },

@@ -9,7 +9,7 @@ use crate::gl::image::{write_screenshot, ImageFormat};
 use crate::gl::Profile;
 use crate::scenes::{self, SceneDescriptor, SceneOptions};
 use crate::statistics::min_median;
-use crate::tools::tour::{check_exercise, set_state, tour_request, TourRequest};
+use crate::tools::tour::{check_exercise, tour_request, TourRequest};
 use crate::tour::Step;
 use crate::{Error, Result};
 
@@ -76,8 +76,8 @@ pub struct RunOptions {
     #[arg(long)]
     pub prefer_hardware: bool,
 
-    /// The tutorial's sections as steps: `list` prints them; a number or name draws that step's
-    /// state (with --headless)
+    /// The tutorial's sections as steps: `list` prints them; a number or name starts at that step,
+    /// its code in a pane (PageDown / PageUp step)
     #[arg(long, value_name = "N|NAME|list")]
     pub tour: Option<String>,
 
@@ -119,17 +119,15 @@ pub fn run(options: &RunOptions, scene: SceneOptions) -> Result<()> {
         Ok(())
     } else if options.headless || options.bench.is_some() {
         run_headless(options, scene, step)
-    } else if let Some(step) = step {
-        Err(Error::Argument(format!(
-            "--tour {}: the window has no tour pane yet; add --headless to draw step {} ({})",
-            options.tour.as_deref().unwrap_or_default(),
-            step.number(),
-            step.section
-        )))
     } else {
         // The key list is printed once the window is up (a failure before prints its error alone).
+        let descriptor = match step {
+            Some(step) => step.state.descriptor()?,
+            None => options.scene,
+        };
         run_window(WindowOptions {
-            descriptor: options.scene,
+            descriptor,
+            tour: step,
             scene,
             size: options.size,
             profile: options.profile,
@@ -191,7 +189,11 @@ fn headless_options(options: &RunOptions, scene: SceneOptions) -> HeadlessOption
 
 /// `--headless` and `--bench`: the timings printed, then the last of `--frames` frames saved; with
 /// `--tour N`, of that step.
-fn run_headless(options: &RunOptions, scene: SceneOptions, step: Option<&Step>) -> Result<()> {
+fn run_headless(
+    options: &RunOptions,
+    scene: SceneOptions,
+    step: Option<&'static Step>,
+) -> Result<()> {
     let (width, height) = options.size;
     let mut headless = headless_options(options, scene);
     if let Some(step) = step {
@@ -199,7 +201,7 @@ fn run_headless(options: &RunOptions, scene: SceneOptions, step: Option<&Step>) 
     }
     let mut renderer = HeadlessRenderer::new(&headless)?;
     if let Some(step) = step {
-        set_state(&mut renderer, step)?;
+        renderer.host.set_step_state(step)?;
     }
     log::info!("{}", renderer.host.gl().info);
     if options.panel {

@@ -29,25 +29,6 @@ pub fn tour_request(value: &str) -> Result<TourRequest> {
     }
 }
 
-/// Puts `renderer`'s host in `step`'s state: its scene built again (with the command line's
-/// options, so that nothing an earlier step set stays), then [`set_state`].
-pub fn show_step(renderer: &mut HeadlessRenderer, step: &Step) -> Result<()> {
-    renderer.host.switch_scene(step.state.descriptor()?)?;
-    set_state(renderer, step)
-}
-
-/// `step`'s controls set through the table of the scene `renderer` has just built (the step's),
-/// and its camera.
-pub fn set_state(renderer: &mut HeadlessRenderer, step: &Step) -> Result<()> {
-    let state = &step.state;
-    state.set_controls(renderer.host.scene.as_mut())?;
-    let (width, height) = (renderer.target.width(), renderer.target.height());
-    let start = renderer.host.scene.start_controls(width, height);
-    state.set_camera(&mut renderer.host.controls, start);
-    log::info!("the tour, step {}: {}", step.number(), step.section);
-    Ok(())
-}
-
 /// `--check-exercise N`: renders the learner's frame, the reference and the unchanged frame with
 /// `options` (the command line's, its `--shaders` folder the learner's) and says which it is.
 /// `Ok` with the line to print when the learner's frame is the reference; an

@@ -46,6 +46,7 @@ mod tangent_overflow;
 mod tangent_sources;
 mod texture;
 mod tour;
+mod tour_pane;
 mod views;
 mod web;
 mod window_input;

@@ -14,6 +14,7 @@ use tutorial13::frontends::page_input;
 use tutorial13::frontends::panel::PanelWidget;
 use tutorial13::frontends::window::input::{key, key_event, translate};
 use tutorial13::scenes::{self, SceneOptions};
+use tutorial13::tour::STEPS;
 use winit::dpi::PhysicalPosition;
 use winit::event::{
     DeviceId, ElementState, MouseButton, MouseScrollDelta, TouchPhase, WindowEvent,
@@ -310,7 +311,8 @@ fn cylinder_at_start(dir: &Path) -> HeadlessRenderer {
 
 // Fails if a row of HOST_KEYS pressed in the window's host does not run its action (R the camera
 // back at the start, Tab the cursor released after a click grabbed it, Enter the next scene's files
-// then the scene, F5 the shaders read again, P a screenshot, F1 the panel hidden, Esc quit), or if
+// then the scene, F5 the shaders read again, P a screenshot, F1 the panel hidden, PageDown and
+// PageUp the tour's first step once its files are in, Esc quit), or if
 // the keys are dispatched from anywhere but the host's table: with a table of its own, a key added
 // to it (F2) runs its action with no other line, and a key left out of it (Esc) does nothing.
 #[test]
@@ -362,6 +364,19 @@ fn the_host_keys_run_from_their_table() {
                 vec![Request::Fetch { scene: to, then }, Request::NewScene(to)]
             }
             HostAction::Screenshot => vec![Request::Screenshot { with_panel: false }],
+            // With no tour shown, either key starts it at its first step: the step's scene's
+            // files, then the scene built again.
+            HostAction::TourNext | HostAction::TourBack => {
+                assert_eq!(
+                    r.host.tour_step().map(|s| s.number()),
+                    Some(1),
+                    "{}",
+                    row.key
+                );
+                let scene = scenes::find(STEPS[0].state.scene).unwrap();
+                let then = AfterFetch::Tour(0);
+                vec![Request::Fetch { scene, then }, Request::NewScene(scene)]
+            }
             HostAction::Quit => vec![Request::Quit],
             HostAction::ResetCamera | HostAction::ReloadShaders | HostAction::TogglePanel => {
                 unreachable!("checked above")

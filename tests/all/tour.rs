@@ -10,7 +10,6 @@ use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
 use tutorial13::mesh::{Code, MeshOptions};
 use tutorial13::scenes::cylinder::Cylinder;
 use tutorial13::scenes::{self, SceneOptions};
-use tutorial13::tools::tour::{set_state, show_step};
 use tutorial13::tour::{self, Camera, STEPS};
 
 use crate::cli::{assert_one_line_failure, assert_success};
@@ -176,7 +175,7 @@ fn every_step_draws_its_flags_frame_forward_and_back() {
     let mut golden_visits = Vec::new();
     for (visit, &i) in order.iter().enumerate() {
         let step = &STEPS[i];
-        show_step(&mut renderer, step).unwrap();
+        renderer.host.show_step(step).unwrap();
         let frame = common::frame(&mut renderer);
         match &expected[i] {
             Some(flags) => {
@@ -232,15 +231,15 @@ fn tour_list_and_a_step_from_the_command_line() {
     let step = tour::find("orthogonalization").unwrap();
     assert_eq!(step.number(), 9);
     let mut renderer = cylinder_renderer();
-    set_state(&mut renderer, step).unwrap();
+    renderer.host.set_step_state(step).unwrap();
     assert_eq!(
         common::differing_pixels(&common::frame(&mut renderer), &shot),
         0
     );
 }
 
-// Fails if a bad `--tour` value (out of range, zero, an unknown name) or a step asked of the window,
-// which has no tour pane yet, is anything but one line on stderr and a non-zero exit.
+// Fails if a bad `--tour` value (out of range, zero, an unknown name) is anything but one line on
+// stderr and a non-zero exit (the window's path: tests/all/tour_pane.rs).
 #[test]
 fn bad_tour_values_are_one_line_errors() {
     for value in ["0", "19", "normal-texture", "1.5"] {
@@ -248,9 +247,6 @@ fn bad_tour_values_are_one_line_errors() {
         let line = assert_one_line_failure(&out, &format!("--tour {value}"));
         assert!(line.contains(&format!("--tour {value}")), "{line}");
     }
-    let out = run(tutorial13().args(["--tour", "3"]));
-    let line = assert_one_line_failure(&out, "--tour 3 in the window");
-    assert!(line.contains("--headless"), "{line}");
 }
 
 // Fails if `--check-exercise` takes a flag it would ignore (`--screenshot`: no file written, the

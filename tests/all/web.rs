@@ -1214,3 +1214,64 @@ fn the_pages_module_is_within_its_budget() {
         "{gzipped} bytes gzipped, over the budget of {WASM_BUDGET_GZIPPED}"
     );
 }
+
+/// The native frame of the tour's step `n` (from 1) as `--headless --tour N` draws it, with the
+/// panel and the pane where `panel`.
+fn native_tour_frame(n: usize, panel: bool) -> RgbImage {
+    let step = &tutorial13::tour::STEPS[n - 1];
+    let mut renderer = native_renderer(step.state.scene);
+    renderer
+        .host
+        .set_step_state(step)
+        .expect("the step's state");
+    if panel {
+        renderer.host.show_panel().expect("the panel");
+    }
+    frame(&mut renderer)
+}
+
+// Fails if the page's `?tour=N` is not the native `--tour N` frame (the step's scene and state, the
+// pane drawn by the panel), if PageDown and PageUp on the page do not step through the whole tour
+// (its last step, the sprite, fetched on the way) and back to the state of the step they land on
+// (step 10's switch, not the colour view an earlier step set), or if a bad `?tour=` is anything but
+// the one line on the page naming it.
+#[test]
+fn the_tour_in_the_page_steps_forward_and_back() {
+    let Some(base) = page_url("web::the_tour_in_the_page_steps_forward_and_back") else {
+        return;
+    };
+    let page = load("tour", &base, "tour=4&frames=1");
+    page.check_clean("tour=4");
+    let share = share_within(&page.shot, &native_tour_frame(4, true));
+    eprintln!("web: tour=4 with its pane: {:.2} % within", share * 100.0);
+    assert!(share >= WITHIN, "tour=4: {share:.4} within {TOLERANCE}");
+
+    // 1 → 18 and back to 10: 17 PageDowns, then 8 PageUps, four frames apart, then frames to spare.
+    let keys: Vec<&str> = std::iter::repeat_n("PageDown", 17)
+        .chain(std::iter::repeat_n("PageUp", 8))
+        .collect();
+    let query = format!(
+        "tour=1&panel=off&frames={}&key={}",
+        4 * keys.len() + 40,
+        keys.join(",")
+    );
+    let page = load("tour-walk", &base, &query);
+    page.check_clean("the walk");
+    let sprite = scenes::find("sprite").unwrap();
+    assert!(
+        page.fetched().contains(&fetched_line(sprite)),
+        "the last step's scene was not fetched: {:?}",
+        page.fetched()
+    );
+    let share = share_within(&page.shot, &native_tour_frame(10, false));
+    eprintln!(
+        "web: the walk back to step 10: {:.2} % within",
+        share * 100.0
+    );
+    assert!(share >= WITHIN, "the walk: {share:.4} within {TOLERANCE}");
+
+    let page = load("tour-bad", &base, "tour=19&frames=1");
+    let message = page.text("message").unwrap_or_default();
+    assert_eq!(message.lines().count(), 1, "{message}");
+    assert!(message.starts_with("tour=19: "), "{message}");
+}

@@ -89,6 +89,8 @@ impl SceneHost {
             HostAction::ReloadShaders => return self.reload_shaders(),
             HostAction::Screenshot => self.request(Request::Screenshot { with_panel: ctrl }),
             HostAction::TogglePanel => self.toggle_panel(),
+            HostAction::TourNext => self.step_tour(true),
+            HostAction::TourBack => self.step_tour(false),
             HostAction::Quit => self.request(Request::Quit),
         }
         Ok(())

@@ -22,6 +22,7 @@ use super::events::{AfterFetch, FrameTime, Request};
 use super::frame_clock::FrameClock;
 use super::keys::{FrontEnd, HostKey, HOST_KEYS};
 use super::panel::{Panel, PanelAction, PanelFrame, PanelInfo};
+use super::tour_pane::TourClick;
 use crate::common::controls::{Controls, Input};
 use crate::gl::check_gl_errors;
 use crate::gl::current::GlContext;
@@ -29,6 +30,7 @@ use crate::scenes::MouseMode;
 use crate::scenes::{
     ControlValue, FrameInput, Scene, SceneContext, SceneDescriptor, SceneOptions, SetTo,
 };
+use crate::tour::{Step, STEPS};
 use crate::{Error, Result};
 
 /// The end of every title (what a search for the window finds).
@@ -95,6 +97,11 @@ pub struct SceneHost {
     shader_error: Option<String>,
     /// F1 hides the panel and shows it again.
     panel_shown: bool,
+    /// Where the learner is in the tutorial's tour (an index in [`STEPS`]), while its pane shows.
+    tour: Option<usize>,
+    /// The step PageDown or PageUp asked for last, while its scene's files come in: the next key
+    /// steps on from it, and a step whose files came in after a later key's is not shown.
+    tour_asked: Option<usize>,
     /// The panel's input for its next frame, made from the events.
     panel_events: Vec<egui::Event>,
     /// Which front end this is: the keys it has and lists, how it looks around.
@@ -138,6 +145,8 @@ impl SceneHost {
             frames_drawn: 0,
             shader_error: None,
             panel_shown: false,
+            tour: None,
+            tour_asked: None,
             panel_events: Vec::new(),
             front_end,
             host_keys: HOST_KEYS,
@@ -248,6 +257,79 @@ impl SceneHost {
             AfterFetch::Switch { from, to } if self.descriptor == from => self.switch_scene(to),
             AfterFetch::Switch { .. } => Ok(()),
             AfterFetch::Open(path) => self.open_file(&path),
+            AfterFetch::Tour(index) if self.tour_asked == Some(index) => {
+                self.tour_asked = None;
+                match STEPS.get(index) {
+                    Some(step) => self.show_step(step),
+                    None => Ok(()),
+                }
+            }
+            AfterFetch::Tour(_) => Ok(()),
+        }
+    }
+
+    /// The tour's step the learner is at, while its pane shows.
+    pub fn tour_step(&self) -> Option<&'static Step> {
+        self.tour.and_then(|index| STEPS.get(index))
+    }
+
+    /// Puts the host in `step`'s state: its scene built again (with the command line's options, so
+    /// that nothing an earlier step set stays), then [`SceneHost::set_step_state`]. On an error the
+    /// scene that was built stays, and so does the tour's step.
+    pub fn show_step(&mut self, step: &'static Step) -> Result<()> {
+        self.switch_scene(step.state.descriptor()?)?;
+        self.set_step_state(step)
+    }
+
+    /// `step`'s controls set through the table of the scene just built (the step's), its camera
+    /// put where the step has it for the host's frame, and the tour's pane at `step`.
+    pub fn set_step_state(&mut self, step: &'static Step) -> Result<()> {
+        let state = &step.state;
+        state.set_controls(self.scene.as_mut())?;
+        let start = self.scene.start_controls(self.size.0, self.size.1);
+        state.set_camera(&mut self.controls, start);
+        self.tour = Some(step.number() - 1);
+        log::info!("the tour, step {}: {}", step.number(), step.section);
+        Ok(())
+    }
+
+    /// PageDown (`forward`) or PageUp: the tour's next step or the one before, once its scene's
+    /// files are in (the first step where the tour was closed); the last and the first stay.
+    fn step_tour(&mut self, forward: bool) {
+        let index = match (self.tour_asked.or(self.tour), forward) {
+            (None, _) => 0,
+            (Some(at), true) => (at + 1).min(STEPS.len() - 1),
+            (Some(at), false) => at.saturating_sub(1),
+        };
+        if Some(index) == self.tour_asked.or(self.tour) {
+            let end = if forward { "last" } else { "first" };
+            return log::info!("the tour's {end} step is shown");
+        }
+        // The pane is the panel's: a key that moves the tour shows it.
+        if self.panel.is_some() {
+            self.panel_shown = true;
+        }
+        self.tour_asked = Some(index);
+        let then = AfterFetch::Tour(index);
+        match STEPS[index].state.descriptor() {
+            Ok(scene) => self.request(Request::Fetch { scene, then }),
+            Err(e) => log::error!("{e}"),
+        }
+    }
+
+    /// The tour's pane closed (the scene stays in its step's state).
+    pub fn close_tour(&mut self) {
+        self.tour = None;
+        self.tour_asked = None;
+    }
+
+    /// A button of the tour's pane, as its key does.
+    fn tour_click(&mut self, action: &PanelAction) {
+        match action {
+            PanelAction::Tour(TourClick::Close) => self.close_tour(),
+            PanelAction::Tour(TourClick::Back) => self.step_tour(false),
+            PanelAction::Tour(TourClick::Next) => self.step_tour(true),
+            _ => {}
         }
     }
 
@@ -477,9 +559,11 @@ impl SceneHost {
     /// Whether `at` (frame pixels, y down) is on the panel as it was last drawn.
     pub fn over_panel(&self, at: Vec2) -> bool {
         let panel = self.panel.as_ref().filter(|_| self.panel_shown);
-        panel
-            .and_then(Panel::rect)
-            .is_some_and(|r| r.contains(egui::pos2(at.x, at.y)))
+        let at = egui::pos2(at.x, at.y);
+        panel.is_some_and(|panel| {
+            let rects = [panel.rect(), panel.tour_rect()];
+            rects.into_iter().flatten().any(|r| r.contains(at))
+        })
     }
 
     /// The panel's input for a frame of the host's size: `events` and the time (`None`: egui steps
@@ -506,6 +590,7 @@ impl SceneHost {
             ms_per_frame: self.clock.ms_per_frame(),
             shader_error: self.shader_error.clone(),
             front_end: self.front_end,
+            tour: self.tour,
         }
     }
 
@@ -548,6 +633,7 @@ impl SceneHost {
             match action {
                 PanelAction::Key(key) => scene.key(*key).map(|_| ()),
                 PanelAction::Set(index, to) => scene.set_control(*index, to.clone()),
+                PanelAction::Tour(_) => return self.tour_click(action),
                 PanelAction::StartValues => scene.controls().into_iter().try_for_each(|c| match c
                     .value
                 {

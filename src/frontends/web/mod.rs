@@ -293,6 +293,9 @@ async fn run() -> Result<(), String> {
     if contract.frames.is_some() {
         host.set_time(FrameTime::Stepped(FROZEN_STEP_S));
     }
+    if let Some(step) = contract.tour {
+        host.set_step_state(step).map_err(|e| e.to_string())?;
+    }
     host.show_panel().map_err(|e| e.to_string())?;
     host.set_panel_shown(contract.panel);
     let page = Rc::new(RefCell::new(Page {

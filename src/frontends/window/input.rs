@@ -74,7 +74,7 @@ pub fn key_event(code: KeyCode, state: ElementState, repeat: bool, ctrl: bool) -
 }
 
 /// The key a key code is, as the key lists name it: the arrows, letters (upper-case) and digits,
-/// Esc, Tab, Enter, F1 to F12.
+/// Esc, Tab, Enter, F1 to F12, PageDown, PageUp.
 pub fn key(code: KeyCode) -> Option<Key> {
     let at = |codes: &[KeyCode]| codes.iter().position(|&c| c == code).map(|i| i as u8);
     if let Some(i) = at(&LETTERS) {
@@ -90,7 +90,7 @@ pub fn key(code: KeyCode) -> Option<Key> {
 }
 
 /// The other keys the lists name.
-const NAMED: [(KeyCode, Key); 7] = [
+const NAMED: [(KeyCode, Key); 9] = [
     (KeyCode::ArrowUp, Key::Arrow(Arrow::Up)),
     (KeyCode::ArrowDown, Key::Arrow(Arrow::Down)),
     (KeyCode::ArrowLeft, Key::Arrow(Arrow::Left)),
@@ -98,6 +98,8 @@ const NAMED: [(KeyCode, Key); 7] = [
     (KeyCode::Escape, Key::Esc),
     (KeyCode::Tab, Key::Tab),
     (KeyCode::Enter, Key::Enter),
+    (KeyCode::PageDown, Key::PageDown),
+    (KeyCode::PageUp, Key::PageUp),
 ];
 
 const LETTERS: [KeyCode; 26] = [

@@ -42,6 +42,8 @@ pub const TITLE: &str = "Tutorial 13 - Normal Mapping";
 #[derive(Debug, Clone)]
 pub struct WindowOptions {
     pub descriptor: &'static SceneDescriptor,
+    /// `--tour N`: start at this step of the tour (its scene is `descriptor`), its pane shown.
+    pub tour: Option<&'static crate::tour::Step>,
     pub scene: SceneOptions,
     pub size: (u32, u32),
     pub profile: Profile,

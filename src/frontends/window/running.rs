@@ -51,6 +51,9 @@ impl Running {
         if options.frames.is_some() {
             host.set_time(FrameTime::Frozen);
         }
+        if let Some(step) = options.tour {
+            host.set_step_state(step)?;
+        }
         let window = &gl_window.window;
         host.event(Event::ScaleFactor(window.scale_factor() as f32))?;
         let panel_glue = match host.show_panel() {

@@ -1,0 +1,247 @@
+//! The tour in the host: PageDown and PageUp, given as any front end gives its keys, step through
+//! the whole tour and back, each step's frame the frame `--tour N` draws and each state restored on
+//! the way back; the tour's pane is drawn where it says it is and nowhere else.
+
+use image::RgbImage;
+use tutorial13::frontends::events::{AfterFetch, Event, Request};
+use tutorial13::frontends::headless::{HeadlessOptions, HeadlessRenderer};
+use tutorial13::frontends::keys::Key;
+use tutorial13::frontends::panel::PanelWidget;
+use tutorial13::frontends::tour_pane::TourClick;
+use tutorial13::scenes::{ControlState, SceneOptions};
+use tutorial13::tour::{Step, STEPS};
+
+use crate::cli::assert_one_line_failure;
+use crate::common::{self, run, tutorial13};
+
+fn project_assets() -> SceneOptions {
+    SceneOptions {
+        assets: Some(common::own_assets()),
+        ..Default::default()
+    }
+}
+
+/// A key pressed and released, as every front end gives it to the host (the renderer honours the
+/// fetch the host asks for, as the window does).
+fn press(renderer: &mut HeadlessRenderer, key: Key) {
+    for pressed in [true, false] {
+        renderer
+            .event(Event::Key {
+                key,
+                pressed,
+                repeat: false,
+                ctrl: false,
+            })
+            .expect("the key is taken");
+    }
+}
+
+/// What `--headless --tour N` does: the step's scene built with the command line's options, then
+/// its state set (tools::run's path).
+fn tour_n(step: &'static Step) -> HeadlessRenderer {
+    let mut renderer = common::renderer(&HeadlessOptions {
+        descriptor: step.state.descriptor().unwrap(),
+        scene: project_assets(),
+        ..Default::default()
+    });
+    renderer.host.set_step_state(step).unwrap();
+    renderer
+}
+
+/// What a step's state is, as the host holds it: the scene, every control of its table, the camera.
+fn state_of(renderer: &HeadlessRenderer) -> (String, Vec<ControlState>, String) {
+    let host = &renderer.host;
+    let c = &host.controls;
+    let camera = format!(
+        "{:?} {} {}",
+        c.position, c.horizontal_angle, c.vertical_angle
+    );
+    (host.descriptor().name.into(), host.scene.controls(), camera)
+}
+
+// Fails if PageDown or PageUp do not reach the tour (a key missing from HOST_KEYS or from the
+// host's dispatch: the step stays), if a step they reach is put in another state than `--tour N`
+// puts it (a control set otherwise, the camera left where the last step had it, a scene not built
+// again: its frame differs from the `--tour N` frame), or if stepping back leaves anything a later
+// step set (the state read back on the way down differs from the way up). Past the last step
+// PageDown stays, and so does PageUp at the first.
+#[test]
+fn page_keys_step_through_the_whole_tour_and_back() {
+    let expected: Vec<RgbImage> = STEPS
+        .iter()
+        .map(|step| common::frame(&mut tour_n(step)))
+        .collect();
+    let mut renderer = common::renderer(&HeadlessOptions {
+        scene: project_assets(),
+        ..Default::default()
+    });
+    assert!(renderer.host.tour_step().is_none());
+    let mut forward_states = Vec::new();
+    let walk = |renderer: &mut HeadlessRenderer, key: Key, i: usize, way: &str| {
+        press(renderer, key);
+        let at = renderer.host.tour_step().map(Step::number);
+        assert_eq!(at, Some(i + 1), "{key} on the way {way}");
+        let frame = common::frame(renderer);
+        let d = common::frame_diff(&expected[i], &frame);
+        assert_eq!(
+            d.differing(),
+            0,
+            "step {} ({}) on the way {way}: {} pixels differ from --tour {} (within {:?})",
+            i + 1,
+            STEPS[i].name,
+            d.differing(),
+            i + 1,
+            d.bbox
+        );
+        state_of(renderer)
+    };
+    for i in 0..STEPS.len() {
+        forward_states.push(walk(&mut renderer, Key::PageDown, i, "up"));
+    }
+    let last = STEPS.len() - 1;
+    walk(&mut renderer, Key::PageDown, last, "up, past the last");
+    for i in (0..last).rev() {
+        let state = walk(&mut renderer, Key::PageUp, i, "down");
+        assert_eq!(
+            state,
+            forward_states[i],
+            "step {}: not restored on the way back",
+            i + 1
+        );
+    }
+    walk(&mut renderer, Key::PageUp, 0, "down, before the first");
+}
+
+// Fails if the tour's pane draws outside the rectangle it reports (over the scene between it and
+// the panel, or shifting the panel), if it draws nothing there (an empty pane), if the copy of it
+// from the panel's cache is not egui's painting of it (columns left out), if the panel's own
+// pixels change with it, or if closing it (its button, clicked through the host's pointer events)
+// does not give back the frame of the panel alone, to the pixel.
+#[test]
+fn the_tour_pane_draws_only_where_it_is() {
+    let step = &STEPS[8];
+    let mut bare = tour_n(step);
+    let scene_alone = common::frame(&mut bare);
+    let mut renderer = tour_n(step);
+    renderer.host.show_panel().unwrap();
+    let with_pane = common::frame(&mut renderer);
+    let panel = renderer.host.panel().unwrap();
+    let pane = panel.tour_rect().expect("the pane shows at a tour's step");
+    let panel_rect = panel.rect().expect("the panel shows");
+    let close = panel
+        .widget_rect(&PanelWidget::Tour(TourClick::Close))
+        .expect("the pane has its close button");
+
+    // The pane is copied from the panel's cache each frame: the copy must be egui's painting.
+    renderer.host.panel_mut().unwrap().paint_every_frame = true;
+    let painted = common::frame(&mut renderer);
+    renderer.host.panel_mut().unwrap().paint_every_frame = false;
+    let d = common::frame_diff(&painted, &with_pane);
+    assert_eq!(
+        d.differing(),
+        0,
+        "the cached pane differs within {:?}",
+        d.bbox
+    );
+
+    renderer.host.close_tour();
+    let panel_alone = common::frame(&mut renderer);
+    assert!(renderer.host.panel().unwrap().tour_rect().is_none());
+
+    // Against the panel alone: only the pane's columns differ, and many of them.
+    let d = common::frame_diff(&panel_alone, &with_pane);
+    let (x0, _, x1, _) = d.bbox.expect("the pane draws something");
+    assert!(
+        x0 as f32 >= pane.left().floor() && x1 as f32 <= pane.right(),
+        "the pane reports {pane:?}, but pixels x {x0}..={x1} differ"
+    );
+    let pane_pixels = (pane.width() * pane.height()) as usize;
+    assert!(
+        d.differing() > pane_pixels / 4,
+        "only {} of the pane's {pane_pixels} pixels are drawn",
+        d.differing()
+    );
+    // Against the scene alone: the panel and the pane, nothing between them.
+    let width = with_pane.width();
+    for (x, y, p) in with_pane.enumerate_pixels() {
+        let (fx, fy) = (x as f32 + 0.5, y as f32 + 0.5);
+        let covered = [panel_rect, pane]
+            .iter()
+            .any(|r| r.contains(egui::pos2(fx, fy)));
+        if !covered {
+            assert_eq!(
+                p,
+                scene_alone.get_pixel(x, y),
+                "pixel ({x}, {y}) of {width} is neither the panel's nor the pane's"
+            );
+        }
+    }
+
+    // The close button, clicked as a front end gives a click: the pane goes.
+    let mut renderer = tour_n(step);
+    renderer.host.show_panel().unwrap();
+    common::frame(&mut renderer);
+    let at = glam::Vec2::new(close.center().x, close.center().y);
+    renderer.event(Event::PointerMoved(at)).unwrap();
+    for pressed in [true, false] {
+        renderer.event(Event::Button { pressed }).unwrap();
+    }
+    common::frame(&mut renderer);
+    assert!(renderer.host.tour_step().is_none(), "the close button");
+    let closed = common::frame(&mut renderer);
+    assert_eq!(common::differing_pixels(&panel_alone, &closed), 0);
+}
+
+// Fails if a bad `--tour` value is anything but one line on stderr naming it and a non-zero exit,
+// in the window's path as headless (the value is read before a window or context is made, so this
+// runs without a display).
+#[test]
+fn bad_tour_values_are_one_line_in_the_window_too() {
+    for value in ["0", "19", "Results", ""] {
+        let out = run(tutorial13().args(["--tour", value]));
+        let line = assert_one_line_failure(&out, &format!("--tour {value:?}"));
+        assert!(line.contains(&format!("--tour {value}")), "{line}");
+    }
+}
+
+// Fails if keys pressed while a step's files are still coming in (the page fetches them) do not
+// step on from the step asked last (two PageDowns must reach step 2, not step 1 twice), or if a
+// step whose files come in after a later key's is shown over it (the last key's step must stay).
+#[test]
+fn keys_while_files_come_in_step_on_from_the_last_asked() {
+    let mut renderer = common::renderer(&HeadlessOptions {
+        scene: project_assets(),
+        ..Default::default()
+    });
+    let mut fetches = Vec::new();
+    for _ in 0..2 {
+        for pressed in [true, false] {
+            let key = Key::PageDown;
+            let event = Event::Key {
+                key,
+                pressed,
+                repeat: false,
+                ctrl: false,
+            };
+            // The host's own event: its requests wait, as a page's fetch keeps them waiting.
+            renderer.host.event(event).unwrap();
+        }
+    }
+    while let Some(request) = renderer.host.next_request() {
+        if let Request::Fetch { then, .. } = request {
+            fetches.push(then);
+        }
+    }
+    assert_eq!(fetches, [AfterFetch::Tour(0), AfterFetch::Tour(1)]);
+    // The second step's files come in first, then the first's.
+    for then in fetches.into_iter().rev() {
+        renderer.host.fetched(then).unwrap();
+    }
+    assert_eq!(renderer.host.tour_step().map(Step::number), Some(2));
+    let frame = common::frame(&mut renderer);
+    assert_eq!(
+        common::differing_pixels(&common::frame(&mut tour_n(&STEPS[1])), &frame),
+        0,
+        "step 2's frame"
+    );
+}
