@@ -74,6 +74,8 @@ pub fn read_obj_threaded(
 const MIN_PIECE: usize = 1 << 20;
 /// The normal index of a corner that has none (a model whose normals are computed).
 const NO_NORMAL: u32 = u32::MAX;
+/// The UV index of a corner that has none (a shape read with UV (0, 0)).
+const NO_UV: u32 = u32::MAX;
 
 /// A face corner's 0-based position, UV and normal indices into the whole file's elements.
 type Corner = [u32; 3];
@@ -124,6 +126,8 @@ struct Piece<'a> {
     statements: Vec<(usize, Statement<'a>)>,
     corners_with_normal: usize,
     corners_without_normal: usize,
+    corners_with_uv: usize,
+    corners_without_uv: usize,
     /// Vertex colour values tobj keeps (`v x y z r g b`; it stops at the first that is not a
     /// number).
     colours: usize,
@@ -165,11 +169,15 @@ fn read(
     }
     let with_normal: usize = pieces.iter().map(|p| p.corners_with_normal).sum();
     let without_normal: usize = pieces.iter().map(|p| p.corners_without_normal).sum();
+    let with_uv: usize = pieces.iter().map(|p| p.corners_with_uv).sum();
+    let without_uv: usize = pieces.iter().map(|p| p.corners_without_uv).sum();
     let triangles: usize = pieces.iter().map(|p| p.triangles.len()).sum();
-    if (with_normal > 0 && without_normal > 0) || triangles == 0 {
+    let mixed = |with: usize, without: usize| with > 0 && without > 0;
+    if mixed(with_normal, without_normal) || mixed(with_uv, without_uv) || triangles == 0 {
         return Outcome::Refused;
     }
-    let normals_missing = mode == ObjMode::Model && with_normal == 0;
+    let normals_missing = mode != ObjMode::Tutorial && with_normal == 0;
+    let uvs_missing = without_uv > 0;
 
     let parsed = start.elapsed();
     let Some((soup, position_indices)) = deindex(&pieces, mode, normals_missing) else {
@@ -186,6 +194,7 @@ fn read(
         soup,
         position_indices,
         normals_missing,
+        uvs_missing,
         ..Default::default()
     };
     let colours: usize = pieces.iter().map(|p| p.colours).sum();
@@ -347,7 +356,8 @@ impl<'a> Piece<'a> {
         Ok(())
     }
 
-    /// One face corner: `v/vt/vn`, or in a model `v/vt` or `v/vt/`.
+    /// One face corner: `v/vt/vn`, in a model also `v/vt` or `v/vt/`, in a shape also `v`, `v/`,
+    /// `v//` or `v//vn` (no UV).
     fn corner(
         &mut self,
         word: &str,
@@ -356,16 +366,30 @@ impl<'a> Piece<'a> {
     ) -> Result<Corner, Stop> {
         let mut parts = word.as_bytes().split(|&b| b == b'/');
         let (v, vt, vn) = (parts.next(), parts.next(), parts.next());
-        let (Some(v), Some(vt), None) = (v, vt, parts.next()) else {
+        let (Some(v), None) = (v, parts.next()) else {
             return Err(Stop::Refused);
+        };
+        let vt = match vt {
+            Some(vt) if !vt.is_empty() => Some(vt),
+            _ if mode == ObjMode::Shape => None,
+            _ => return Err(Stop::Refused),
         };
         let vn = match vn {
             Some(vn) if !vn.is_empty() => Some(vn),
-            _ if mode == ObjMode::Model => None,
+            _ if mode != ObjMode::Tutorial => None,
             _ => return Err(Stop::Refused),
         };
         let v = self.index(v, 0, before)?;
-        let vt = self.index(vt, 1, before)?;
+        let vt = match vt {
+            Some(vt) => {
+                self.corners_with_uv += 1;
+                self.index(vt, 1, before)?
+            }
+            None => {
+                self.corners_without_uv += 1;
+                NO_UV
+            }
+        };
         let vn = match vn {
             Some(vn) => {
                 self.corners_with_normal += 1;
@@ -460,12 +484,16 @@ fn deindex(
         let corners = piece.triangles.iter().flatten();
         for (k, &[v, vt, vn]) in corners.enumerate() {
             let position = positions[v as usize];
-            let uv = uvs[vt as usize];
+            // A shape without UVs: (0, 0), as a `vt 0 0` every corner named would read.
+            let uv = match vt {
+                NO_UV => Vec2::ZERO,
+                vt => uvs[vt as usize],
+            };
             out_p[k] = position;
             // Invert V in the tutorial's mode: its DDS textures are stored upside down.
             out_uv[k] = match mode {
                 ObjMode::Tutorial => Vec2::new(uv.x, -uv.y),
-                ObjMode::Model => uv,
+                ObjMode::Model | ObjMode::Shape => uv,
             };
             finite &= position.is_finite() && uv.is_finite();
             if normals_missing {
