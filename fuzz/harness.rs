@@ -36,7 +36,7 @@ use tutorial13::pipeline::indexer::index_vbo_tbn_hashed;
 use tutorial13::pipeline::mikktspace::mikktspace_tangents_on;
 use tutorial13::pipeline::obj_parse::load_obj_bytes_threaded;
 
-use crate::differential::differ_from_tobj;
+use crate::differential::{differ_from_tobj, shape_differs_from_rewrite};
 use crate::mikktspace_reference::{first_difference, reference_can_take, reference_tangents};
 
 /// What is fuzzed.
@@ -57,7 +57,10 @@ pub enum Target {
     /// `model::load_model_bytes` on an OBJ and its `.mtl` (one input: the OBJ, then a line
     /// [`MTL_SEPARATOR`], then the MTL text): an error naming the OBJ, or a soup as `load_obj`'s
     /// (computed normals of unit length), every vertex on the tutorial's cylinder's bounding sphere
-    /// or inside it, and material ranges covering every triangle once, each naming a material.
+    /// or inside it, and material ranges covering every triangle once, each naming a material. The
+    /// same OBJ read as a bake's HIGH (`model::load_shape_bytes`: a file none of whose corners names
+    /// a UV read in one pass) gives what the rewrite it replaced gave (`shape_differs_from_rewrite`),
+    /// and a model as above.
     Model,
     /// A photo (any format the `image` crate reads here, JPEG included) through `Photo::from_image`,
     /// `height_from_photo` and `photometric::recover` (three copies under three lights, albedo on):
@@ -68,7 +71,7 @@ pub enum Target {
     /// or one finite, nonzero direction (and one finite brightness above zero per channel) per line.
     Lights,
     /// The project's OBJ reader against tobj's parse (an input as the model target's: the OBJ, then
-    /// the MTL every `mtllib` reads), in both modes, in one piece and cut into several: the same
+    /// the MTL every `mtllib` reads), in its three modes, in one piece and cut into several: the same
     /// soup to the bit, the same materials, or the same error (`differ_from_tobj`).
     ObjTobj,
     /// `model::load_model_bytes` on a glTF (JSON or binary; a file it names beside it is never
@@ -372,6 +375,11 @@ fn check(target: Target, input: &[u8]) -> Result<Outcome, String> {
                     Err(std::io::Error::from(std::io::ErrorKind::NotFound))
                 }
             };
+            // Read as a bake's HIGH too (a sculpt without UVs is taken in one pass): as the
+            // rewrite it replaced read it.
+            if let Ok(shape) = shape_differs_from_rewrite(&obj, path, read_mtl)? {
+                check_model(&shape)?;
+            }
             match load_model_bytes(&obj, path, &MapOverrides::default(), read_mtl) {
                 Err(e) => rejected(e),
                 Ok(model) => check_model(&model).map(|_| Outcome::Loaded),
