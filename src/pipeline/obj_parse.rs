@@ -72,10 +72,9 @@ pub fn read_obj_threaded(
 /// Files are cut into runs of lines of at least this size: below it a thread costs more than it
 /// saves.
 const MIN_PIECE: usize = 1 << 20;
-/// The normal index of a corner that has none (a model whose normals are computed).
-const NO_NORMAL: u32 = u32::MAX;
-/// The UV index of a corner that has none (a shape read with UV (0, 0)).
-const NO_UV: u32 = u32::MAX;
+/// The index of an element a corner leaves out (a model's normal, computed; a shape's UV, read as
+/// (0, 0)).
+const LEFT_OUT: u32 = u32::MAX;
 
 /// A face corner's 0-based position, UV and normal indices into the whole file's elements.
 type Corner = [u32; 3];
@@ -124,10 +123,9 @@ struct Piece<'a> {
     reach: [i64; 3],
     /// With the number of triangles before each.
     statements: Vec<(usize, Statement<'a>)>,
-    corners_with_normal: usize,
-    corners_without_normal: usize,
-    corners_with_uv: usize,
-    corners_without_uv: usize,
+    /// Per kind (position, UV, normal), the corners that give its index and those that leave it out.
+    corners_with: [usize; 3],
+    corners_without: [usize; 3],
     /// Vertex colour values tobj keeps (`v x y z r g b`; it stops at the first that is not a
     /// number).
     colours: usize,
@@ -167,10 +165,10 @@ fn read(
         before[1] += piece.uvs.len();
         before[2] += piece.normals.len();
     }
-    let with_normal: usize = pieces.iter().map(|p| p.corners_with_normal).sum();
-    let without_normal: usize = pieces.iter().map(|p| p.corners_without_normal).sum();
-    let with_uv: usize = pieces.iter().map(|p| p.corners_with_uv).sum();
-    let without_uv: usize = pieces.iter().map(|p| p.corners_without_uv).sum();
+    let [_, with_uv, with_normal] =
+        [0, 1, 2].map(|k| pieces.iter().map(|p| p.corners_with[k]).sum());
+    let [_, without_uv, without_normal]: [usize; 3] =
+        [0, 1, 2].map(|k| pieces.iter().map(|p| p.corners_without[k]).sum());
     let triangles: usize = pieces.iter().map(|p| p.triangles.len()).sum();
     let mixed = |with: usize, without: usize| with > 0 && without > 0;
     if mixed(with_normal, without_normal) || mixed(with_uv, without_uv) || triangles == 0 {
@@ -380,27 +378,28 @@ impl<'a> Piece<'a> {
             _ => return Err(Stop::Refused),
         };
         let v = self.index(v, 0, before)?;
-        let vt = match vt {
-            Some(vt) => {
-                self.corners_with_uv += 1;
-                self.index(vt, 1, before)?
-            }
-            None => {
-                self.corners_without_uv += 1;
-                NO_UV
-            }
-        };
-        let vn = match vn {
-            Some(vn) => {
-                self.corners_with_normal += 1;
-                self.index(vn, 2, before)?
-            }
-            None => {
-                self.corners_without_normal += 1;
-                NO_NORMAL
-            }
-        };
+        let vt = self.index_or_left_out(vt, 1, before)?;
+        let vn = self.index_or_left_out(vn, 2, before)?;
         Ok([v, vt, vn])
+    }
+
+    /// [`Piece::index`] where the corner gives one, else [`LEFT_OUT`]; counted either way.
+    fn index_or_left_out(
+        &mut self,
+        text: Option<&[u8]>,
+        kind: usize,
+        before: Option<[usize; 3]>,
+    ) -> Result<u32, Stop> {
+        match text {
+            Some(text) => {
+                self.corners_with[kind] += 1;
+                self.index(text, kind, before)
+            }
+            None => {
+                self.corners_without[kind] += 1;
+                Ok(LEFT_OUT)
+            }
+        }
     }
 
     /// One index of kind `kind` (position, UV, normal), 0-based in the whole file.
@@ -486,7 +485,7 @@ fn deindex(
             let position = positions[v as usize];
             // A shape without UVs: (0, 0), as a `vt 0 0` every corner named would read.
             let uv = match vt {
-                NO_UV => Vec2::ZERO,
+                LEFT_OUT => Vec2::ZERO,
                 vt => uvs[vt as usize],
             };
             out_p[k] = position;
