@@ -59,7 +59,10 @@ pub enum Target {
     /// `model::load_model_bytes` on an OBJ and its `.mtl` (one input: the OBJ, then a line
     /// [`MTL_SEPARATOR`], then the MTL text): an error naming the OBJ, or a soup as `load_obj`'s
     /// (computed normals of unit length), every vertex on the tutorial's cylinder's bounding sphere
-    /// or inside it, and material ranges covering every triangle once, each naming a material.
+    /// or inside it, and material ranges covering every triangle once, each naming a material. The
+    /// same OBJ read as a bake's HIGH (`model::load_shape_bytes`: a file none of whose corners names
+    /// a UV read in one pass) gives what the rewrite it replaced gave (`shape_differs_from_rewrite`),
+    /// and a model as above.
     Model,
     /// A photo (any format the `image` crate reads here, JPEG included) through `Photo::from_image`,
     /// `height_from_photo` and `photometric::recover` (three copies under three lights, albedo on):
@@ -70,7 +73,7 @@ pub enum Target {
     /// or one finite, nonzero direction (and one finite brightness above zero per channel) per line.
     Lights,
     /// The project's OBJ reader against tobj's parse (an input as the model target's: the OBJ, then
-    /// the MTL every `mtllib` reads), in both modes, in one piece and cut into several: the same
+    /// the MTL every `mtllib` reads), in its three modes, in one piece and cut into several: the same
     /// soup to the bit, the same materials, or the same error (`differ_from_tobj`).
     ObjTobj,
     /// `model::load_model_bytes` on a glTF (JSON or binary; a file it names beside it is never

@@ -7,12 +7,26 @@ use tutorial13::model::{load_model_bytes, MapOverrides, Model};
 
 use super::obj::check_soup;
 use super::{rejected, Outcome};
+use crate::differential::shape_differs_from_rewrite;
 
 /// Where a `model` input's MTL text starts (the OBJ's `mtllib` should name `fuzz.mtl`).
 pub const MTL_SEPARATOR: &str = "#--- fuzz.mtl ---\n";
 
 /// The `model` target's check (see [`Target::Model`](super::Target::Model)).
 pub(super) fn check(input: &[u8], path: &Path) -> Result<Outcome, String> {
+    // Read as a bake's HIGH too (a sculpt without UVs is taken in one pass): as the rewrite it
+    // replaced read it.
+    let (obj, mtl) = split_model_input(input);
+    let read_mtl = |p: &Path| {
+        if p.file_name() == Some("fuzz.mtl".as_ref()) {
+            Ok(mtl.clone())
+        } else {
+            Err(std::io::Error::from(std::io::ErrorKind::NotFound))
+        }
+    };
+    if let Ok(shape) = shape_differs_from_rewrite(&obj, path, read_mtl)? {
+        check_model(&shape)?;
+    }
     match load_model_input(input, path) {
         Err(e) => rejected(path, e),
         Ok(model) => check_model(&model).map(|_| Outcome::Loaded),

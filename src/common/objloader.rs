@@ -55,6 +55,11 @@ pub enum ObjMode {
     /// V as written, corners `v/vt` or `v/vt/vn` (normals left out are computed by the caller), the
     /// `.mtl` read through the material loader.
     Model,
+    /// As [`ObjMode::Model`] for a model whose UVs are never used (a bake's HIGH, often a sculpt
+    /// exported without them): a file none of whose corners names a UV (`v`, `v//vn`) is read with
+    /// (0, 0) at every corner; one where only some corners do is refused as [`ObjMode::Model`]
+    /// refuses it.
+    Shape,
 }
 
 /// What [`read_obj`] reads: the soup, and for [`ObjMode::Model`] each triangle's material.
@@ -69,6 +74,8 @@ pub struct ObjRead {
     pub position_indices: Vec<u32>,
     /// No corner has a normal index: `soup.normals` is empty, for the caller to compute.
     pub normals_missing: bool,
+    /// [`ObjMode::Shape`] only: no corner names a UV, and `soup.uvs` is (0, 0) at every corner.
+    pub uvs_missing: bool,
 }
 
 pub(crate) fn obj_error(path: &Path, reason: String) -> Error {
@@ -93,6 +100,11 @@ pub fn read_obj(
     materials: impl Fn(&Path) -> tobj::MTLLoadResult,
 ) -> Result<ObjRead> {
     let text = utf8(bytes, path)?;
+    if mode == ObjMode::Shape && names_a_uv(text) {
+        // Some corner has a UV: every corner needs one, and the errors are a model's.
+        return read_obj(bytes, path, ObjMode::Model, materials);
+    }
+    let uvs_missing = mode == ObjMode::Shape;
     let err = |reason: String| obj_error(path, reason);
     let options = tobj::LoadOptions {
         triangulate: true,
@@ -126,10 +138,11 @@ pub fn read_obj(
         .map_err(|_| err("tobj's parser panicked".into()))?
         .map_err(|e| err(e.to_string()))?;
 
-    let normals_missing = mode == ObjMode::Model && scan.corners_with_normal == 0;
+    let normals_missing = mode != ObjMode::Tutorial && scan.corners_with_normal == 0;
     let mut read = ObjRead {
         materials: loaded.unwrap_or_default(),
         normals_missing,
+        uvs_missing,
         ..Default::default()
     };
     let soup = &mut read.soup;
@@ -137,16 +150,23 @@ pub fn read_obj(
         let mesh = &model.mesh;
         // The pre-scan guarantees that every corner has its indices, so the index lists match.
         let normals_match = normals_missing || mesh.normal_indices.len() == mesh.indices.len();
-        if mesh.texcoord_indices.len() != mesh.indices.len() || !normals_match {
+        let uvs_match = uvs_missing || mesh.texcoord_indices.len() == mesh.indices.len();
+        if !uvs_match || !normals_match {
             return Err(err(format!(
                 "object '{}' has faces without UV or normal indices",
                 model.name
             )));
         }
-        for (corner, (&vi, &ti)) in mesh.indices.iter().zip(&mesh.texcoord_indices).enumerate() {
-            let (vi, ti) = (vi as usize, ti as usize);
+        for (corner, &vi) in mesh.indices.iter().enumerate() {
+            let vi = vi as usize;
             let position = Vec3::from_slice(&mesh.positions[3 * vi..3 * vi + 3]);
-            let uv = Vec2::from_slice(&mesh.texcoords[2 * ti..2 * ti + 2]);
+            let uv = match uvs_missing {
+                true => Vec2::ZERO,
+                false => {
+                    let ti = mesh.texcoord_indices[corner] as usize;
+                    Vec2::from_slice(&mesh.texcoords[2 * ti..2 * ti + 2])
+                }
+            };
             let normal = match normals_missing {
                 true => Vec3::ZERO,
                 false => {
@@ -164,7 +184,7 @@ pub fn read_obj(
             soup.uvs.push(match mode {
                 // Invert V: the tutorial's DDS textures are stored upside down.
                 ObjMode::Tutorial => Vec2::new(uv.x, -uv.y),
-                ObjMode::Model => uv,
+                ObjMode::Model | ObjMode::Shape => uv,
             });
             if normals_missing {
                 // tobj numbers positions per object and material, not in the file: this key is
@@ -190,10 +210,20 @@ struct FaceScan {
     corners_without_normal: usize,
 }
 
+/// Whether some corner of an `f` line names a UV (`v/vt`, `v/vt/vn`).
+fn names_a_uv(text: &str) -> bool {
+    text.lines().any(|line| {
+        let mut words = line.split_whitespace();
+        words.next() == Some("f")
+            && words.any(|corner| corner.split('/').nth(1).is_some_and(|vt| !vt.is_empty()))
+    })
+}
+
 /// Checks every `f` line for what the tutorial needs and tobj does not enforce: at least three
 /// corners, each written `v/vt/vn` with all three indices present, non-zero and in range at that
 /// point of the file (relative indices count back from the elements declared so far); in
-/// [`ObjMode::Model`] the normal index may be left out, by every corner or by none. Returns how many
+/// [`ObjMode::Model`] the normal index may be left out, by every corner or by none; in
+/// [`ObjMode::Shape`] (called only when no corner names a UV) the UV index too. Returns how many
 /// corners have a normal index.
 fn check_faces(text: &str, mode: ObjMode) -> std::result::Result<FaceScan, String> {
     let mut scan = FaceScan {
@@ -272,21 +302,22 @@ fn check_corner(
     const WHAT: [&str; 3] = ["position", "UV", "normal"];
     let needs = match mode {
         ObjMode::Tutorial => NEEDS_UV_AND_NORMAL,
-        ObjMode::Model => NEEDS_UV,
+        ObjMode::Model | ObjMode::Shape => NEEDS_UV,
     };
     let mut parts = corner.split('/');
     let parts = [parts.next(), parts.next(), parts.next(), parts.next()];
     let (v, vt, vn) = match parts {
         [Some(v), Some(vt), Some(vn), None] => (v, vt, vn),
-        [Some(v), Some(vt), None, None] if mode == ObjMode::Model => (v, vt, ""),
+        [Some(v), Some(vt), None, None] if mode != ObjMode::Tutorial => (v, vt, ""),
+        [Some(v), None, None, None] if mode == ObjMode::Shape => (v, "", ""),
         _ => return Err(needs.into()),
     };
-    if vt.is_empty() || (vn.is_empty() && mode == ObjMode::Tutorial) {
+    if (vt.is_empty() && mode != ObjMode::Shape) || (vn.is_empty() && mode == ObjMode::Tutorial) {
         return Err(needs.into());
     }
     for (k, part) in [v, vt, vn].into_iter().enumerate() {
         if part.is_empty() {
-            continue; // a model's missing normal
+            continue; // a model's missing normal, a shape's missing UV
         }
         let index: i64 = part
             .parse()

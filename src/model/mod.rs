@@ -264,8 +264,9 @@ pub enum Uvs {
 }
 
 /// [`load_model`] for a model whose shape alone is used (a bake's HIGH). A sculpt is often
-/// exported without a UV layout: an OBJ none of whose faces names a UV is read again with one UV,
-/// (0, 0), given to every corner, and a glTF primitive without its UV set gets the same.
+/// exported without a UV layout: an OBJ none of whose faces names a UV is read with (0, 0) at
+/// every corner, in the same one pass ([`ObjMode::Shape`]), and a glTF primitive without its UV
+/// set gets the same.
 pub fn load_shape(path: &Path) -> Result<Model> {
     let bytes = crate::files::read(path).map_err(|e| Error::io(path, e))?;
     load_shape_bytes(&bytes, path, crate::files::read)
@@ -281,53 +282,7 @@ pub fn load_shape_bytes(
     if Format::is_gltf(path) {
         return gltf::load_gltf(bytes, path, &overrides, Uvs::Optional, &read_file);
     }
-    let error = match load_model_bytes(bytes, path, &overrides, &read_file) {
-        Err(error @ Error::Obj { .. }) => error,
-        other => return other,
-    };
-    let Some(text) = std::str::from_utf8(bytes).ok().and_then(with_one_uv) else {
-        return Err(error);
-    };
-    let mut model = load_model_bytes(text.as_bytes(), path, &overrides, &read_file)?;
-    model.notices.push(format!(
-        "{}: no UVs: read with (0, 0) at every corner (its UVs are not used here)",
-        path.display()
-    ));
-    Ok(model)
-}
-
-/// `text` with a `vt 0 0` first and every face corner pointing at it (`v` → `v/1`, `v//n` →
-/// `v/1/n`), if it has faces and none of them names a UV; else `None`.
-fn with_one_uv(text: &str) -> Option<String> {
-    let mut out = String::with_capacity(text.len() + text.len() / 4);
-    out.push_str("vt 0 0\n");
-    let mut faces = 0;
-    for line in text.lines() {
-        let words: Vec<&str> = line.split_whitespace().collect();
-        if words.first() != Some(&"f") {
-            out.push_str(line);
-            out.push('\n');
-            continue;
-        }
-        faces += 1;
-        out.push('f');
-        for corner in &words[1..] {
-            let mut parts = corner.splitn(3, '/');
-            let (v, vt, vn) = (parts.next()?, parts.next(), parts.next());
-            if vt.is_some_and(|vt| !vt.is_empty()) {
-                return None;
-            }
-            out.push(' ');
-            out.push_str(v);
-            out.push_str("/1");
-            if let Some(vn) = vn {
-                out.push('/');
-                out.push_str(vn);
-            }
-        }
-        out.push('\n');
-    }
-    (faces > 0).then_some(out)
+    load_obj_model(bytes, path, &overrides, &read_file, ObjMode::Shape)
 }
 
 /// [`load_model`] on the model's bytes (an OBJ, or a glTF by `path`'s extension); `read_mtl` reads
@@ -342,7 +297,18 @@ pub fn load_model_bytes(
     if Format::is_gltf(path) {
         return gltf::load_gltf(bytes, path, overrides, Uvs::Required, &read_mtl);
     }
-    let (read, mut notices, material_files) = read_obj_and_mtls(bytes, path, &read_mtl)?;
+    load_obj_model(bytes, path, overrides, &read_mtl, ObjMode::Model)
+}
+
+/// An OBJ as a model ([`ObjMode::Model`]) or as a shape ([`ObjMode::Shape`]: no UVs read as (0, 0)).
+fn load_obj_model(
+    bytes: &[u8],
+    path: &Path,
+    overrides: &MapOverrides,
+    read_mtl: &impl Fn(&Path) -> std::io::Result<Vec<u8>>,
+    mode: ObjMode,
+) -> Result<Model> {
+    let (read, mut notices, material_files) = read_obj_and_mtls(bytes, path, read_mtl, mode)?;
     let start = Instant::now();
 
     let mut soup = read.soup;
@@ -377,6 +343,12 @@ pub fn load_model_bytes(
         path.display(),
         start.elapsed().as_secs_f64() * 1e3
     );
+    if read.uvs_missing {
+        notices.push(format!(
+            "{}: no UVs: read with (0, 0) at every corner (its UVs are not used here)",
+            path.display()
+        ));
+    }
     Ok(Model {
         path: path.to_path_buf(),
         soup,
@@ -397,6 +369,7 @@ fn read_obj_and_mtls(
     bytes: &[u8],
     path: &Path,
     read_mtl: &impl Fn(&Path) -> std::io::Result<Vec<u8>>,
+    mode: ObjMode,
 ) -> Result<(ObjRead, Vec<String>, HashMap<String, PathBuf>)> {
     let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
     let notices = RefCell::new(Vec::new());
@@ -428,7 +401,7 @@ fn read_obj_and_mtls(
             }
         }
     };
-    let read = read_obj_threaded(bytes, path, ObjMode::Model, load_mtl, None)?;
+    let read = read_obj_threaded(bytes, path, mode, load_mtl, None)?;
     Ok((read, notices.into_inner(), material_files.into_inner()))
 }
 
@@ -676,19 +649,6 @@ pub fn smooth_normals(vertices: &[Vec3], position_indices: &[u32]) -> Vec<Vec3> 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Fails if a face corner without a UV is not pointed at the one added, if a normal index is
-    /// lost, or if a file with UVs (or with no faces) is rewritten.
-    #[test]
-    fn an_obj_without_uvs_is_given_one() {
-        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1\nf 1 2 3\n";
-        assert_eq!(
-            with_one_uv(text).unwrap(),
-            "vt 0 0\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1\nf 1/1 2/1 3/1\n"
-        );
-        assert_eq!(with_one_uv("v 0 0 0\nvt 0 0\nf 1/1 1/1 1/1\n"), None);
-        assert_eq!(with_one_uv("v 0 0 0\n"), None);
-    }
 
     // Fails if the placement does not put the bounding sphere on the tutorial's cylinder's, or
     // loses precision far from the origin.

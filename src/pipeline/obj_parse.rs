@@ -72,8 +72,9 @@ pub fn read_obj_threaded(
 /// Files are cut into runs of lines of at least this size: below it a thread costs more than it
 /// saves.
 const MIN_PIECE: usize = 1 << 20;
-/// The normal index of a corner that has none (a model whose normals are computed).
-const NO_NORMAL: u32 = u32::MAX;
+/// The index of an element a corner leaves out (a model's normal, computed; a shape's UV, read as
+/// (0, 0)).
+const LEFT_OUT: u32 = u32::MAX;
 
 /// A face corner's 0-based position, UV and normal indices into the whole file's elements.
 type Corner = [u32; 3];
@@ -122,8 +123,9 @@ struct Piece<'a> {
     reach: [i64; 3],
     /// With the number of triangles before each.
     statements: Vec<(usize, Statement<'a>)>,
-    corners_with_normal: usize,
-    corners_without_normal: usize,
+    /// Per kind (position, UV, normal), the corners that give its index and those that leave it out.
+    corners_with: [usize; 3],
+    corners_without: [usize; 3],
     /// Vertex colour values tobj keeps (`v x y z r g b`; it stops at the first that is not a
     /// number).
     colours: usize,
@@ -163,13 +165,17 @@ fn read(
         before[1] += piece.uvs.len();
         before[2] += piece.normals.len();
     }
-    let with_normal: usize = pieces.iter().map(|p| p.corners_with_normal).sum();
-    let without_normal: usize = pieces.iter().map(|p| p.corners_without_normal).sum();
+    let [_, with_uv, with_normal] =
+        [0, 1, 2].map(|k| pieces.iter().map(|p| p.corners_with[k]).sum());
+    let [_, without_uv, without_normal]: [usize; 3] =
+        [0, 1, 2].map(|k| pieces.iter().map(|p| p.corners_without[k]).sum());
     let triangles: usize = pieces.iter().map(|p| p.triangles.len()).sum();
-    if (with_normal > 0 && without_normal > 0) || triangles == 0 {
+    let mixed = |with: usize, without: usize| with > 0 && without > 0;
+    if mixed(with_normal, without_normal) || mixed(with_uv, without_uv) || triangles == 0 {
         return Outcome::Refused;
     }
-    let normals_missing = mode == ObjMode::Model && with_normal == 0;
+    let normals_missing = mode != ObjMode::Tutorial && with_normal == 0;
+    let uvs_missing = without_uv > 0;
 
     let parsed = start.elapsed();
     let Some((soup, position_indices)) = deindex(&pieces, mode, normals_missing) else {
@@ -186,6 +192,7 @@ fn read(
         soup,
         position_indices,
         normals_missing,
+        uvs_missing,
         ..Default::default()
     };
     let colours: usize = pieces.iter().map(|p| p.colours).sum();
@@ -347,7 +354,8 @@ impl<'a> Piece<'a> {
         Ok(())
     }
 
-    /// One face corner: `v/vt/vn`, or in a model `v/vt` or `v/vt/`.
+    /// One face corner: `v/vt/vn`, in a model also `v/vt` or `v/vt/`, in a shape also `v`, `v/`,
+    /// `v//` or `v//vn` (no UV).
     fn corner(
         &mut self,
         word: &str,
@@ -356,27 +364,42 @@ impl<'a> Piece<'a> {
     ) -> Result<Corner, Stop> {
         let mut parts = word.as_bytes().split(|&b| b == b'/');
         let (v, vt, vn) = (parts.next(), parts.next(), parts.next());
-        let (Some(v), Some(vt), None) = (v, vt, parts.next()) else {
+        let (Some(v), None) = (v, parts.next()) else {
             return Err(Stop::Refused);
+        };
+        let vt = match vt {
+            Some(vt) if !vt.is_empty() => Some(vt),
+            _ if mode == ObjMode::Shape => None,
+            _ => return Err(Stop::Refused),
         };
         let vn = match vn {
             Some(vn) if !vn.is_empty() => Some(vn),
-            _ if mode == ObjMode::Model => None,
+            _ if mode != ObjMode::Tutorial => None,
             _ => return Err(Stop::Refused),
         };
         let v = self.index(v, 0, before)?;
-        let vt = self.index(vt, 1, before)?;
-        let vn = match vn {
-            Some(vn) => {
-                self.corners_with_normal += 1;
-                self.index(vn, 2, before)?
+        let vt = self.index_or_left_out(vt, 1, before)?;
+        let vn = self.index_or_left_out(vn, 2, before)?;
+        Ok([v, vt, vn])
+    }
+
+    /// [`Piece::index`] where the corner gives one, else [`LEFT_OUT`]; counted either way.
+    fn index_or_left_out(
+        &mut self,
+        text: Option<&[u8]>,
+        kind: usize,
+        before: Option<[usize; 3]>,
+    ) -> Result<u32, Stop> {
+        match text {
+            Some(text) => {
+                self.corners_with[kind] += 1;
+                self.index(text, kind, before)
             }
             None => {
-                self.corners_without_normal += 1;
-                NO_NORMAL
+                self.corners_without[kind] += 1;
+                Ok(LEFT_OUT)
             }
-        };
-        Ok([v, vt, vn])
+        }
     }
 
     /// One index of kind `kind` (position, UV, normal), 0-based in the whole file.
@@ -460,12 +483,16 @@ fn deindex(
         let corners = piece.triangles.iter().flatten();
         for (k, &[v, vt, vn]) in corners.enumerate() {
             let position = positions[v as usize];
-            let uv = uvs[vt as usize];
+            // A shape without UVs: (0, 0), as a `vt 0 0` every corner named would read.
+            let uv = match vt {
+                LEFT_OUT => Vec2::ZERO,
+                vt => uvs[vt as usize],
+            };
             out_p[k] = position;
             // Invert V in the tutorial's mode: its DDS textures are stored upside down.
             out_uv[k] = match mode {
                 ObjMode::Tutorial => Vec2::new(uv.x, -uv.y),
-                ObjMode::Model => uv,
+                ObjMode::Model | ObjMode::Shape => uv,
             };
             finite &= position.is_finite() && uv.is_finite();
             if normals_missing {

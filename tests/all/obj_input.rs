@@ -281,3 +281,146 @@ fn the_obj_reader_reads_as_tobj_does() {
         assert_same_as_tobj(text, text.as_bytes());
     }
 }
+
+/// How a sculpt's face corners name their elements (none names a UV).
+#[derive(Clone, Copy, Debug)]
+enum SculptCorners {
+    /// `v//vn`, as ZBrush and Blender write a sculpt with normals.
+    PositionNormal,
+    /// `v`: no normals (they are computed).
+    Position,
+    /// `v/` and `v//`, which some exporters write for `v`.
+    Slashes,
+}
+
+/// A sculpt as sculpting tools export it: `parts` objects, each a bumpy sphere of `rings × segments`
+/// (quads, triangles at the poles), its `v` and `vn` lines before its faces, no `vt` and no UV in
+/// any corner. `relative` writes the indices counted back from the last element declared.
+fn sculpt_obj(
+    parts: u32,
+    rings: u32,
+    segments: u32,
+    corners: SculptCorners,
+    relative: bool,
+) -> String {
+    use std::fmt::Write;
+    let mut text = String::from("# sculpt, no UV layout\n");
+    let mut declared = 0i64; // v and vn are declared together, one of each per point
+    for part in 0..parts {
+        let _ = writeln!(text, "o Sculpt.{part:03}");
+        let first = declared + 1;
+        let mut point = |theta: f64, phi: f64| {
+            let direction = [
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            ];
+            let r = 1.0 + 0.05 * (7.0 * theta).sin() * (5.0 * phi).cos();
+            let [x, y, z] = direction.map(|d| d * r);
+            let _ = writeln!(text, "v {:.6} {:.6} {:.6}", x + 3.0 * part as f64, y, z);
+            let [a, b, c] = direction;
+            let _ = writeln!(text, "vn {a:.6} {b:.6} {c:.6}");
+            declared += 1;
+        };
+        use std::f64::consts::PI;
+        point(0.0, 0.0);
+        for r in 1..rings {
+            for s in 0..segments {
+                point(
+                    PI * r as f64 / rings as f64,
+                    2.0 * PI * s as f64 / segments as f64,
+                );
+            }
+        }
+        point(PI, 0.0);
+        let last = declared;
+        let corner = |k: i64| {
+            let index = if relative { k - declared - 1 } else { k };
+            match (corners, k % 2) {
+                (SculptCorners::PositionNormal, _) => format!("{index}//{index}"),
+                (SculptCorners::Position, _) => format!("{index}"),
+                (SculptCorners::Slashes, 0) => format!("{index}/"),
+                (SculptCorners::Slashes, _) => format!("{index}//"),
+            }
+        };
+        let at = |r: u32, s: u32| first + 1 + ((r - 1) * segments + s % segments) as i64;
+        for s in 0..segments {
+            let _ = writeln!(
+                text,
+                "f {} {} {}",
+                corner(first),
+                corner(at(1, s + 1)),
+                corner(at(1, s))
+            );
+        }
+        for r in 1..rings - 1 {
+            for s in 0..segments {
+                let quad = [at(r, s), at(r, s + 1), at(r + 1, s + 1), at(r + 1, s)];
+                let _ = writeln!(text, "f {}", quad.map(corner).join(" "));
+            }
+        }
+        for s in 0..segments {
+            let pole = corner(last);
+            let _ = writeln!(
+                text,
+                "f {} {} {pole}",
+                corner(at(rings - 1, s)),
+                corner(at(rings - 1, s + 1))
+            );
+        }
+    }
+    text
+}
+
+// Fails if a sculpt without UVs read as a bake's HIGH (`load_shape_bytes`, one pass) differs in
+// any bit, notice, material or placement from what the rewrite read before (`vt 0 0` added and
+// every corner pointed at it, then read as a model): `v//vn`, `v`, `v/` and `v//` corners, quads
+// and triangles, absolute and negative indices, one part and several, large enough to be read on
+// several cores; if a file with only some corners naming a UV is not refused with the model's own
+// line; or if a model that needs UVs (`load_model_bytes`) takes a sculpt.
+#[test]
+fn a_sculpt_is_read_in_one_pass_as_its_rewrite_was() {
+    use crate::differential::shape_differs_from_rewrite;
+    use tutorial13::model::{load_model_bytes, MapOverrides};
+    let path = Path::new("sculpt.obj");
+    let nothing = |_: &Path| Err(std::io::ErrorKind::NotFound.into());
+    let model =
+        |text: &str| load_model_bytes(text.as_bytes(), path, &MapOverrides::default(), nothing);
+    let cases = [
+        (1, 180, 360, SculptCorners::PositionNormal, false),
+        (1, 180, 360, SculptCorners::PositionNormal, true),
+        (3, 20, 40, SculptCorners::Position, true),
+        (2, 12, 24, SculptCorners::Slashes, false),
+    ];
+    for (parts, rings, segments, corners, relative) in cases {
+        let what =
+            format!("{parts} part(s), {rings} × {segments}, {corners:?}, relative {relative}");
+        let text = sculpt_obj(parts, rings, segments, corners, relative);
+        let read = shape_differs_from_rewrite(text.as_bytes(), path, nothing);
+        read.unwrap_or_else(|e| panic!("{what}: {e}")).expect(&what);
+        // A model needs UVs: its refusal names the first corner without one.
+        let refusal = model(&text).expect_err(&what).to_string();
+        assert!(
+            refusal.contains("needs a texture coordinate index"),
+            "{what}: {refusal}"
+        );
+        assert_same_as_tobj(&what, text.as_bytes());
+    }
+    assert!(sculpt_obj(1, 180, 360, SculptCorners::PositionNormal, true).len() > 3 << 20);
+
+    // Some corners with a UV, some without: refused as the model refuses it (the rewrite took
+    // none of it), wherever the corners without are.
+    let uvs = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n";
+    for faces in [
+        "f 1/1/1 2/1/1 3/1/1\nf 1//1 2//1 3//1\n",
+        "f 1//1 2//1 3//1\nf 1/1/1 2/1/1 3/1/1\n",
+        "f 1/1/1 2//1 3/1/1\n",
+        "f 1/1 2 3\n",
+    ] {
+        let text = format!("{uvs}{faces}");
+        let read = shape_differs_from_rewrite(text.as_bytes(), path, nothing);
+        read.unwrap_or_else(|e| panic!("{text}: {e}"))
+            .expect_err(&text);
+        assert_same_as_tobj(&text, text.as_bytes());
+    }
+}
