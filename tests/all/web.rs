@@ -1263,7 +1263,8 @@ fn the_tour_in_the_page_steps_forward_and_back() {
         "the last step's scene was not fetched: {:?}",
         page.fetched()
     );
-    let share = share_within(&page.shot, &native_tour_frame(10, false));
+    // A tour key shows the panel F1 (or `panel=off`) hid: the pane is the panel's.
+    let share = share_within(&page.shot, &native_tour_frame(10, true));
     eprintln!(
         "web: the walk back to step 10: {:.2} % within",
         share * 100.0

@@ -192,6 +192,16 @@ fn show_line(line: &str, class: &str) {
     }
 }
 
+/// index.html's "loading…" taken off the message, any line after it kept.
+fn drop_loading() {
+    if let Some(element) = element("message") {
+        let text = element.text_content().unwrap_or_default();
+        if let Some(rest) = text.strip_prefix("loading…") {
+            element.set_text_content(Some(rest.trim_start_matches('\n')));
+        }
+    }
+}
+
 fn clear_error() {
     if let Some(element) = element("message") {
         element.set_text_content(None);
@@ -222,6 +232,8 @@ pub fn start() {
     let _ = console_log();
     wasm_bindgen_futures::spawn_local(async {
         if let Err(line) = run().await {
+            // "loading…" (index.html's) goes: the line says why nothing will load.
+            drop_loading();
             show_error(&line);
         }
     });
