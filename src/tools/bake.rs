@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use super::Depth;
+use super::{parse_size, Depth, SizeOf};
 use crate::bake::{
     BakeFiles, BakeProgress, BakeSettings, BakeStats, BakedMap, Pairing, Space, Tangents,
 };
@@ -24,7 +24,7 @@ pub struct BakeOptions {
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
     /// Map size: N (square) or WxH, each 1 to 16384
-    #[arg(long, value_name = "N|WxH", default_value = "1024", value_parser = parse_size)]
+    #[arg(long, value_name = "N|WxH", default_value = "1024", value_parser = |s: &str| parse_size(s, SizeOf::Texels))]
     pub size: (u32, u32),
     /// K × K rays per texel, averaged (1 to 16)
     #[arg(long, value_name = "K", default_value_t = 1,
@@ -87,24 +87,6 @@ impl BakeOptions {
                 Err(line.trim_start_matches("error: ").to_string())
             }
         }
-    }
-}
-
-/// `N` or `WxH`, each side 1 to 16384.
-fn parse_size(text: &str) -> std::result::Result<(u32, u32), String> {
-    let side = |s: &str| -> std::result::Result<u32, String> {
-        let n: u32 = s
-            .trim()
-            .parse()
-            .map_err(|_| format!("'{s}' is not a whole number of texels"))?;
-        match n {
-            1..=16384 => Ok(n),
-            _ => Err(format!("{n} texels: a side must be 1 to 16384")),
-        }
-    };
-    match text.split_once(['x', 'X']) {
-        Some((w, h)) => Ok((side(w)?, side(h)?)),
-        None => side(text).map(|n| (n, n)),
     }
 }
 
