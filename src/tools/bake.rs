@@ -8,7 +8,7 @@ use crate::bake::{
     BakeFiles, BakeProgress, BakeSettings, BakeStats, BakedMap, Pairing, Space, Tangents,
 };
 use crate::clock::Instant;
-use crate::normalmap::{encode_normal, encode_normal16, map_format, Green};
+use crate::normalmap::{check_map_output, encode_normal, encode_normal16, Green};
 use crate::normalmap::{normal_map_file, normal_map_file16};
 use crate::{Error, Result};
 
@@ -93,7 +93,7 @@ impl BakeOptions {
 /// Reads both models, bakes, writes the map and says what happened.
 pub fn bake(options: &BakeOptions) -> Result<()> {
     let start = Instant::now();
-    check_output(options)?;
+    check_map_output("-o", &options.output, options.depth.sixteen_bit())?;
     let (settings, files, map) = bake_map(options, None)?;
     let clock = Instant::now();
     crate::files::write_bytes_atomically(&options.output, &encode(options, &map)?)?;
@@ -202,30 +202,6 @@ fn distance(flag: &str, value: Option<f32>, default: f32) -> Result<f32> {
         )));
     }
     Ok(d)
-}
-
-/// Refuses an output that cannot be written before the models are read: a format by extension, a
-/// depth the format has, a folder that is there.
-fn check_output(options: &BakeOptions) -> Result<()> {
-    let path = &options.output;
-    let format = map_format(path)?;
-    if options.depth.sixteen_bit() && format != image::ImageFormat::Png {
-        return Err(Error::Write {
-            path: path.clone(),
-            reason: "--depth 16 is written as PNG only: name it .png".into(),
-        });
-    }
-    let folder = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => std::path::Path::new("."),
-    };
-    if !folder.is_dir() {
-        return Err(Error::Write {
-            path: path.clone(),
-            reason: format!("{} is not a folder", folder.display()),
-        });
-    }
-    Ok(())
 }
 
 /// The map as the file `--output` names holds it (PNG or BMP by its extension): 8- or 16-bit

@@ -132,15 +132,7 @@ pub fn run(options: &RunOptions, scene: SceneOptions) -> Result<()> {
 /// Refused before rendering, not after a frame (or a whole window session) has been drawn.
 fn check_paths(options: &RunOptions) -> Result<()> {
     if let Some(path) = &options.screenshot {
-        ImageFormat::from_path(path)?;
-        let folder = path.parent().filter(|f| !f.as_os_str().is_empty());
-        if let Some(folder) = folder.filter(|f| !f.is_dir()) {
-            return Err(Error::Argument(format!(
-                "--screenshot {}: no such folder {} (create it first)",
-                path.display(),
-                folder.display()
-            )));
-        }
+        crate::files::check_output("--screenshot", path, ImageFormat::from_path)?;
     }
     // A mistyped folder would otherwise fall back silently (--shaders) or fail later on one file.
     for (flag, dir) in [
