@@ -39,6 +39,7 @@ use crate::clock::Instant;
 use crate::common::objloader::TriangleSoup;
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::model::{load_model, MapOverrides, Model};
+use crate::pipeline::join;
 use crate::tangent_source::stretch;
 use crate::{Error, Result};
 
@@ -705,14 +706,11 @@ impl BakeFiles {
             let high = crate::model::load_shape(high_path);
             (high, load_model(low_path, &MapOverrides::default()))
         } else {
-            std::thread::scope(|scope| {
-                let high = scope.spawn(|| crate::model::load_shape(high_path));
-                let low = load_model(low_path, &MapOverrides::default());
-                let high = high
-                    .join()
-                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-                (high, low)
-            })
+            let (low, high) = join(
+                || load_model(low_path, &MapOverrides::default()),
+                || crate::model::load_shape(high_path),
+            );
+            (high, low)
         };
         let (mut high, low) = (high?, low?);
         // HIGH's notices say what was filled in (UVs, normals); LOW's maps do not matter here.
