@@ -8,7 +8,8 @@ use crate::bake::{
     BakeFiles, BakeProgress, BakeSettings, BakeStats, BakedMap, Pairing, Space, Tangents,
 };
 use crate::clock::Instant;
-use crate::normalmap::{check_map_output, encode_normal, encode_normal16, Green};
+use crate::combine::{texels16, texels8};
+use crate::normalmap::{check_map_output, Green};
 use crate::normalmap::{normal_map_file, normal_map_file16};
 use crate::{Error, Result};
 
@@ -207,17 +208,16 @@ fn distance(flag: &str, value: Option<f32>, default: f32) -> Result<f32> {
 /// The map as the file `--output` names holds it (PNG or BMP by its extension): 8- or 16-bit
 /// texels, green flipped for `--green down` (tangent space only).
 pub fn encode(options: &BakeOptions, map: &BakedMap) -> Result<Vec<u8>> {
-    let flip = !options.object_space && options.green == Green::Down;
-    let vectors = map.normals.iter().map(|n| {
-        let y = if flip { -n.y } else { n.y };
-        [n.x, y, n.z]
-    });
+    // A model-space map has no green convention: its y is the model's.
+    let green = match options.object_space {
+        true => Green::Up,
+        false => options.green,
+    };
+    let (w, h) = (map.width, map.height);
     if options.depth.sixteen_bit() {
-        let texels: Vec<[u16; 3]> = vectors.map(encode_normal16).collect();
-        normal_map_file16(&options.output, &texels, map.width, map.height)
+        normal_map_file16(&options.output, &texels16(&map.normals, green), w, h)
     } else {
-        let texels: Vec<[u8; 3]> = vectors.map(encode_normal).collect();
-        normal_map_file(&options.output, &texels, map.width, map.height)
+        normal_map_file(&options.output, &texels8(&map.normals, green), w, h)
     }
 }
 
