@@ -46,7 +46,15 @@ use crate::{Error, Result};
 pub use parts::Pairing;
 pub use texels::{TexelState, UvLayout};
 
-/// The frame the map is baked for.
+/// The frame the map is baked for: `bake --tangents`.
+///
+/// Not [`crate::tangent_source::TangentSource`], the scenes' `--tangents` (key F), though three of
+/// its four values are these: the bake has no corner frames for its `Derivative` (the per-pixel
+/// frame the fragment shader solves from screen-space derivatives), so `bake --tangents derivative`
+/// must not parse; and this flag's `--help` lists these three with what each is, in the bake's
+/// order and with its own default (MikkTSpace, not the tutorial's). One type would need the bake's
+/// flag to parse a subset of it with its own value help, and the bake a derivative frame or a
+/// refusal line.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum Tangents {
     /// MikkTSpace, computed from LOW (glTF's and Blender's convention)
