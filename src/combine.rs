@@ -217,19 +217,20 @@ pub fn combine_maps(
     out
 }
 
-/// Unit normals (green up) as 8-bit texels stored with `green`.
-pub fn texels8(normals: &[[f32; 3]], green: Green) -> Vec<[u8; 3]> {
+/// Unit normals (green up; arrays or `Vec3`s) as 8-bit texels stored with `green`: the packing
+/// `--combine` and the bake write.
+pub fn texels8<N: Copy + Into<[f32; 3]>>(normals: &[N], green: Green) -> Vec<[u8; 3]> {
     normals
         .iter()
-        .map(|&n| encode_normal(green_up(n, green)))
+        .map(|&n| encode_normal(green_up(n.into(), green)))
         .collect()
 }
 
-/// Unit normals (green up) as 16-bit texels stored with `green`.
-pub fn texels16(normals: &[[f32; 3]], green: Green) -> Vec<[u16; 3]> {
+/// Unit normals (green up; arrays or `Vec3`s) as 16-bit texels stored with `green`.
+pub fn texels16<N: Copy + Into<[f32; 3]>>(normals: &[N], green: Green) -> Vec<[u16; 3]> {
     normals
         .iter()
-        .map(|&n| encode_normal16(green_up(n, green)))
+        .map(|&n| encode_normal16(green_up(n.into(), green)))
         .collect()
 }
 

@@ -58,6 +58,26 @@ pub fn write_bytes_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     })
 }
 
+/// Refuses an output file before anything is made for it: `format` reads its format from the name
+/// (each tool writes its own formats), and its folder must be there (nothing creates it behind the
+/// user's back). The error line starts with `flag` and the file, as typed.
+pub fn check_output<F>(
+    flag: &str,
+    path: &Path,
+    format: impl FnOnce(&Path) -> Result<F>,
+) -> Result<F> {
+    let format = format(path)?;
+    let folder = path.parent().filter(|f| !f.as_os_str().is_empty());
+    if let Some(folder) = folder.filter(|f| !f.is_dir()) {
+        return Err(Error::Argument(format!(
+            "{flag} {}: no such folder {} (create it first)",
+            path.display(),
+            folder.display()
+        )));
+    }
+    Ok(format)
+}
+
 /// Reads a file the scenes load (a model, a map, a texture). Natively `std::fs::read`; in the
 /// browser, which has no file system, the bytes the page fetched or the learner dropped
 /// (`provide`, in a wasm32 build), under the same relative paths.

@@ -283,6 +283,19 @@ where
     Ok(bytes.into_inner())
 }
 
+/// A map's output (`flag`'s file) refused before any input is read: a format [`map_format`] knows,
+/// its folder there ([`crate::files::check_output`]), 16 bits only in a PNG.
+pub fn check_map_output(flag: &str, path: &Path, sixteen_bit: bool) -> Result<()> {
+    let format = crate::files::check_output(flag, path, map_format)?;
+    if sixteen_bit && format != image::ImageFormat::Png {
+        return Err(Error::Write {
+            path: path.to_path_buf(),
+            reason: "--depth 16 writes PNG only: name the output .png".into(),
+        });
+    }
+    Ok(())
+}
+
 /// The format [`write_normal_map`] writes to `path`: BMP or PNG by its extension, else an error.
 pub fn map_format(path: &Path) -> Result<image::ImageFormat> {
     match path

@@ -6,6 +6,8 @@
 
 use glam::{BVec3, Vec3, Vec4};
 
+use crate::pipeline::join;
+
 /// At most this many triangles in a leaf.
 const LEAF_SIZE: usize = 4;
 /// Centroid bins per axis for the SAH split.
@@ -840,12 +842,10 @@ fn build_node(
         // The right half is built on a thread of its own into a list of its own, then appended
         // with its indices moved to where it lands.
         let right_threads = threads / 2;
-        let right_nodes = std::thread::scope(|scope| {
-            let job = scope.spawn(|| build_subtree(right, base + middle, depth + 1, right_threads));
-            build_node(nodes, first, left, base, depth + 1, threads - right_threads);
-            job.join()
-                .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
-        });
+        let ((), right_nodes) = join(
+            || build_node(nodes, first, left, base, depth + 1, threads - right_threads),
+            || build_subtree(right, base + middle, depth + 1, right_threads),
+        );
         let offset = nodes.len() as u32 - 1;
         nodes[first + 1] = moved(right_nodes[0], offset);
         nodes.extend(right_nodes[1..].iter().map(|&n| moved(n, offset)));

@@ -39,13 +39,22 @@ use crate::clock::Instant;
 use crate::common::objloader::TriangleSoup;
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::model::{load_model, MapOverrides, Model};
+use crate::pipeline::join;
 use crate::tangent_source::stretch;
 use crate::{Error, Result};
 
 pub use parts::Pairing;
 pub use texels::{TexelState, UvLayout};
 
-/// The frame the map is baked for.
+/// The frame the map is baked for: `bake --tangents`.
+///
+/// Not [`crate::tangent_source::TangentSource`], the scenes' `--tangents` (key F), though three of
+/// its four values are these: the bake has no corner frames for its `Derivative` (the per-pixel
+/// frame the fragment shader solves from screen-space derivatives), so `bake --tangents derivative`
+/// must not parse; and this flag's `--help` lists these three with what each is, in the bake's
+/// order and with its own default (MikkTSpace, not the tutorial's). One type would need the bake's
+/// flag to parse a subset of it with its own value help, and the bake a derivative frame or a
+/// refusal line.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum Tangents {
     /// MikkTSpace, computed from LOW (glTF's and Blender's convention)
@@ -705,14 +714,11 @@ impl BakeFiles {
             let high = crate::model::load_shape(high_path);
             (high, load_model(low_path, &MapOverrides::default()))
         } else {
-            std::thread::scope(|scope| {
-                let high = scope.spawn(|| crate::model::load_shape(high_path));
-                let low = load_model(low_path, &MapOverrides::default());
-                let high = high
-                    .join()
-                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-                (high, low)
-            })
+            let (low, high) = join(
+                || load_model(low_path, &MapOverrides::default()),
+                || crate::model::load_shape(high_path),
+            );
+            (high, low)
         };
         let (mut high, low) = (high?, low?);
         // HIGH's notices say what was filled in (UVs, normals); LOW's maps do not matter here.

@@ -7,6 +7,7 @@ use glam::{DVec2, Vec3};
 
 use super::{BakeStats, BakedMap, Sample, Skew, SKEW_LIMIT};
 use crate::common::objloader::TriangleSoup;
+use crate::pipeline::on_threads;
 
 /// Rows of texels baked together: small enough that the bands share the cores evenly.
 const BAND_ROWS: usize = 8;
@@ -124,24 +125,16 @@ impl UvLayout {
         let work = Mutex::new(work.into_iter());
         let results = Mutex::new((BakeStats::default(), Vec::<f32>::new()));
         let sample = &sample;
-        std::thread::scope(|scope| {
-            let worker = || loop {
-                let next = work.lock().expect("no worker panics holding it").next();
-                let Some((band, (normals, states))) = next else {
-                    break;
-                };
-                let (stats, stretches) = self.bake_band(band, normals, states, sample);
-                let mut all = results.lock().expect("no worker panics holding it");
-                all.0 += &stats;
-                all.1.extend(stretches);
+        // Each worker takes the next band until none is left: the first on this thread.
+        on_threads(vec![(); threads.max(1)], |()| loop {
+            let next = work.lock().expect("no worker panics holding it").next();
+            let Some((band, (normals, states))) = next else {
+                break;
             };
-            let others: Vec<_> = (1..threads.max(1)).map(|_| scope.spawn(worker)).collect();
-            worker();
-            for other in others {
-                other
-                    .join()
-                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-            }
+            let (stats, stretches) = self.bake_band(band, normals, states, sample);
+            let mut all = results.lock().expect("no worker panics holding it");
+            all.0 += &stats;
+            all.1.extend(stretches);
         });
         let (mut stats, mut stretches) = results.into_inner().expect("workers are done");
         stats.flat_uv_triangles = self.flat_triangles();

@@ -9,7 +9,7 @@ use super::capture::{parse_intensities_file, parse_intensity, parse_light, parse
 use super::lights::unit_lights;
 use super::load::{load_mask, load_photos};
 use super::{recover_calibrated, Calibration, PhotometricOptions, Recovered, Solver};
-use crate::normalmap::{map_format, write_normal_map, write_normal_map16, Green};
+use crate::normalmap::{check_map_output, write_normal_map, write_normal_map16, Green};
 use crate::photometric::photo::Encoding;
 use crate::{Error, Result};
 
@@ -148,21 +148,10 @@ fn check_shadow_and_outputs(job: &Job) -> Result<()> {
             job.shadow
         )));
     }
-    for path in std::iter::once(job.output).chain(job.albedo) {
-        map_format(path)?;
-        let folder = path.parent().filter(|f| !f.as_os_str().is_empty());
-        if let Some(folder) = folder.filter(|f| !f.is_dir()) {
-            return Err(Error::Write {
-                path: path.to_path_buf(),
-                reason: format!("no such folder {} (create it first)", folder.display()),
-            });
-        }
-    }
-    if job.sixteen_bit && map_format(job.output)? != image::ImageFormat::Png {
-        return Err(Error::Write {
-            path: job.output.to_path_buf(),
-            reason: "--depth 16 writes PNG only: name the output .png".into(),
-        });
+    check_map_output("-o", job.output, job.sixteen_bit)?;
+    if let Some(albedo) = job.albedo {
+        // The albedo is written at 8 bits whatever --depth says.
+        check_map_output("--albedo", albedo, false)?;
     }
     if job.albedo == Some(job.output) {
         return Err(Error::Photometric(format!(

@@ -13,6 +13,19 @@ pub mod indexer;
 pub mod mikktspace;
 pub mod obj_parse;
 
+/// `a` on this thread and `b` on a thread of its own, both results returned (rayon's `join`, without
+/// a pool); a panic on either is raised here.
+pub(crate) fn join<A, B: Send>(a: impl FnOnce() -> A, b: impl FnOnce() -> B + Send) -> (A, B) {
+    std::thread::scope(|scope| {
+        let other = scope.spawn(b);
+        let a = a();
+        let b = other
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        (a, b)
+    })
+}
+
 /// `f` on every item, the first on this thread and each other on a thread of its own (with one
 /// item no thread is started: the browser has none); a panic on any of them is raised here.
 pub(crate) fn on_threads<T: Send, R: Send>(items: Vec<T>, f: impl Fn(T) -> R + Sync) -> Vec<R> {

@@ -3,12 +3,13 @@
 
 use std::path::PathBuf;
 
-use super::Depth;
+use super::{parse_size, Depth, SizeOf};
 use crate::bake::{
     BakeFiles, BakeProgress, BakeSettings, BakeStats, BakedMap, Pairing, Space, Tangents,
 };
 use crate::clock::Instant;
-use crate::normalmap::{encode_normal, encode_normal16, map_format, Green};
+use crate::combine::{texels16, texels8};
+use crate::normalmap::{check_map_output, Green};
 use crate::normalmap::{normal_map_file, normal_map_file16};
 use crate::{Error, Result};
 
@@ -24,7 +25,7 @@ pub struct BakeOptions {
     #[arg(short, long, value_name = "FILE")]
     pub output: PathBuf,
     /// Map size: N (square) or WxH, each 1 to 16384
-    #[arg(long, value_name = "N|WxH", default_value = "1024", value_parser = parse_size)]
+    #[arg(long, value_name = "N|WxH", default_value = "1024", value_parser = |s: &str| parse_size(s, SizeOf::Texels))]
     pub size: (u32, u32),
     /// K × K rays per texel, averaged (1 to 16)
     #[arg(long, value_name = "K", default_value_t = 1,
@@ -90,28 +91,10 @@ impl BakeOptions {
     }
 }
 
-/// `N` or `WxH`, each side 1 to 16384.
-fn parse_size(text: &str) -> std::result::Result<(u32, u32), String> {
-    let side = |s: &str| -> std::result::Result<u32, String> {
-        let n: u32 = s
-            .trim()
-            .parse()
-            .map_err(|_| format!("'{s}' is not a whole number of texels"))?;
-        match n {
-            1..=16384 => Ok(n),
-            _ => Err(format!("{n} texels: a side must be 1 to 16384")),
-        }
-    };
-    match text.split_once(['x', 'X']) {
-        Some((w, h)) => Ok((side(w)?, side(h)?)),
-        None => side(text).map(|n| (n, n)),
-    }
-}
-
 /// Reads both models, bakes, writes the map and says what happened.
 pub fn bake(options: &BakeOptions) -> Result<()> {
     let start = Instant::now();
-    check_output(options)?;
+    check_map_output("-o", &options.output, options.depth.sixteen_bit())?;
     let (settings, files, map) = bake_map(options, None)?;
     let clock = Instant::now();
     crate::files::write_bytes_atomically(&options.output, &encode(options, &map)?)?;
@@ -222,44 +205,19 @@ fn distance(flag: &str, value: Option<f32>, default: f32) -> Result<f32> {
     Ok(d)
 }
 
-/// Refuses an output that cannot be written before the models are read: a format by extension, a
-/// depth the format has, a folder that is there.
-fn check_output(options: &BakeOptions) -> Result<()> {
-    let path = &options.output;
-    let format = map_format(path)?;
-    if options.depth.sixteen_bit() && format != image::ImageFormat::Png {
-        return Err(Error::Write {
-            path: path.clone(),
-            reason: "--depth 16 is written as PNG only: name it .png".into(),
-        });
-    }
-    let folder = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => std::path::Path::new("."),
-    };
-    if !folder.is_dir() {
-        return Err(Error::Write {
-            path: path.clone(),
-            reason: format!("{} is not a folder", folder.display()),
-        });
-    }
-    Ok(())
-}
-
 /// The map as the file `--output` names holds it (PNG or BMP by its extension): 8- or 16-bit
 /// texels, green flipped for `--green down` (tangent space only).
 pub fn encode(options: &BakeOptions, map: &BakedMap) -> Result<Vec<u8>> {
-    let flip = !options.object_space && options.green == Green::Down;
-    let vectors = map.normals.iter().map(|n| {
-        let y = if flip { -n.y } else { n.y };
-        [n.x, y, n.z]
-    });
+    // A model-space map has no green convention: its y is the model's.
+    let green = match options.object_space {
+        true => Green::Up,
+        false => options.green,
+    };
+    let (w, h) = (map.width, map.height);
     if options.depth.sixteen_bit() {
-        let texels: Vec<[u16; 3]> = vectors.map(encode_normal16).collect();
-        normal_map_file16(&options.output, &texels, map.width, map.height)
+        normal_map_file16(&options.output, &texels16(&map.normals, green), w, h)
     } else {
-        let texels: Vec<[u8; 3]> = vectors.map(encode_normal).collect();
-        normal_map_file(&options.output, &texels, map.width, map.height)
+        normal_map_file(&options.output, &texels8(&map.normals, green), w, h)
     }
 }
 

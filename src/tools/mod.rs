@@ -42,3 +42,63 @@ impl Depth {
         }
     }
 }
+
+/// What a `--size` counts and how it may be written: the bake's map (`N` for a square, or `WxH`) or
+/// a rendered frame (`WxH` only, as the window is given).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SizeOf {
+    Texels,
+    Pixels,
+}
+
+/// `--size`: `WxH` (with [`SizeOf::Texels`] also `N`, an N×N map), each side 1 to
+/// [`crate::normalmap::MAX_SIDE`]. An error is the line clap shows after the value.
+pub fn parse_size(text: &str, of: SizeOf) -> std::result::Result<(u32, u32), String> {
+    let unit = match of {
+        SizeOf::Texels => "texels",
+        SizeOf::Pixels => "pixels",
+    };
+    let max = crate::normalmap::MAX_SIDE;
+    let side = |s: &str| -> std::result::Result<u32, String> {
+        let n: u32 = s
+            .trim()
+            .parse()
+            .map_err(|_| format!("'{s}' is not a whole number of {unit}"))?;
+        if (1..=max).contains(&n) {
+            Ok(n)
+        } else {
+            Err(format!("{n} {unit}: a side must be 1 to {max}"))
+        }
+    };
+    match (text.split_once(['x', 'X']), of) {
+        (Some((w, h)), _) => Ok((side(w)?, side(h)?)),
+        (None, SizeOf::Texels) => side(text).map(|n| (n, n)),
+        (None, SizeOf::Pixels) => Err(format!("'{text}' is not WxH, e.g. 1024x768")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    // Fails if a map's `N` is refused or a frame's accepted (the window's --size is WxH alone), or
+    // if a side of 0 or over 16384 passes either.
+    #[test]
+    fn a_size_is_read_as_each_flag_takes_it() {
+        assert_eq!(parse_size("512", SizeOf::Texels), Ok((512, 512)));
+        assert_eq!(parse_size("512x256", SizeOf::Texels), Ok((512, 256)));
+        assert_eq!(parse_size("640X480", SizeOf::Pixels), Ok((640, 480)));
+        assert_eq!(
+            parse_size("512", SizeOf::Pixels),
+            Err("'512' is not WxH, e.g. 1024x768".to_string())
+        );
+        assert_eq!(
+            parse_size("16385x8", SizeOf::Texels),
+            Err("16385 texels: a side must be 1 to 16384".to_string())
+        );
+        assert_eq!(
+            parse_size("0x8", SizeOf::Pixels),
+            Err("0 pixels: a side must be 1 to 16384".to_string())
+        );
+    }
+}

@@ -10,6 +10,7 @@ use crate::gl::Profile;
 use crate::scenes::{self, SceneDescriptor, SceneOptions};
 use crate::statistics::min_median;
 use crate::tools::tour::{check_exercise, tour_request, TourRequest};
+use crate::tools::{parse_size, SizeOf};
 use crate::tour::Step;
 use crate::{Error, Result};
 
@@ -45,7 +46,7 @@ pub struct RunOptions {
     pub screenshot: Option<PathBuf>,
 
     /// Framebuffer size
-    #[arg(long, value_name = "WxH", default_value = "1024x768", value_parser = parse_size)]
+    #[arg(long, value_name = "WxH", default_value = "1024x768", value_parser = |s: &str| parse_size(s, SizeOf::Pixels))]
     pub size: (u32, u32),
 
     /// OpenGL profile of the context
@@ -85,20 +86,6 @@ pub struct RunOptions {
     #[arg(long, value_name = "N", requires = "headless", conflicts_with_all = ["tour", "bench", "frames", "screenshot"],
           value_parser = clap::value_parser!(u8).range(1..=2))]
     pub check_exercise: Option<u8>,
-}
-
-/// `WxH`, each from 1 to 16384 (`--size`).
-pub fn parse_size(s: &str) -> std::result::Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("'{s}' is not WxH, e.g. 1024x768"))?;
-    let parse = |v: &str| {
-        v.parse::<u32>()
-            .ok()
-            .filter(|&n| (1..=16384).contains(&n))
-            .ok_or_else(|| format!("'{v}' is not a size from 1 to 16384"))
-    };
-    Ok((parse(w)?, parse(h)?))
 }
 
 /// Runs `options.scene` with `scene`'s options: headless with `--headless` or `--bench`, else in
@@ -143,15 +130,7 @@ pub fn run(options: &RunOptions, scene: SceneOptions) -> Result<()> {
 /// Refused before rendering, not after a frame (or a whole window session) has been drawn.
 fn check_paths(options: &RunOptions) -> Result<()> {
     if let Some(path) = &options.screenshot {
-        ImageFormat::from_path(path)?;
-        let folder = path.parent().filter(|f| !f.as_os_str().is_empty());
-        if let Some(folder) = folder.filter(|f| !f.is_dir()) {
-            return Err(Error::Argument(format!(
-                "--screenshot {}: no such folder {} (create it first)",
-                path.display(),
-                folder.display()
-            )));
-        }
+        crate::files::check_output("--screenshot", path, ImageFormat::from_path)?;
     }
     // A mistyped folder would otherwise fall back silently (--shaders) or fail later on one file.
     for (flag, dir) in [

@@ -542,7 +542,7 @@ fn bad_input_is_one_line_and_writes_nothing() {
                 &ok_lights,
                 &["-o", "normal.png", "--albedo", "no/albedo.png"],
             ),
-            "no/albedo.png: cannot write: no such folder no (create it first)",
+            "--albedo no/albedo.png: no such folder no (create it first)",
         ),
         (
             args(
