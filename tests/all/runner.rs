@@ -406,9 +406,12 @@ fn the_host_keys_run_from_their_table() {
 }
 
 // Fails if headless frames do not tick the host's clock (the panel would show "– ms/frame" for
-// ever) or the figure is not drawn where the panel's figure is: once the clock has its first figure
-// (a second of frames), the next frame must differ from the first frame only inside the figure's
-// label (and the pixel around it a glyph's edge may reach).
+// ever), if the figure is not drawn where the panel's figure is, or if a frozen frame shows it (a
+// frozen frame, a screenshot's or a test's, would then change once a second of frames had passed:
+// two runs, or a slow run and a fast one, would differ). Once the clock has its first figure, the
+// frozen frame must still equal the first frame bit for bit; with the time running, the next frame
+// must differ from it only inside the figure's label (and the pixel around it a glyph's edge may
+// reach).
 #[test]
 fn headless_panel_shows_its_ms_per_frame() {
     let mut r = common::renderer(&HeadlessOptions::default());
@@ -429,6 +432,11 @@ fn headless_panel_shows_its_ms_per_frame() {
         r.render().unwrap();
     }
     let ms = r.host.clock.ms_per_frame().unwrap();
+    assert!(
+        common::frame(&mut r) == first,
+        "a frozen frame shows the wall clock's figure"
+    );
+    r.host.set_time(FrameTime::Running);
     let shown = common::frame(&mut r);
     // The label as drawn now, with the figure: wider than the dash it replaces. A glyph's
     // antialiased edge may reach a pixel past the rectangle egui lays the text out in.

@@ -587,7 +587,10 @@ impl SceneHost {
     /// What the panel shows of the front end's own figures.
     fn panel_info(&self) -> PanelInfo {
         PanelInfo {
-            ms_per_frame: self.clock.ms_per_frame(),
+            // A frozen or stepped frame (a screenshot, a test's frame, the page's `frames=N`) is
+            // made of the program's state alone, so that two runs and two front ends draw it
+            // alike: a figure of the wall clock would change it once a second had passed.
+            ms_per_frame: (self.clock.ms_per_frame()).filter(|_| self.time == FrameTime::Running),
             shader_error: self.shader_error.clone(),
             front_end: self.front_end,
             tour: self.tour,
