@@ -529,7 +529,7 @@ mod tests {
 
     /// Fails if the page's bake worker reads its arguments otherwise than the command line does
     /// (its map would be baked at other settings), or gives more than clap's first line, without
-    /// its "error: ", for an error.
+    /// its "error: ", for an error (the per-pixel frame's refusal with its reason, too).
     #[test]
     fn the_pages_arguments_are_read_as_the_command_line() {
         let args = |text: &str| text.split(' ').map(String::from).collect::<Vec<_>>();
@@ -567,6 +567,12 @@ mod tests {
         assert_eq!(
             BakeOptions::from_args(&args("h.obj l.obj -o x.png --extrusion abc")).unwrap_err(),
             "invalid value 'abc' for '--extrusion <D>': invalid float literal"
+        );
+        // The page's bake worker shows this line for the per-pixel frame the page does not list.
+        assert_eq!(
+            BakeOptions::from_args(&args("h.obj l.obj -o x.png --tangents derivative"))
+                .unwrap_err(),
+            format!("invalid value 'derivative' for '--tangents <TANGENTS>': {NO_PER_PIXEL_BAKE}")
         );
     }
 }
