@@ -7,10 +7,11 @@ use std::path::Path;
 use glam::Vec3;
 
 use tutorial13::bake::{bake_soups, BakeInput, BakeSettings, BakedMap, Bitangents, CornerFrames};
-use tutorial13::bake::{Pairing, Space, Tangents, TexelState};
+use tutorial13::bake::{Pairing, Space, TexelState};
 use tutorial13::common::objloader::TriangleSoup;
 use tutorial13::model::{load_model_bytes, MapOverrides, Model};
 use tutorial13::pipeline::mikktspace::mikktspace_tangents_on;
+use tutorial13::tangent_source::TangentSource;
 
 use super::model::load_model_input;
 use super::{message_kind, Outcome, Target};
@@ -75,32 +76,34 @@ pub(super) fn bake_sphere() -> &'static BakeSphere {
 }
 
 /// LOW's frames as `BakeFiles::load` computes them for `tangents` (MikkTSpace on one thread: the
-/// same result on any number), or `None` where it refuses the model.
+/// same result on any number), or `None` where it refuses the model (or the frame).
 pub(super) fn bake_frames(
     low: &Model,
-    tangents: Tangents,
+    tangents: TangentSource,
     normalize: bool,
 ) -> Option<CornerFrames> {
     match tangents {
-        Tangents::MikkTSpace => mikktspace_tangents_on(&low.soup, 1)
+        TangentSource::MikkTSpace => mikktspace_tangents_on(&low.soup, 1)
             .ok()
             .map(|t| CornerFrames::mikktspace(&low.soup, &t)),
-        Tangents::File => {
+        TangentSource::File => {
             let file = low.file_tangents.as_ref()?;
             let all = file.complete(&low.soup).ok()?;
             Some(CornerFrames::mikktspace(&low.soup, &all))
         }
-        Tangents::Tutorial => Some(CornerFrames::tutorial(&low.soup, normalize)),
+        TangentSource::Tutorial => Some(CornerFrames::tutorial(&low.soup, normalize)),
+        // The per-pixel frame has no corner frames: the bake refuses it.
+        TangentSource::Derivative => None,
     }
 }
 
 /// The `bake` target's check: `model` baked onto itself, onto the sphere and the sphere onto it.
 fn check_bake(model: &Model) -> Result<(), String> {
     let sphere = bake_sphere();
-    let mikktspace = bake_frames(model, Tangents::MikkTSpace, false);
-    let tutorial = bake_frames(model, Tangents::Tutorial, false);
-    let normalized = bake_frames(model, Tangents::Tutorial, true);
-    let file = bake_frames(model, Tangents::File, false);
+    let mikktspace = bake_frames(model, TangentSource::MikkTSpace, false);
+    let tutorial = bake_frames(model, TangentSource::Tutorial, false);
+    let normalized = bake_frames(model, TangentSource::Tutorial, true);
+    let file = bake_frames(model, TangentSource::File, false);
     // MikkTSpace refuses a mesh it cannot take (the program's bake then stops with its error).
     let mikktspace_or_tutorial = mikktspace.as_ref().or(tutorial.as_ref());
     let settings = |width, height, samples, space| BakeSettings {

@@ -3,9 +3,10 @@
 use std::path::Path;
 
 use tutorial13::bake::cage::cage_corners;
-use tutorial13::bake::{BakeSettings, Pairing, Tangents};
+use tutorial13::bake::{BakeSettings, Pairing};
 use tutorial13::model::parts::part_names;
 use tutorial13::model::Model;
+use tutorial13::tangent_source::TangentSource;
 
 use super::bake::{bake_frames, bake_models_with, bake_sphere, check_baked, load_bake_model};
 use super::model::split_model_input;
@@ -69,8 +70,8 @@ fn check_cage(model: &Model, input: &[u8]) -> Result<(), String> {
         }
     }
     // Baked with a cage pushed out along the normals, and with its parts paired.
-    let Some(frames) = bake_frames(model, Tangents::MikkTSpace, false)
-        .or_else(|| bake_frames(model, Tangents::Tutorial, false))
+    let Some(frames) = bake_frames(model, TangentSource::MikkTSpace, false)
+        .or_else(|| bake_frames(model, TangentSource::Tutorial, false))
     else {
         return Ok(());
     };

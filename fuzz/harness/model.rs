@@ -17,14 +17,7 @@ pub(super) fn check(input: &[u8], path: &Path) -> Result<Outcome, String> {
     // Read as a bake's HIGH too (a sculpt without UVs is taken in one pass): as the rewrite it
     // replaced read it.
     let (obj, mtl) = split_model_input(input);
-    let read_mtl = |p: &Path| {
-        if p.file_name() == Some("fuzz.mtl".as_ref()) {
-            Ok(mtl.clone())
-        } else {
-            Err(std::io::Error::from(std::io::ErrorKind::NotFound))
-        }
-    };
-    if let Ok(shape) = shape_differs_from_rewrite(&obj, path, read_mtl)? {
+    if let Ok(shape) = shape_differs_from_rewrite(&obj, path, read_fuzz_mtl(&mtl))? {
         check_model(&shape)?;
     }
     match load_model_input(input, path) {
@@ -36,14 +29,18 @@ pub(super) fn check(input: &[u8], path: &Path) -> Result<Outcome, String> {
 /// A model input (the OBJ, then the MTL its `mtllib fuzz.mtl` reads) loaded in memory as `path`.
 pub(super) fn load_model_input(input: &[u8], path: &Path) -> tutorial13::Result<Model> {
     let (obj, mtl) = split_model_input(input);
-    let read_mtl = |p: &Path| {
+    load_model_bytes(&obj, path, &MapOverrides::default(), read_fuzz_mtl(&mtl))
+}
+
+/// The files a model input's OBJ may read: `fuzz.mtl` (the input's MTL text), and no other.
+fn read_fuzz_mtl(mtl: &[u8]) -> impl Fn(&Path) -> std::io::Result<Vec<u8>> + Copy + '_ {
+    move |p: &Path| {
         if p.file_name() == Some("fuzz.mtl".as_ref()) {
-            Ok(mtl.clone())
+            Ok(mtl.to_vec())
         } else {
             Err(std::io::Error::from(std::io::ErrorKind::NotFound))
         }
-    };
-    load_model_bytes(&obj, path, &MapOverrides::default(), read_mtl)
+    }
 }
 
 /// A model input split into the OBJ and the MTL its `mtllib fuzz.mtl` reads.

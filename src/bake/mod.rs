@@ -13,7 +13,7 @@
 //! ([`cage`], Blender's `cage_object`) a ray starts at the cage's point and goes toward LOW's; with
 //! parts matched by name ([`parts`]) a LOW part's rays meet only its HIGH part.
 //!
-//! The frames ([`Tangents`]):
+//! The frames (a [`TangentSource`] with corner frames: every one but the per-pixel `derivative`):
 //! * MikkTSpace (glTF's rule, Blender's bake): the renderer rebuilds n = t.x·T + t.y·B + t.z·N per
 //!   pixel from the interpolated, unnormalized T and N, with B = sign · N × T; the bake solves that
 //!   3 × 3 system for t.
@@ -40,32 +40,17 @@ use crate::common::objloader::TriangleSoup;
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::model::{load_model, MapOverrides, Model};
 use crate::pipeline::join;
-use crate::tangent_source::stretch;
+use crate::tangent_source::{stretch, TangentSource};
 use crate::{Error, Result};
 
 pub use parts::Pairing;
 pub use texels::{TexelState, UvLayout};
 
-/// The frame the map is baked for: `bake --tangents`.
-///
-/// Not [`crate::tangent_source::TangentSource`], the scenes' `--tangents` (key F), though three of
-/// its four values are these: the bake has no corner frames for its `Derivative` (the per-pixel
-/// frame the fragment shader solves from screen-space derivatives), so `bake --tangents derivative`
-/// must not parse; and this flag's `--help` lists these three with what each is, in the bake's
-/// order and with its own default (MikkTSpace, not the tutorial's). One type would need the bake's
-/// flag to parse a subset of it with its own value help, and the bake a derivative frame or a
-/// refusal line.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, clap::ValueEnum)]
-pub enum Tangents {
-    /// MikkTSpace, computed from LOW (glTF's and Blender's convention)
-    #[default]
-    #[value(name = "mikktspace")]
-    MikkTSpace,
-    /// LOW's own TANGENTs (a glTF that has them; MikkTSpace's where a primitive has none)
-    File,
-    /// The tutorial's computeTangentBasis + indexVBO_TBN (summed, as its shader takes them)
-    Tutorial,
-}
+/// Why the bake has no map for [`TangentSource::Derivative`], the frame `bake --tangents` and
+/// [`BakeFiles::load`] refuse: it has no corner frames to bake for.
+pub const NO_PER_PIXEL_BAKE: &str = "the per-pixel frame is solved from screen-space derivatives \
+    as each frame is drawn, so the bake has no corner frames for it (it follows the UVs as \
+    MikkTSpace does: --tangents mikktspace)";
 
 /// Where the map's vectors live.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -90,7 +75,8 @@ pub struct BakeSettings {
     pub max_distance: f32,
     /// Texels filled around each island's edge.
     pub margin: u32,
-    pub tangents: Tangents,
+    /// The frame the map is for: any source but [`TangentSource::Derivative`] ([`NO_PER_PIXEL_BAKE`]).
+    pub tangents: TangentSource,
     /// The tutorial's frame with each vertex's T, B and N normalized (the article's text).
     pub normalize_tbn: bool,
     pub space: Space,
@@ -106,7 +92,7 @@ impl Default for BakeSettings {
             extrusion: 0.0,
             max_distance: 0.0,
             margin: 16,
-            tangents: Tangents::MikkTSpace,
+            tangents: TangentSource::MikkTSpace,
             normalize_tbn: false,
             space: Space::Tangent,
             threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
@@ -706,8 +692,14 @@ pub struct BakeFiles {
 }
 
 impl BakeFiles {
-    /// Reads HIGH and LOW (anything `--model` reads) and computes LOW's frame for `settings`.
+    /// Reads HIGH and LOW (anything `--model` reads) and computes LOW's frame for `settings`;
+    /// refuses the per-pixel frame first ([`NO_PER_PIXEL_BAKE`]).
     pub fn load(high_path: &Path, low_path: &Path, settings: &BakeSettings) -> Result<BakeFiles> {
+        if !settings.tangents.has_vertex_tangents() {
+            return Err(Error::Argument(format!(
+                "--tangents derivative: {NO_PER_PIXEL_BAKE}"
+            )));
+        }
         let clock = Instant::now();
         // One thread (the browser has no other): one file after the other.
         let (high, low) = if settings.threads <= 1 {
@@ -740,11 +732,11 @@ impl BakeFiles {
             *p = low.placement.to_world(high.placement.to_file(*p));
         }
         let frames = match settings.tangents {
-            Tangents::MikkTSpace => CornerFrames::mikktspace(
+            TangentSource::MikkTSpace => CornerFrames::mikktspace(
                 &low.soup,
                 &crate::tangent_source::mikktspace_tangents(&low.soup)?,
             ),
-            Tangents::File => {
+            TangentSource::File => {
                 let file = low.file_tangents.as_ref().ok_or_else(|| Error::Bake {
                     path: low_path.to_path_buf(),
                     reason: "--tangents file: the file has no TANGENT (a glTF exported with \
@@ -754,7 +746,8 @@ impl BakeFiles {
                 })?;
                 CornerFrames::mikktspace(&low.soup, &file.complete(&low.soup)?)
             }
-            Tangents::Tutorial => CornerFrames::tutorial(&low.soup, settings.normalize_tbn),
+            TangentSource::Tutorial => CornerFrames::tutorial(&low.soup, settings.normalize_tbn),
+            TangentSource::Derivative => unreachable!("refused before the files are read"),
         };
         log::info!(
             "bake: LOW's frames in {:.2} s",

@@ -8,7 +8,6 @@ use glow::HasContext;
 
 use super::events::{Event, FrameTime, Request};
 use super::host::SceneHost;
-use super::keys::FrontEnd;
 use crate::gl::context::{EglContext, HeadlessContext};
 use crate::gl::offscreen::OffscreenTarget;
 use crate::gl::{check_gl_errors, Profile};
@@ -69,15 +68,9 @@ impl HeadlessRenderer {
             context.extensions(),
         )?;
         let (gl, context) = context.split();
-        let mut host = SceneHost::new(
-            gl,
-            options.descriptor,
-            &options.scene,
-            size,
-            FrontEnd::Window,
-        )?;
         // The original's screenshot test: time frozen at 0, no input moves the camera.
-        host.set_time(FrameTime::Frozen);
+        let frozen = FrameTime::Frozen;
+        let host = SceneHost::for_window(gl, options.descriptor, &options.scene, size, frozen)?;
         Ok(HeadlessRenderer {
             host,
             target,

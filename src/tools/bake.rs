@@ -5,12 +5,13 @@ use std::path::PathBuf;
 
 use super::{parse_size, Depth, SizeOf};
 use crate::bake::{
-    BakeFiles, BakeProgress, BakeSettings, BakeStats, BakedMap, Pairing, Space, Tangents,
+    BakeFiles, BakeProgress, BakeSettings, BakeStats, BakedMap, Pairing, Space, NO_PER_PIXEL_BAKE,
 };
 use crate::clock::Instant;
 use crate::combine::{texels16, texels8};
 use crate::normalmap::{check_map_output, Green};
 use crate::normalmap::{normal_map_file, normal_map_file16};
+use crate::tangent_source::TangentSource;
 use crate::{Error, Result};
 
 /// Bake a normal map from a detailed model (HIGH) into a simple model's UV layout (LOW), in the
@@ -52,8 +53,9 @@ pub struct BakeOptions {
     #[arg(long, value_name = "M", default_value_t = 16)]
     pub margin: u32,
     /// The tangent frame the map is for
-    #[arg(long, value_enum, default_value_t = Tangents::MikkTSpace)]
-    pub tangents: Tangents,
+    #[arg(long, value_name = "TANGENTS", value_parser = BakedFrame,
+          default_value_t = TangentSource::MikkTSpace)]
+    pub tangents: TangentSource,
     /// With --tangents tutorial: each vertex's T, B and N normalized, as the article's text does
     /// (the scene's --normalize-tbn)
     #[arg(long)]
@@ -67,6 +69,61 @@ pub struct BakeOptions {
     /// A model-space map (the model's own axes) instead of a tangent-space one
     #[arg(long, conflicts_with_all = ["tangents", "normalize_tbn", "green"])]
     pub object_space: bool,
+}
+
+/// The frames `bake --tangents` takes, in the order its help lists them, each with what it is: every
+/// [`TangentSource`] but the per-pixel one, with the bake's own default (MikkTSpace, not the
+/// tutorial's).
+const BAKED_FRAMES: [(TangentSource, &str); 3] = [
+    (
+        TangentSource::MikkTSpace,
+        "MikkTSpace, computed from LOW (glTF's and Blender's convention)",
+    ),
+    (
+        TangentSource::File,
+        "LOW's own TANGENTs (a glTF that has them; MikkTSpace's where a primitive has none)",
+    ),
+    (
+        TangentSource::Tutorial,
+        "The tutorial's computeTangentBasis + indexVBO_TBN (summed, as its shader takes them)",
+    ),
+];
+
+/// `bake --tangents`' parser: a [`TangentSource`] of [`BAKED_FRAMES`] by its name; `derivative`
+/// refused with why ([`NO_PER_PIXEL_BAKE`]), in clap's one line that names the flag.
+#[derive(Clone)]
+struct BakedFrame;
+
+impl clap::builder::TypedValueParser for BakedFrame {
+    type Value = TangentSource;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> std::result::Result<TangentSource, clap::Error> {
+        // A closure's error is clap's "invalid value 'V' for '--tangents <TANGENTS>': why".
+        let by_name = |name: &str| match clap::ValueEnum::from_str(name, false) {
+            Ok(TangentSource::Derivative) => Err(NO_PER_PIXEL_BAKE.to_string()),
+            Ok(frame) if BAKED_FRAMES.iter().any(|(baked, _)| *baked == frame) => Ok(frame),
+            _ => Err(format!(
+                "one of {}",
+                BAKED_FRAMES
+                    .map(|(frame, _)| crate::choices::name(&frame))
+                    .join(", ")
+            )),
+        };
+        by_name.parse_ref(cmd, arg, value)
+    }
+
+    fn possible_values(
+        &self,
+    ) -> Option<Box<dyn Iterator<Item = clap::builder::PossibleValue> + '_>> {
+        Some(Box::new(BAKED_FRAMES.iter().filter_map(|(frame, help)| {
+            Some(clap::ValueEnum::to_possible_value(frame)?.help(*help))
+        })))
+    }
 }
 
 impl BakeOptions {
@@ -111,7 +168,7 @@ pub fn bake_map(
     options: &BakeOptions,
     progress: Option<BakeProgress>,
 ) -> Result<(BakeSettings, BakeFiles, BakedMap)> {
-    if options.normalize_tbn && options.tangents != Tangents::Tutorial {
+    if options.normalize_tbn && options.tangents != TangentSource::Tutorial {
         return Err(Error::Argument(
             "--normalize-tbn: only with --tangents tutorial (the other frames are unit already)"
                 .into(),
@@ -327,14 +384,15 @@ fn report_pairs(pairing: &Pairing) {
 fn frame_name(settings: &BakeSettings) -> String {
     match (settings.space, settings.tangents, settings.normalize_tbn) {
         (Space::Object, ..) => "object space (the model's axes)".to_string(),
-        (_, Tangents::MikkTSpace, _) => "MikkTSpace's frame (glTF's, Blender's)".to_string(),
-        (_, Tangents::File, _) => "the file's own tangents".to_string(),
-        (_, Tangents::Tutorial, false) => {
+        (_, TangentSource::MikkTSpace, _) => "MikkTSpace's frame (glTF's, Blender's)".to_string(),
+        (_, TangentSource::File, _) => "the file's own tangents".to_string(),
+        (_, TangentSource::Tutorial, false) => {
             "the tutorial's frame (summed, as its shader takes it)".to_string()
         }
-        (_, Tangents::Tutorial, true) => {
+        (_, TangentSource::Tutorial, true) => {
             "the tutorial's frame, normalized (--normalize-tbn)".to_string()
         }
+        (_, TangentSource::Derivative, _) => unreachable!("BakeFiles::load refuses it"),
     }
 }
 
@@ -471,7 +529,7 @@ mod tests {
 
     /// Fails if the page's bake worker reads its arguments otherwise than the command line does
     /// (its map would be baked at other settings), or gives more than clap's first line, without
-    /// its "error: ", for an error.
+    /// its "error: ", for an error (the per-pixel frame's refusal with its reason, too).
     #[test]
     fn the_pages_arguments_are_read_as_the_command_line() {
         let args = |text: &str| text.split(' ').map(String::from).collect::<Vec<_>>();
@@ -499,7 +557,7 @@ mod tests {
                 options.tangents,
                 options.margin
             ),
-            ((512, 512), 2, Tangents::Tutorial, 16)
+            ((512, 512), 2, TangentSource::Tutorial, 16)
         );
         assert_eq!((options.extrusion, options.max_distance), (Some(0.1), None));
         assert_eq!(
@@ -509,6 +567,12 @@ mod tests {
         assert_eq!(
             BakeOptions::from_args(&args("h.obj l.obj -o x.png --extrusion abc")).unwrap_err(),
             "invalid value 'abc' for '--extrusion <D>': invalid float literal"
+        );
+        // The page's bake worker shows this line for the per-pixel frame the page does not list.
+        assert_eq!(
+            BakeOptions::from_args(&args("h.obj l.obj -o x.png --tangents derivative"))
+                .unwrap_err(),
+            format!("invalid value 'derivative' for '--tangents <TANGENTS>': {NO_PER_PIXEL_BAKE}")
         );
     }
 }

@@ -7,8 +7,9 @@ use std::path::{Path, PathBuf};
 
 use glam::{DVec3, Vec2, Vec3};
 use tutorial13::assets::obj_text::{bumps, relief_point, round, sphere_obj_text, Relief};
-use tutorial13::bake::{BakeFiles, BakeSettings, BakedMap, Space, Tangents, TexelState};
+use tutorial13::bake::{BakeFiles, BakeSettings, BakedMap, Space, TexelState};
 use tutorial13::model::{load_model, MapOverrides};
+use tutorial13::tangent_source::TangentSource;
 
 use crate::common::{run, scratch, text, tutorial13};
 
@@ -616,7 +617,10 @@ fn the_frame_option_reaches_the_bake() {
         };
         bake_lib(&high, &low, &settings)
     };
-    let (mikk, tutorial) = (bake(Tangents::MikkTSpace), bake(Tangents::Tutorial));
+    let (mikk, tutorial) = (
+        bake(TangentSource::MikkTSpace),
+        bake(TangentSource::Tutorial),
+    );
     let tilt = |m: &BakedMap| {
         m.normals
             .iter()
@@ -639,6 +643,65 @@ fn the_frame_option_reaches_the_bake() {
         largest > 1.0,
         "the two frames' maps differ by at most {largest:.3}°"
     );
+}
+
+// Fails if `bake --tangents derivative` (the scenes' per-pixel frame, which has no corner frames
+// to bake for) panics, exits 0, writes the map, or is not one line naming the flag and why; if the
+// library's `BakeFiles::load` takes it or reads the files first (they do not exist: the error would
+// name them); or if `bake --help` lists `derivative` among the frames, or loses one of the three it
+// bakes, their help, or its own default (mikktspace, where the scenes' is the tutorial's). Each of
+// the three bakes in `a_model_baked_onto_itself_is_flat` (mikktspace, tutorial) and
+// `a_gltf_lows_own_tangents_are_baked_in` (file).
+#[test]
+fn the_bake_refuses_the_per_pixel_frame() {
+    let dir = scratch("derivative");
+    let low = sphere(&dir, "low.obj", 8, 4, &round, false);
+    let low = low.to_str().unwrap();
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let map = out.join("map.png");
+    assert_refused(
+        &[
+            low,
+            low,
+            "-o",
+            map.to_str().unwrap(),
+            "--tangents",
+            "derivative",
+        ],
+        "invalid value 'derivative' for '--tangents <TANGENTS>': the per-pixel frame is solved \
+         from screen-space derivatives",
+        &out,
+    );
+    let settings = BakeSettings {
+        tangents: TangentSource::Derivative,
+        ..BakeSettings::default()
+    };
+    let missing = dir.join("missing.obj");
+    let refused = BakeFiles::load(&missing, &missing, &settings)
+        .err()
+        .map(|e| e.to_string());
+    let refused = refused.expect("the library bakes for the per-pixel frame");
+    assert!(
+        refused.starts_with("--tangents derivative: the per-pixel frame")
+            && !refused.contains('\n'),
+        "{refused}"
+    );
+    let help = text(&bake_cli(&["--help"]).stdout);
+    let start = help
+        .find("--tangents <TANGENTS>")
+        .expect("--tangents in bake --help");
+    let end = start + help[start..].find("--normalize-tbn").unwrap();
+    let listed = &help[start..end];
+    for frame in [
+        "- mikktspace: MikkTSpace, computed from LOW",
+        "- file:",
+        "- tutorial:   The tutorial's computeTangentBasis",
+        "[default: mikktspace]",
+    ] {
+        assert!(listed.contains(frame), "{frame} not in {listed}");
+    }
+    assert!(!listed.contains("derivative"), "{listed}");
 }
 
 // Fails if a learner's model drawn with the tutorial's summed frame (26× stretched on this sphere)

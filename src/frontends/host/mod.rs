@@ -156,6 +156,21 @@ impl SceneHost {
         })
     }
 
+    /// [`SceneHost::new`] for the window and for headless rendering, which draws the window's
+    /// frame, keeping `time` from the first frame (frozen at 0 for the original's screenshot test
+    /// and `--frames N`).
+    pub fn for_window(
+        context: GlContext,
+        descriptor: &'static SceneDescriptor,
+        options: &SceneOptions,
+        size: (u32, u32),
+        time: FrameTime,
+    ) -> Result<Self> {
+        let mut host = SceneHost::new(context, descriptor, options, size, FrontEnd::Window)?;
+        host.set_time(time);
+        Ok(host)
+    }
+
     /// The context the host draws with (the front end's, handed over once).
     pub fn gl(&self) -> &GlContext {
         &self.context

@@ -14,7 +14,7 @@ use super::shader_watch::ShaderWatch;
 use super::WindowOptions;
 use crate::frontends::events::{Event, FrameTime, Request};
 use crate::frontends::host::SceneHost;
-use crate::frontends::keys::{key_list, FrontEnd};
+use crate::frontends::keys::key_list;
 use crate::gl::image::write_screenshot;
 use crate::Result;
 
@@ -41,16 +41,11 @@ impl Running {
         let (gl_window, gl) =
             GlWindow::open(event_loop, options.size, options.profile, options.msaa)?;
         let size = gl_window.size();
-        let mut host = SceneHost::new(
-            gl,
-            options.descriptor,
-            &options.scene,
-            size,
-            FrontEnd::Window,
-        )?;
-        if options.frames.is_some() {
-            host.set_time(FrameTime::Frozen);
-        }
+        let time = match options.frames {
+            Some(_) => FrameTime::Frozen,
+            None => FrameTime::Running,
+        };
+        let mut host = SceneHost::for_window(gl, options.descriptor, &options.scene, size, time)?;
         if let Some(step) = options.tour {
             host.set_step_state(step)?;
         }
