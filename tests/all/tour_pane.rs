@@ -355,3 +355,61 @@ fn f2_at_exercise_2_checks_the_learners_shaders() {
         "the pane shows {shown} black pixels; the heat map has {map_black}"
     );
 }
+
+/// Warnings logged, with the thread that logged them (each test runs on a thread of its own).
+static WARNINGS: std::sync::Mutex<Vec<(std::thread::ThreadId, String)>> =
+    std::sync::Mutex::new(Vec::new());
+
+struct WarningLog;
+
+impl log::Log for WarningLog {
+    fn enabled(&self, metadata: &log::Metadata) -> bool {
+        metadata.level() <= log::Level::Warn
+    }
+
+    fn log(&self, record: &log::Record) {
+        if self.enabled(record.metadata()) {
+            let thread = std::thread::current().id();
+            let mut warnings = WARNINGS.lock().unwrap_or_else(|e| e.into_inner());
+            warnings.push((thread, record.args().to_string()));
+        }
+    }
+
+    fn flush(&self) {}
+}
+
+/// The warnings this thread logged that contain `text`, once the log is captured (the first call
+/// installs the capture for the whole test process: no other test sets a logger).
+fn warnings_here(text: &str) -> usize {
+    static INSTALL: std::sync::Once = std::sync::Once::new();
+    INSTALL.call_once(|| {
+        if log::set_logger(&WarningLog).is_ok() {
+            log::set_max_level(log::LevelFilter::Warn);
+        }
+    });
+    let thread = std::thread::current().id();
+    let warnings = WARNINGS.lock().unwrap_or_else(|e| e.into_inner());
+    warnings
+        .iter()
+        .filter(|(t, w)| *t == thread && w.contains(text))
+        .count()
+}
+
+// Fails if the core profile's fallback from the tutorial's immediate mode to the line shader is
+// warned of again at every step of the tour with the lines on (each builds the scene again): from
+// step 9 (Orthogonalization, L on) to step 12 (Debugging with the immediate mode) and back, the
+// warning is logged once, at the first.
+#[test]
+fn the_line_shader_fallback_is_warned_of_once() {
+    const FALLBACK: &str = "falling back to the core-profile line shader";
+    let before = warnings_here(FALLBACK);
+    assert_eq!(before, 0, "this thread has built no lines yet");
+    let mut renderer = tour_n(&STEPS[8]);
+    common::frame(&mut renderer);
+    for key in [Key::PageDown; 3].into_iter().chain([Key::PageUp; 3]) {
+        press(&mut renderer, key);
+        common::frame(&mut renderer);
+    }
+    assert_eq!(renderer.host.tour_step().map(Step::number), Some(9));
+    assert_eq!(warnings_here(FALLBACK), 1);
+}
