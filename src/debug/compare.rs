@@ -192,6 +192,40 @@ pub fn heat_colour(d: u8, max: u8) -> [u8; 4] {
     ]
 }
 
+/// The largest difference of one channel of two pixels, in levels: red, green and blue (alpha is
+/// not shown).
+pub fn pixel_difference(a: &image::Rgba<u8>, b: &image::Rgba<u8>) -> u8 {
+    (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0)
+}
+
+/// The heat map of two frames of the same size on the CPU, in [`heat_colour`]'s colours: each
+/// `block` × `block` square of pixels becomes one pixel coloured by its largest difference of one
+/// channel (red, green, blue) against `max`, so that a map shrunk to fit a pane still shows a
+/// single differing pixel. For frames that are already read back (the exercises' check); the
+/// compare view draws its own on the GPU.
+pub fn heat_map(
+    a: &image::RgbaImage,
+    b: &image::RgbaImage,
+    max: u8,
+    block: u32,
+) -> image::RgbaImage {
+    let block = block.max(1);
+    let (width, height) = a.dimensions();
+    let mut largest = vec![0u8; (width.div_ceil(block) * height.div_ceil(block)) as usize];
+    let columns = width.div_ceil(block);
+    for (x, y, pa) in a.enumerate_pixels() {
+        let Some(pb) = b.get_pixel_checked(x, y) else {
+            continue;
+        };
+        let d = pixel_difference(pa, pb);
+        let cell = &mut largest[((y / block) * columns + x / block) as usize];
+        *cell = (*cell).max(d);
+    }
+    image::RgbaImage::from_fn(columns, height.div_ceil(block), |x, y| {
+        image::Rgba(heat_colour(largest[(y * columns + x) as usize], max))
+    })
+}
+
 /// The heat map's passes, all on the GPU: a reduction by 4 × 4 blocks, from the two sides down to
 /// one texel holding the largest difference and the count of differing pixels (`CompareReduce`),
 /// then each pixel's colour from a ramp indexed by its difference and the largest

@@ -293,6 +293,12 @@ impl ShaderLines {
     }
 }
 
+thread_local! {
+    /// Whether this run logged the fallback to the line shader (its GL thread's: a process's
+    /// window, a test's renderer).
+    static FALLBACK_LOGGED: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
 /// The TBN debug lines of one mesh, drawn after the scene with the scene's matrices.
 pub struct DebugLines {
     gl: Gl,
@@ -369,7 +375,11 @@ impl DebugLines {
             )?);
         }
         if let Some(notice) = &notice {
-            log::warn!("{notice}");
+            // Once a run: every step of the tour builds the scene again, for the same reason.
+            match FALLBACK_LOGGED.with(|logged| logged.replace(true)) {
+                false => log::warn!("{notice}"),
+                true => log::debug!("{notice}"),
+            }
         }
         self.mode = mode;
         self.notice = notice;

@@ -89,6 +89,7 @@ pub enum HostAction {
     TogglePanel,
     TourNext,
     TourBack,
+    CheckExercise,
     Quit,
 }
 
@@ -160,6 +161,13 @@ pub const HOST_KEYS: &[HostKey] = &[
         key: Key::PageUp,
         help: "the tour: the section before",
         action: HostAction::TourBack,
+        look_only: false,
+        on_page: true,
+    },
+    HostKey {
+        key: Key::F(2),
+        help: "the tour's exercise steps: check your exercise",
+        action: HostAction::CheckExercise,
         look_only: false,
         on_page: true,
     },

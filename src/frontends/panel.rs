@@ -17,6 +17,7 @@ use crate::gl::extensions::GlExtensions;
 use crate::gl::offscreen::{ColorBuffer, OffscreenTarget};
 use crate::gl::Gl;
 use crate::scenes::{ControlState, ControlValue, Scene, SceneDescriptor, SetTo};
+use crate::tour::exercise::ExerciseCheck;
 use crate::{Error, Result};
 
 /// Width of the panel, in points.
@@ -65,6 +66,8 @@ pub struct PanelInfo {
     pub front_end: FrontEnd,
     /// The tour's step (an index in `tour::STEPS`) whose pane shows; `None`: no pane.
     pub tour: Option<usize>,
+    /// The answer of the exercise check at the tour's step (F2), for the pane.
+    pub exercise: Option<ExerciseCheck>,
 }
 
 /// egui's context and its glow painter, on the scene's GL context.
@@ -78,6 +81,8 @@ pub struct Panel {
     tour_rect: Option<egui::Rect>,
     /// The excerpts of the tour's step last shown (resolved once per step).
     tour_excerpts: Option<TourExcerpts>,
+    /// The heat map of the last exercise check's answer, as a texture, with the answer's serial.
+    heat_map: Option<(u32, egui::TextureHandle)>,
     /// Whether a frame was laid out already (see [`Panel::run`]).
     laid_out: bool,
     /// Where each widget was in the last frame, in pixels.
@@ -126,6 +131,7 @@ impl Panel {
             rect: None,
             tour_rect: None,
             tour_excerpts: None,
+            heat_map: None,
             laid_out: false,
             widgets: Vec::new(),
             shown: None,
@@ -210,13 +216,16 @@ impl Panel {
         let cached = self.tour_excerpts.take();
         self.tour_excerpts = info.tour.and_then(|index| TourExcerpts::of(index, cached));
         let tour = self.tour_excerpts.as_ref();
+        let answer = info.exercise.as_ref();
+        self.heat_map = heat_map_texture(&self.ctx, answer, self.heat_map.take());
+        let heat_map = self.heat_map.as_ref().map(|(_, texture)| texture);
         let mut layout = |ui: &mut egui::Ui| {
             // A pass egui discards runs the closure again: only the last pass's clicks count.
             actions.clear();
             widgets.clear();
             // The tour's pane first, so that the panel leaves it its side.
             tour_rect = tour.map(|tour| {
-                let (rect, buttons, clicked) = show_tour(ui, tour);
+                let (rect, buttons, clicked) = show_tour(ui, tour, answer, heat_map);
                 let buttons = buttons.into_iter().map(|(b, r)| (PanelWidget::Tour(b), r));
                 widgets.extend(buttons);
                 actions.extend(clicked.map(PanelAction::Tour));
@@ -641,6 +650,27 @@ fn show_control(
 }
 
 /// "A, B (in DIR)" for files of one folder, or "shaders built into the binary".
+/// The texture of `answer`'s heat map: `cached` if it is that answer's, else loaded now; `None`
+/// where the answer has none.
+fn heat_map_texture(
+    ctx: &egui::Context,
+    answer: Option<&ExerciseCheck>,
+    cached: Option<(u32, egui::TextureHandle)>,
+) -> Option<(u32, egui::TextureHandle)> {
+    let answer = answer?;
+    let map = answer.heat_map.as_ref()?;
+    match cached {
+        Some((serial, texture)) if serial == answer.serial => Some((serial, texture)),
+        _ => {
+            let size = [map.width() as usize, map.height() as usize];
+            let image = egui::ColorImage::from_rgba_unmultiplied(size, map.as_raw());
+            let texture =
+                ctx.load_texture("exercise-heat-map", image, egui::TextureOptions::NEAREST);
+            Some((answer.serial, texture))
+        }
+    }
+}
+
 fn files_line(files: &[std::path::PathBuf]) -> String {
     let Some(first) = files.first() else {
         return "  shaders built into the binary".into();

@@ -5,6 +5,7 @@
 //! Its excerpts are resolved once per step, not per frame; with the tour closed it is not laid out
 //! at all.
 
+use crate::tour::exercise::{for_step, ExerciseCheck, Verdict};
 use crate::tour::{excerpt, Excerpt, Step, STEPS};
 
 /// Width of the pane, in points: about 60 characters of code at egui's monospace size.
@@ -40,13 +41,18 @@ pub enum TourClick {
     Close,
     Back,
     Next,
+    /// At an exercise step: check the learner's work (F2).
+    Check,
 }
 
-/// Lays the pane out on the right of the frame; returns its rectangle (points), the buttons'
+/// Lays the pane out on the right of the frame, with the answer of the exercise check at its step
+/// (and its heat map's texture) if there is one; returns its rectangle (points), the buttons'
 /// rectangles, and what was clicked.
 pub fn show_tour(
     ui: &mut egui::Ui,
     excerpts: &TourExcerpts,
+    answer: Option<&ExerciseCheck>,
+    heat_map: Option<&egui::TextureHandle>,
 ) -> (egui::Rect, Vec<(TourClick, egui::Rect)>, Option<TourClick>) {
     let step = excerpts.step();
     let mut buttons = Vec::new();
@@ -75,12 +81,42 @@ pub fn show_tour(
                 step.section
             ));
             ui.add(egui::Label::new(step.caption).wrap());
+            if for_step(step.name).is_some() {
+                let response = ui.button("F2: check my exercise");
+                buttons.push((TourClick::Check, response.rect));
+                if response.clicked() {
+                    clicked = Some(TourClick::Check);
+                }
+                show_answer(ui, answer, heat_map);
+            }
             ui.separator();
             egui::ScrollArea::both()
                 .auto_shrink([false, false])
                 .show(ui, |ui| show_code(ui, step, &excerpts.excerpts));
         });
     (response.response.rect, buttons, clicked)
+}
+
+/// The check's answer: its line, coloured by the verdict, and where the learner's frame differs
+/// from the reference, as the compare view's heat map.
+fn show_answer(
+    ui: &mut egui::Ui,
+    answer: Option<&ExerciseCheck>,
+    heat_map: Option<&egui::TextureHandle>,
+) {
+    let Some(answer) = answer else {
+        return;
+    };
+    let colour = match answer.verdict {
+        Some(Verdict::Matches) => egui::Color32::LIGHT_GREEN,
+        Some(Verdict::Differs(_)) => egui::Color32::LIGHT_RED,
+        Some(Verdict::Untouched) | None => egui::Color32::LIGHT_YELLOW,
+    };
+    ui.add(egui::Label::new(egui::RichText::new(&answer.line).color(colour)).wrap());
+    if let Some(texture) = heat_map {
+        ui.small("where your frame differs from the reference (the compare view's heat map)");
+        ui.image((texture.id(), texture.size_vec2()));
+    }
 }
 
 /// Each excerpt under its title (the Rust item or the shader's region, its file and lines), then

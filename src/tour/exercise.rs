@@ -1,7 +1,10 @@
 //! The tutorial's two exercises, checked: the learner's frame against the reference frame (the
 //! program's own answer), and against the frame nobody changed, so that a learner who did nothing
-//! is told so rather than congratulated. The frames are rendered by the command
-//! (`tutorial13 --headless --check-exercise N`, `tools::tour`); this compares them.
+//! is told so rather than congratulated. The frames are rendered by the scene host
+//! (`frontends::host`: F2 at an exercise step, and `tutorial13 --headless --check-exercise N`);
+//! this compares them.
+
+use std::sync::Arc;
 
 use image::RgbaImage;
 
@@ -9,6 +12,8 @@ use image::RgbaImage;
 #[derive(Debug)]
 pub struct Exercise {
     pub number: u8,
+    /// The name of its step in the tour (`tour::STEPS`), where F2 checks it.
+    pub step: &'static str,
     /// What the learner is asked to do, and where.
     pub task: &'static str,
     /// The program's own answer, which draws the reference frame.
@@ -19,6 +24,7 @@ pub struct Exercise {
 pub const EXERCISES: [Exercise; 2] = [
     Exercise {
         number: 1,
+        step: "exercise-1",
         task: "normalize each corner's tangent and bitangent before they are summed: edit \
                index_vbo_tbn in src/common/vboindexer.rs, rebuild, and check again",
         reference: "the N switch (normalize before summing), built by the fast twin of the \
@@ -26,6 +32,7 @@ pub const EXERCISES: [Exercise; 2] = [
     },
     Exercise {
         number: 2,
+        step: "exercise-2",
         task: "make NormalMapping.fragmentshader's colour normalize(EyeDirection_tangentspace): \
                edit a copy of shaders/ and check again with --shaders DIR",
         reference: "the colour view \"eye\" (V), the same vector from the debugging shader",
@@ -38,6 +45,11 @@ pub fn exercise(n: u8) -> Result<&'static Exercise, String> {
         .iter()
         .find(|e| e.number == n)
         .ok_or_else(|| format!("--check-exercise {n}: the tutorial has exercises 1 and 2"))
+}
+
+/// The exercise checked at the tour's step named `step`, if it is an exercise's.
+pub fn for_step(step: &str) -> Option<&'static Exercise> {
+    EXERCISES.iter().find(|e| e.step == step)
 }
 
 /// How two frames differ, counted as the compare view's difference counts them: a pixel differs
@@ -71,7 +83,7 @@ impl FrameDifference {
         };
         for (x, y, pa) in a.enumerate_pixels() {
             let pb = b.get_pixel(x, y);
-            let d = (0..3).map(|c| pa[c].abs_diff(pb[c])).max().unwrap_or(0);
+            let d = crate::debug::compare::pixel_difference(pa, pb);
             if d > 0 {
                 difference.pixels += 1;
                 difference.max = difference.max.max(d);
@@ -134,6 +146,34 @@ impl Verdict {
         *self == Verdict::Matches
     }
 }
+
+/// What a check found: the verdict, and where the learner's frame differs from the reference.
+#[derive(Debug, Clone)]
+pub struct ExerciseCheck {
+    /// `None` where no check was made (the line says why: the page).
+    pub verdict: Option<Verdict>,
+    /// The one line the command prints and the pane shows ([`Verdict::line`]).
+    pub line: String,
+    /// Where the frames differ, as the compare view's heat map colours it
+    /// ([`crate::debug::compare::heat_map`]), at most [`HEAT_MAP_WIDTH`] wide; `None` unless
+    /// [`Verdict::Differs`].
+    pub heat_map: Option<Arc<RgbaImage>>,
+    /// Counts the checks, so that the panel tells one answer from the next.
+    pub serial: u32,
+}
+
+impl PartialEq for ExerciseCheck {
+    fn eq(&self, other: &Self) -> bool {
+        self.serial == other.serial
+    }
+}
+
+/// The widest heat map the pane shows, in pixels: its width, less its margins.
+pub const HEAT_MAP_WIDTH: u32 = 420;
+
+/// The line the page gives for F2: its shaders are built into it, and it has no `--shaders`.
+pub const PAGE_CHECK_LINE: &str = "checking an exercise needs the native program: \
+                                   tutorial13 --tour exercise-1 (or exercise-2), then F2";
 
 #[cfg(test)]
 mod tests {

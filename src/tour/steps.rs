@@ -322,8 +322,8 @@ pub static STEPS: [Step; 18] = [
         name: "exercise-1",
         caption: "Normalize each corner's tangent and bitangent in index_vbo_tbn \
                   (src/common/vboindexer.rs) before they are added, so that large triangles stop \
-                  outweighing small ones. Rebuild, then tutorial13 --headless --check-exercise 1. \
-                  N shows the answer.",
+                  outweighing small ones. Rebuild, run tutorial13 --tour exercise-1 and press F2 (or \
+                  tutorial13 --headless --check-exercise 1). N shows the answer.",
         state: cylinder(&[]),
         rust: &[
             "common::vboindexer::index_vbo_tbn",
@@ -342,8 +342,8 @@ pub static STEPS: [Step; 18] = [
         name: "exercise-2",
         caption: "Copy shaders/ to a folder of your own and make NormalMapping.fragmentshader's \
                   colour normalize(EyeDirection_tangentspace); run with --shaders DIR (F5 reloads \
-                  it in the window). tutorial13 --headless --check-exercise 2 --shaders DIR \
-                  compares it with the colour view \"eye\".",
+                  it in the window), then press F2 here to compare it with the colour view \"eye\" \
+                  (or tutorial13 --headless --check-exercise 2 --shaders DIR).",
         state: cylinder(&[]),
         rust: &[],
         regions: &[(FRAGMENT, "lighting")],

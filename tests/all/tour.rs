@@ -353,7 +353,7 @@ fn failure_line(out: &std::process::Output, what: &str) -> String {
 
 /// A copy of the crate's shaders in `dir`, with NormalMapping.fragmentshader's last statement
 /// followed by `colour` (`None`: unchanged).
-fn shaders_with_colour(dir: &Path, colour: Option<&str>) {
+pub(crate) fn shaders_with_colour(dir: &Path, colour: Option<&str>) {
     for (name, text) in tutorial13::common::shader::embedded_shaders() {
         let text = match (colour, *name == "NormalMapping.fragmentshader") {
             (Some(colour), true) => {

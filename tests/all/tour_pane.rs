@@ -9,6 +9,7 @@ use tutorial13::frontends::keys::Key;
 use tutorial13::frontends::panel::PanelWidget;
 use tutorial13::frontends::tour_pane::TourClick;
 use tutorial13::scenes::{ControlState, SceneOptions};
+use tutorial13::tour::exercise::Verdict;
 use tutorial13::tour::{Step, STEPS};
 
 use crate::cli::assert_one_line_failure;
@@ -244,4 +245,171 @@ fn keys_while_files_come_in_step_on_from_the_last_asked() {
         0,
         "step 2's frame"
     );
+}
+
+/// The tour at exercise `n`'s step, as `--tour exercise-N` with `shaders` as `--shaders`, the
+/// panel shown.
+fn at_exercise(n: u8, shaders: Option<std::path::PathBuf>) -> HeadlessRenderer {
+    let step = STEPS
+        .iter()
+        .find(|s| s.name == format!("exercise-{n}"))
+        .unwrap();
+    let mut renderer = common::renderer(&HeadlessOptions {
+        descriptor: step.state.descriptor().unwrap(),
+        scene: SceneOptions {
+            shaders,
+            ..project_assets()
+        },
+        ..Default::default()
+    });
+    renderer.host.set_step_state(step).unwrap();
+    renderer.host.show_panel().unwrap();
+    renderer
+}
+
+/// Pixels of `frame` inside `rect` (pixels) that are black, the colour of "no difference" in the
+/// heat map (egui's dark theme has none).
+fn black_pixels_in(frame: &RgbImage, rect: egui::Rect) -> usize {
+    frame
+        .enumerate_pixels()
+        .filter(|&(x, y, p)| {
+            rect.contains(egui::pos2(x as f32 + 0.5, y as f32 + 0.5)) && p.0 == [0, 0, 0]
+        })
+        .count()
+}
+
+// Fails if F2 is not the host's key at an exercise step (no answer), if an unedited program is
+// congratulated or told otherwise than the command line tells it (the line must be the verdict's
+// own, naming the file to edit), if the check disturbs the scene on show (any pixel outside the
+// pane changes: the check draws its frames in targets of its own), if the answer is not shown in
+// the pane (its pixels unchanged), or if it outlives its step (PageDown must clear it). F2 at a
+// step without an exercise answers nothing.
+#[test]
+fn f2_at_exercise_1_tells_an_unedited_program_it_is_not_done() {
+    let mut renderer = at_exercise(1, None);
+    let before = common::frame(&mut renderer);
+    press(&mut renderer, Key::F(2));
+    let answer = renderer.host.exercise_answer().expect("F2 answers").clone();
+    let exercise = tutorial13::tour::exercise::exercise(1).unwrap();
+    assert_eq!(answer.verdict, Some(Verdict::Untouched), "{}", answer.line);
+    assert_eq!(answer.line, Verdict::Untouched.line(exercise));
+    assert!(answer.line.contains("src/common/vboindexer.rs"));
+    assert!(answer.heat_map.is_none());
+
+    let after = common::frame(&mut renderer);
+    let pane = renderer.host.panel().unwrap().tour_rect().unwrap();
+    let d = common::frame_diff(&before, &after);
+    let (x0, _, x1, _) = d.bbox.expect("the answer shows in the pane");
+    assert!(
+        x0 as f32 >= pane.left().floor() && x1 as f32 <= pane.right(),
+        "the pane is {pane:?}, but pixels x {x0}..={x1} changed"
+    );
+
+    press(&mut renderer, Key::PageDown);
+    assert!(renderer.host.exercise_answer().is_none(), "the next step");
+    let mut elsewhere = tour_n(&STEPS[8]);
+    press(&mut elsewhere, Key::F(2));
+    assert!(elsewhere.host.exercise_answer().is_none());
+}
+
+// Fails if F2 at exercise 2 does not check the learner's shaders (a --shaders copy, as the command
+// line's check reads them): done as asked, the answer must be "matches" with no heat map; with the
+// eye direction left unnormalized it must count the pixels that differ (more than none, fewer than
+// the frame) and show the compare view's heat map in the pane (black where nothing differs: the
+// pane had no black pixel before, and has at least the map's black ones after), no wider than the
+// pane.
+#[test]
+fn f2_at_exercise_2_checks_the_learners_shaders() {
+    let done_dir = common::scratch("f2-done");
+    crate::tour::shaders_with_colour(&done_dir, Some("normalize(EyeDirection_tangentspace)"));
+    let mut done = at_exercise(2, Some(done_dir));
+    common::frame(&mut done);
+    press(&mut done, Key::F(2));
+    let answer = done.host.exercise_answer().unwrap();
+    assert_eq!(answer.verdict, Some(Verdict::Matches), "{}", answer.line);
+    assert!(answer.line.starts_with("exercise 2: matches"));
+    assert!(answer.heat_map.is_none());
+
+    let wrong_dir = common::scratch("f2-wrong");
+    crate::tour::shaders_with_colour(&wrong_dir, Some("EyeDirection_tangentspace"));
+    let mut wrong = at_exercise(2, Some(wrong_dir));
+    let before = common::frame(&mut wrong);
+    let pane = wrong.host.panel().unwrap().tour_rect().unwrap();
+    assert_eq!(black_pixels_in(&before, pane), 0);
+    press(&mut wrong, Key::F(2));
+    let answer = wrong.host.exercise_answer().unwrap().clone();
+    let Some(Verdict::Differs(d)) = answer.verdict else {
+        panic!("a wrong edit: {}", answer.line);
+    };
+    assert!(d.pixels > 0 && d.pixels < 1024 * 768, "{}", answer.line);
+    assert!(answer.line.contains(&format!("{} pixels differ", d.pixels)));
+    let map = answer.heat_map.expect("a heat map of where they differ");
+    assert!(map.width() <= tutorial13::tour::exercise::HEAT_MAP_WIDTH);
+    let map_black = map.pixels().filter(|p| p.0 == [0, 0, 0, 255]).count();
+    let lit = map.pixels().count() - map_black;
+    assert!(lit > 0, "the map shows where they differ");
+    let after = common::frame(&mut wrong);
+    let shown = black_pixels_in(&after, pane);
+    assert!(
+        shown >= map_black,
+        "the pane shows {shown} black pixels; the heat map has {map_black}"
+    );
+}
+
+/// Warnings logged, with the thread that logged them (each test runs on a thread of its own).
+static WARNINGS: std::sync::Mutex<Vec<(std::thread::ThreadId, String)>> =
+    std::sync::Mutex::new(Vec::new());
+
+struct WarningLog;
+
+impl log::Log for WarningLog {
+    fn enabled(&self, metadata: &log::Metadata) -> bool {
+        metadata.level() <= log::Level::Warn
+    }
+
+    fn log(&self, record: &log::Record) {
+        if self.enabled(record.metadata()) {
+            let thread = std::thread::current().id();
+            let mut warnings = WARNINGS.lock().unwrap_or_else(|e| e.into_inner());
+            warnings.push((thread, record.args().to_string()));
+        }
+    }
+
+    fn flush(&self) {}
+}
+
+/// The warnings this thread logged that contain `text`, once the log is captured (the first call
+/// installs the capture for the whole test process: no other test sets a logger).
+fn warnings_here(text: &str) -> usize {
+    static INSTALL: std::sync::Once = std::sync::Once::new();
+    INSTALL.call_once(|| {
+        if log::set_logger(&WarningLog).is_ok() {
+            log::set_max_level(log::LevelFilter::Warn);
+        }
+    });
+    let thread = std::thread::current().id();
+    let warnings = WARNINGS.lock().unwrap_or_else(|e| e.into_inner());
+    warnings
+        .iter()
+        .filter(|(t, w)| *t == thread && w.contains(text))
+        .count()
+}
+
+// Fails if the core profile's fallback from the tutorial's immediate mode to the line shader is
+// warned of again at every step of the tour with the lines on (each builds the scene again): from
+// step 9 (Orthogonalization, L on) to step 12 (Debugging with the immediate mode) and back, the
+// warning is logged once, at the first.
+#[test]
+fn the_line_shader_fallback_is_warned_of_once() {
+    const FALLBACK: &str = "falling back to the core-profile line shader";
+    let before = warnings_here(FALLBACK);
+    assert_eq!(before, 0, "this thread has built no lines yet");
+    let mut renderer = tour_n(&STEPS[8]);
+    common::frame(&mut renderer);
+    for key in [Key::PageDown; 3].into_iter().chain([Key::PageUp; 3]) {
+        press(&mut renderer, key);
+        common::frame(&mut renderer);
+    }
+    assert_eq!(renderer.host.tour_step().map(Step::number), Some(9));
+    assert_eq!(warnings_here(FALLBACK), 1);
 }

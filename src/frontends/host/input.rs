@@ -91,6 +91,7 @@ impl SceneHost {
             HostAction::TogglePanel => self.toggle_panel(),
             HostAction::TourNext => self.step_tour(true),
             HostAction::TourBack => self.step_tour(false),
+            HostAction::CheckExercise => self.check_tour_exercise(),
             HostAction::Quit => self.request(Request::Quit),
         }
         Ok(())

@@ -9,6 +9,7 @@
 //! the frame goes and where their input comes from: Enter, a dropped file, R or a click on the
 //! panel does the same in each.
 
+mod exercise;
 mod input;
 
 use std::any::Any;
@@ -30,6 +31,7 @@ use crate::scenes::MouseMode;
 use crate::scenes::{
     ControlValue, FrameInput, Scene, SceneContext, SceneDescriptor, SceneOptions, SetTo,
 };
+use crate::tour::exercise::ExerciseCheck;
 use crate::tour::{Step, STEPS};
 use crate::{Error, Result};
 
@@ -102,6 +104,10 @@ pub struct SceneHost {
     /// The step PageDown or PageUp asked for last, while its scene's files come in: the next key
     /// steps on from it, and a step whose files came in after a later key's is not shown.
     tour_asked: Option<usize>,
+    /// The answer of the last exercise check (F2) at the tour's step on show.
+    exercise_answer: Option<ExerciseCheck>,
+    /// Checks done so far (each answer's serial number).
+    exercise_checks: u32,
     /// The panel's input for its next frame, made from the events.
     panel_events: Vec<egui::Event>,
     /// Which front end this is: the keys it has and lists, how it looks around.
@@ -147,6 +153,8 @@ impl SceneHost {
             panel_shown: false,
             tour: None,
             tour_asked: None,
+            exercise_answer: None,
+            exercise_checks: 0,
             panel_events: Vec::new(),
             front_end,
             host_keys: HOST_KEYS,
@@ -304,6 +312,7 @@ impl SceneHost {
         let start = self.scene.start_controls(self.size.0, self.size.1);
         state.set_camera(&mut self.controls, start);
         self.tour = Some(step.number() - 1);
+        self.exercise_answer = None;
         log::info!("the tour, step {}: {}", step.number(), step.section);
         Ok(())
     }
@@ -336,6 +345,7 @@ impl SceneHost {
     pub fn close_tour(&mut self) {
         self.tour = None;
         self.tour_asked = None;
+        self.exercise_answer = None;
     }
 
     /// A button of the tour's pane, as its key does.
@@ -344,6 +354,7 @@ impl SceneHost {
             PanelAction::Tour(TourClick::Close) => self.close_tour(),
             PanelAction::Tour(TourClick::Back) => self.step_tour(false),
             PanelAction::Tour(TourClick::Next) => self.step_tour(true),
+            PanelAction::Tour(TourClick::Check) => self.check_tour_exercise(),
             _ => {}
         }
     }
@@ -609,6 +620,7 @@ impl SceneHost {
             shader_error: self.shader_error.clone(),
             front_end: self.front_end,
             tour: self.tour,
+            exercise: self.exercise_answer.clone(),
         }
     }
 
