@@ -245,6 +245,8 @@ impl Bvh {
         for (rays, hits) in rays.chunks(PACKET).zip(hits.chunks_mut(PACKET)) {
             match rays.len() {
                 1..=4 => self.trace::<1>(rays, hits),
+                // A packet of a texel's 4 × 4 among larger ones (a band's last).
+                5..=16 => self.trace::<4>(rays, hits),
                 _ => self.trace::<{ PACKET / 4 }>(rays, hits),
             };
         }
@@ -257,7 +259,7 @@ impl Bvh {
     /// Returns the number of nodes and leaves visited (for the tests).
     fn trace<const G: usize>(&self, rays: &[Ray], hits: &mut [Option<Hit>]) -> usize {
         let mut lanes = Lanes::<G>::new(rays);
-        let visits = match (self.nodes.is_empty(), Beam::around(rays)) {
+        let visits = match (self.nodes.is_empty(), Beam::of(&lanes)) {
             (true, _) => 0,
             (false, Some(beam)) => self.walk(&mut lanes, &beam),
             (false, None) => self.walk(&mut lanes, &EachRay),
@@ -274,11 +276,13 @@ impl Bvh {
         // Each entry: a child (its index or first triangle, and its count), and the nearest
         // distance at which a ray entered it (it is skipped if every ray has found a nearer hit
         // since). The root's children are tested first.
-        let mut stack = [(0u32, INNER, 0f32); STACK];
+        // A leaf's entry has the groups of four rays of which some ray enters its box: only
+        // those test its triangles (a packet of a few texels' rays meets a leaf with one texel's).
+        let mut stack = [(0u32, INNER, 0f32, 0u32); STACK];
         let mut depth = 1;
         while depth > 0 {
             depth -= 1;
-            let (child, count, entry) = stack[depth];
+            let (child, count, entry, groups) = stack[depth];
             if entry > lanes.farthest_limit() {
                 continue;
             }
@@ -286,7 +290,7 @@ impl Bvh {
             if count != INNER {
                 let start = child as usize;
                 for k in start..start + count as usize {
-                    lanes.intersect(&self.triangles[k], self.order[k]);
+                    lanes.intersect(&self.triangles[k], self.order[k], groups);
                 }
                 continue;
             }
@@ -294,14 +298,24 @@ impl Bvh {
             let entries = test.enter(node, lanes);
             // The entered children, farthest first on the stack, so that the nearest is visited
             // first and its hits can cut the others off.
-            let mut entered = [(0u32, 0u32, 0f32); 4];
+            let mut entered = [(0u32, 0u32, 0f32, 0u32); 4];
             let mut n = 0;
-            for ((&entry, &c), &count) in entries.iter().zip(&node.child).zip(&node.count) {
+            for (k, ((&entry, &c), &count)) in
+                entries.iter().zip(&node.child).zip(&node.count).enumerate()
+            {
                 if entry < f32::INFINITY && count != 0 {
+                    let mut groups = u32::MAX;
                     if count == INNER {
                         prefetch(&self.nodes[c as usize]);
                     } else {
                         prefetch(&self.triangles[c as usize]);
+                        groups = match G {
+                            1 => 1,
+                            _ => lanes.groups_entering(&node.bounds(k)),
+                        };
+                        if groups == 0 {
+                            continue;
+                        }
                     }
                     // Insertion by entry, farthest first.
                     let mut at = n;
@@ -309,7 +323,7 @@ impl Bvh {
                         entered[at] = entered[at - 1];
                         at -= 1;
                     }
-                    entered[at] = (c, count, entry);
+                    entered[at] = (c, count, entry, groups);
                     n += 1;
                 }
             }
@@ -351,8 +365,10 @@ impl Ray {
     };
 }
 
-/// Rays traced together by [`Bvh::first_hits`]: a texel's 4 × 4, or 4 × 4 texels' one each.
-pub const PACKET: usize = 16;
+/// Rays traced together by [`Bvh::first_hits`]: 2 × 2 texels' 4 × 4, or 8 × 8 texels' one each
+/// (a walk down the hierarchy for 64 rays, where it was one for a texel's 16; a leaf's triangles
+/// are tested only by the groups of four rays that enter its box).
+pub const PACKET: usize = 64;
 
 /// `4 × G` rays, one per lane, each component in vectors of four lanes (glam's `Vec4`: SSE on
 /// x86-64, simd128 or plain floats on wasm32), so that a box's or a triangle's test runs on four
@@ -435,40 +451,64 @@ impl<const G: usize> Lanes<G> {
     fn enter(&self, bounds: &Aabb) -> Option<f32> {
         let mut entry = Vec4::INFINITY;
         for g in 0..G {
-            let mut near = Vec4::ZERO;
-            let mut far = Vec4::INFINITY;
-            for axis in 0..3 {
-                let (o, i) = (self.origin[axis][g], self.inverse[axis][g]);
-                let t0 = (Vec4::splat(bounds.min[axis]) - o) * i;
-                let t1 = (Vec4::splat(bounds.max[axis]) - o) * i;
-                // 0 × ∞: the ray in the plane of one of the slab's faces.
-                let along = t0.is_nan_mask() | t1.is_nan_mask();
-                let low = Vec4::select(along, Vec4::NEG_INFINITY, t0.min(t1));
-                let high = Vec4::select(along, Vec4::INFINITY, t0.max(t1));
-                near = near.max(low);
-                far = far.min(high);
-            }
-            // −∞ as −f32::MAX, which its widening keeps negative.
-            let far = far.max(Vec4::splat(-f32::MAX));
-            let far = (far + far.abs() * LIMIT_SLACK).min(self.reach[g]);
-            entry = entry.min(Vec4::select(near.cmple(far), near, Vec4::INFINITY));
+            entry = entry.min(self.group_entry(g, bounds));
         }
         let entry = entry.min_element();
         (entry < f32::INFINITY).then_some(entry)
+    }
+
+    /// The groups of four lanes of which some lane enters `bounds` within its reach, as a mask
+    /// (group g: bit g); the test of [`Lanes::enter`].
+    #[inline(always)]
+    fn groups_entering(&self, bounds: &Aabb) -> u32 {
+        let mut groups = 0;
+        for g in 0..G {
+            let entered = self.group_entry(g, bounds).cmplt(Vec4::INFINITY).any();
+            groups |= u32::from(entered) << g;
+        }
+        groups
+    }
+
+    /// Where each lane of group `g` enters `bounds` within its reach, ∞ where it does not
+    /// ([`Lanes::enter`]).
+    #[inline(always)]
+    fn group_entry(&self, g: usize, bounds: &Aabb) -> Vec4 {
+        let mut near = Vec4::ZERO;
+        let mut far = Vec4::INFINITY;
+        for axis in 0..3 {
+            let (o, i) = (self.origin[axis][g], self.inverse[axis][g]);
+            let t0 = (Vec4::splat(bounds.min[axis]) - o) * i;
+            let t1 = (Vec4::splat(bounds.max[axis]) - o) * i;
+            // 0 × ∞: the ray in the plane of one of the slab's faces.
+            let along = t0.is_nan_mask() | t1.is_nan_mask();
+            let low = Vec4::select(along, Vec4::NEG_INFINITY, t0.min(t1));
+            let high = Vec4::select(along, Vec4::INFINITY, t0.max(t1));
+            near = near.max(low);
+            far = far.min(high);
+        }
+        // −∞ as −f32::MAX, which its widening keeps negative.
+        let far = far.max(Vec4::splat(-f32::MAX));
+        let far = (far + far.abs() * LIMIT_SLACK).min(self.reach[g]);
+        Vec4::select(near.cmple(far), near, Vec4::INFINITY)
     }
 
     /// [`intersect`] on every lane, keeping each lane's nearest hit (of hits at one distance,
     /// the lowest mesh index, so that the order of the search cannot change the answer). The
     /// same operations in the same order as [`intersect`]'s (glam's `cross` and `dot` written
     /// out), so that each lane's distance and barycentrics are its, to the bit.
+    /// Only the groups of four lanes in the mask `groups` (group g: bit g) are tested: the others
+    /// enter no box around the triangle.
     #[inline(always)]
-    fn intersect(&mut self, tri: &Triangle, index: u32) {
+    fn intersect(&mut self, tri: &Triangle, index: u32, groups: u32) {
         let [ox, oy, oz] = &self.origin;
         let [dx, dy, dz] = &self.direction;
         let [p0x, p0y, p0z] = tri.p0.to_array().map(Vec4::splat);
         let [e1x, e1y, e1z] = tri.e1.to_array().map(Vec4::splat);
         let [e2x, e2y, e2z] = tri.e2.to_array().map(Vec4::splat);
         for g in 0..G {
+            if groups & (1 << g) == 0 {
+                continue;
+            }
             // p = direction × e2
             let px = dy[g] * e2z - e2y * dz[g];
             let py = dz[g] * e2x - e2z * dx[g];
@@ -576,33 +616,49 @@ enum BeamAxis {
 }
 
 impl Beam {
-    /// The beam of `rays` (the finite ones: the others are idle), if each axis is still or of
-    /// one sign for all of them; `None` where some axis is not (the rays are then tested one
-    /// by one), or no ray is finite.
-    fn around(rays: &[Ray]) -> Option<Beam> {
-        let mut low = Vec3::INFINITY;
-        let mut high = Vec3::NEG_INFINITY;
-        let mut inverse_low = Vec3::INFINITY;
-        let mut inverse_high = Vec3::NEG_INFINITY;
-        let (mut still, mut positive, mut negative) = (BVec3::FALSE, BVec3::FALSE, BVec3::FALSE);
-        let mut any = false;
-        for ray in rays {
-            if !(ray.origin.is_finite() && ray.direction.is_finite()) {
-                continue;
+    /// The beam of `lanes`' rays (those with something to meet: a finite ray, a limit of 0 or
+    /// more; the others are idle), if each axis is still or of one sign for all of them; `None`
+    /// where some axis is not (the rays are then tested one by one), or no ray is active. Read
+    /// from the lanes four rays at a time (the reciprocals are theirs).
+    #[inline(always)]
+    fn of<const G: usize>(lanes: &Lanes<G>) -> Option<Beam> {
+        let (mut low, mut high) = ([Vec4::INFINITY; 3], [Vec4::NEG_INFINITY; 3]);
+        let (mut inverse_low, mut inverse_high) = ([Vec4::INFINITY; 3], [Vec4::NEG_INFINITY; 3]);
+        let no = glam::BVec4A::splat(false);
+        let (mut still, mut positive, mut negative) = ([no; 3], [no; 3], [no; 3]);
+        let mut any = no;
+        for g in 0..G {
+            // An idle lane's limit is negative (or NaN: nothing is within it either).
+            let active = lanes.nearest[g].cmpge(Vec4::ZERO);
+            any |= active;
+            for axis in 0..3 {
+                let (o, i, d) = (
+                    lanes.origin[axis][g],
+                    lanes.inverse[axis][g],
+                    lanes.direction[axis][g],
+                );
+                low[axis] = low[axis].min(Vec4::select(active, o, Vec4::INFINITY));
+                high[axis] = high[axis].max(Vec4::select(active, o, Vec4::NEG_INFINITY));
+                inverse_low[axis] = inverse_low[axis].min(Vec4::select(active, i, Vec4::INFINITY));
+                inverse_high[axis] =
+                    inverse_high[axis].max(Vec4::select(active, i, Vec4::NEG_INFINITY));
+                still[axis] |= active & d.cmpeq(Vec4::ZERO);
+                positive[axis] |= active & d.cmpgt(Vec4::ZERO);
+                negative[axis] |= active & d.cmplt(Vec4::ZERO);
             }
-            any = true;
-            let inverse = ray.direction.recip();
-            low = low.min(ray.origin);
-            high = high.max(ray.origin);
-            inverse_low = inverse_low.min(inverse);
-            inverse_high = inverse_high.max(inverse);
-            still |= ray.direction.cmpeq(Vec3::ZERO);
-            positive |= ray.direction.cmpgt(Vec3::ZERO);
-            negative |= ray.direction.cmplt(Vec3::ZERO);
         }
-        if !any {
+        if !any.any() {
             return None;
         }
+        let across = |v: [Vec4; 3], f: fn(Vec4) -> f32| Vec3::new(f(v[0]), f(v[1]), f(v[2]));
+        let (low, high) = (
+            across(low, Vec4::min_element),
+            across(high, Vec4::max_element),
+        );
+        let inverse_low = across(inverse_low, Vec4::min_element);
+        let inverse_high = across(inverse_high, Vec4::max_element);
+        let across = |v: [glam::BVec4A; 3]| BVec3::new(v[0].any(), v[1].any(), v[2].any());
+        let (still, positive, negative) = (across(still), across(positive), across(negative));
         let mut axes = [BeamAxis::Still {
             low: 0.0,
             high: 0.0,
@@ -629,6 +685,12 @@ impl Beam {
             };
         }
         Some(Beam { axes })
+    }
+
+    /// The beam of `rays` (at most [`PACKET`]), as [`Bvh::first_hits`] makes it.
+    #[cfg(test)]
+    fn around(rays: &[Ray]) -> Option<Beam> {
+        Beam::of(&Lanes::<{ PACKET / 4 }>::new(rays))
     }
 }
 

@@ -446,6 +446,14 @@ impl Sample {
     }
 }
 
+/// What [`Sampler::shade`] gives the samples of a packet: the first as many as it shaded.
+struct Shaded {
+    normal: [Vec3; bvh::PACKET],
+    singular: [bool; bvh::PACKET],
+    /// The frame's stretch, where it is measured.
+    stretch: [Option<f64>; bvh::PACKET],
+}
+
 /// How far the rays go, bounded by where the models are: no setting makes a ray longer than the
 /// models are wide, so that none can make a small bake slow.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -535,8 +543,10 @@ impl Sampler<'_> {
             for (k, &(t, b)) in chunk.iter().enumerate() {
                 (rays[k], normals[k]) = self.ray(t, b);
             }
-            let triangles: [usize; bvh::PACKET] =
-                std::array::from_fn(|k| chunk.get(k).map_or(0, |c| c.0));
+            let mut triangles = [0usize; bvh::PACKET];
+            for (triangle, &(t, _)) in triangles.iter_mut().zip(chunk) {
+                *triangle = t;
+            }
             let triangles = &triangles[..n];
             let mut hits = [None; bvh::PACKET];
             self.targets
@@ -544,15 +554,22 @@ impl Sampler<'_> {
             let (beyond, outside) = self.look(triangles, &rays[..n], &normals[..n], &hits[..n]);
             // HIGH's normals read for the whole packet first: each read may wait on memory, and
             // these waits overlap where the shading's long sums would not let them.
-            let high: [Option<Vec3>; bvh::PACKET] =
-                std::array::from_fn(|k| hits[k].map(|hit| self.high_normal(hit)));
-            let first = out.len();
-            self.shade(chunk, &normals[..n], &high[..n], out);
-            for (k, sample) in out[first..].iter_mut().enumerate() {
-                (sample.beyond, sample.outside) = (beyond[k], outside[k]);
-                // A LOW part without a partner meets nothing and is not a miss: it is said once.
-                sample.missed &= self.targets.paired(triangles[k]);
+            let mut high = [None; bvh::PACKET];
+            for (high, hit) in high.iter_mut().zip(&hits[..n]) {
+                *high = hit.map(|hit| self.high_normal(hit));
             }
+            let shaded = self.shade(chunk, &normals[..n], &high[..n]);
+            // Each sample written once, whole (built field by field in place, its stores were
+            // read back across their seams, a stall each).
+            out.extend((0..n).map(|k| Sample {
+                normal: shaded.normal[k],
+                // A LOW part without a partner meets nothing and is not a miss: it is said once.
+                missed: high[k].is_none() && self.targets.paired(triangles[k]),
+                beyond: beyond[k],
+                outside: outside[k],
+                singular: shaded.singular[k],
+                stretch: shaded.stretch[k],
+            }));
         }
     }
 
@@ -568,65 +585,65 @@ impl Sampler<'_> {
         hits: &[Option<bvh::Hit>],
     ) -> ([Option<f32>; bvh::PACKET], [Option<f32>; bvh::PACKET]) {
         let mut found = ([None; bvh::PACKET], [None; bvh::PACKET]);
-        let missed: Vec<usize> = (0..rays.len())
-            .filter(|&k| hits[k].is_none() && normals[k] != Vec3::ZERO)
-            .filter(|&k| self.targets.paired(triangles[k]))
-            .collect();
-        if missed.is_empty() {
+        // The missed rays that had something to meet, packed at the front.
+        let (mut missed, mut n) = ([0usize; bvh::PACKET], 0);
+        for k in 0..rays.len() {
+            if hits[k].is_none() && normals[k] != Vec3::ZERO && self.targets.paired(triangles[k]) {
+                missed[n] = k;
+                n += 1;
+            }
+        }
+        if n == 0 {
             return found;
         }
+        let missed = &missed[..n];
+        let from: [usize; bvh::PACKET] =
+            std::array::from_fn(|j| missed.get(j).map_or(0, |&k| triangles[k]));
         for (sign, into) in [(1.0, &mut found.0), (-1.0, &mut found.1)] {
-            let looks: Vec<bvh::Ray> = missed
-                .iter()
-                .map(|&k| bvh::Ray {
+            let mut looks = [bvh::Ray::IDLE; bvh::PACKET];
+            for (look, &k) in looks.iter_mut().zip(missed) {
+                *look = bvh::Ray {
                     origin: rays[k].origin,
                     direction: rays[k].direction * sign,
                     max_distance: self.reach.look,
-                })
-                .collect();
-            let from: Vec<usize> = missed.iter().map(|&k| triangles[k]).collect();
-            let mut hits = vec![None; looks.len()];
-            self.targets.first_hits(&from, &looks, &mut hits);
-            for (&k, hit) in missed.iter().zip(hits) {
+                };
+            }
+            let mut hits = [None; bvh::PACKET];
+            (self.targets).first_hits(&from[..n], &looks[..n], &mut hits[..n]);
+            for (&k, hit) in missed.iter().zip(&hits[..n]) {
                 into[k] = hit.map(|h| h.distance);
             }
         }
         found
     }
 
-    /// The samples of `chunk` (at barycentrics `b` of LOW's triangle `t` each, LOW's normal there
-    /// in `normals`), given HIGH's normal where each ray met HIGH (`None`: it met nothing), into
-    /// `out`. Each step is taken for the whole chunk before the next, so that one sample's long
-    /// divisions and square roots overlap the others'.
+    /// The map's normal of each sample of `chunk` (at barycentrics `b` of LOW's triangle `t`
+    /// each, LOW's normal there in `normals`), given HIGH's normal where each ray met HIGH
+    /// (`None`: it met nothing). Each step is taken for the whole chunk before the next, so that
+    /// one sample's long divisions and square roots overlap the others'.
     fn shade(
         &self,
         chunk: &[(usize, [f32; 3])],
         normals: &[Vec3],
         high: &[Option<Vec3>],
-        out: &mut Vec<Sample>,
-    ) {
-        let first = out.len();
-        out.extend(high.iter().map(|high| Sample {
-            normal: Vec3::Z,
-            missed: high.is_none(),
-            beyond: None,
-            outside: None,
-            singular: false,
-            stretch: None,
-        }));
-        let samples = &mut out[first..];
+    ) -> Shaded {
+        let mut shaded = Shaded {
+            normal: [Vec3::Z; bvh::PACKET],
+            singular: [false; bvh::PACKET],
+            stretch: [None; bvh::PACKET],
+        };
         if self.space == Space::Object {
-            for ((sample, high), normal) in samples.iter_mut().zip(high).zip(normals) {
+            for ((out, high), normal) in shaded.normal.iter_mut().zip(high).zip(normals) {
                 // A miss keeps LOW's own normal: the object-space map's "flat"; so does a hit
                 // where HIGH's normal has no direction (a file normal of 0, or one too long to
                 // square in f32), which the tangent-space map writes flat too.
-                sample.normal = match high.filter(|n| *n != Vec3::ZERO) {
+                *out = match high.filter(|n| *n != Vec3::ZERO) {
                     Some(n) => n,
                     None if *normal == Vec3::ZERO => Vec3::Z,
                     None => *normal,
                 };
             }
-            return;
+            return shaded;
         }
         let mut frames = [[DVec3::ZERO; 3]; bvh::PACKET];
         for (frame, &(t, b)) in frames.iter_mut().zip(chunk) {
@@ -634,8 +651,8 @@ impl Sampler<'_> {
         }
         let frames = &frames[..chunk.len()];
         if self.measure_skew {
-            for (sample, frame) in samples.iter_mut().zip(frames) {
-                sample.stretch = Some(stretch(frame));
+            for (out, frame) in shaded.stretch.iter_mut().zip(frames) {
+                *out = Some(stretch(frame));
             }
         }
         // t = (T B N)⁻¹ n, where the frame has an inverse.
@@ -649,18 +666,19 @@ impl Sampler<'_> {
             if det.abs() > 1e-9 * scale && det.is_finite() {
                 solved[k] = matrix.inverse() * n.as_dvec3();
             } else {
-                samples[k].singular = true;
+                shaded.singular[k] = true;
             }
         }
-        for (sample, solved) in samples.iter_mut().zip(&solved) {
-            if sample.missed || sample.singular {
+        for (k, (solved, high)) in solved.iter().zip(high).enumerate() {
+            if high.is_none() || shaded.singular[k] {
                 continue;
             }
             let t = solved.normalize_or_zero();
             if t != DVec3::ZERO {
-                sample.normal = t.as_vec3();
+                shaded.normal[k] = t.as_vec3();
             }
         }
+        shaded
     }
 
     /// HIGH's normal where the ray met it: interpolated, or the face's.

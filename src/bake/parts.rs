@@ -10,7 +10,7 @@
 
 use glam::Vec3;
 
-use super::bvh::{Bvh, Hit, Ray};
+use super::bvh::{Bvh, Hit, Ray, PACKET};
 use crate::common::objloader::TriangleSoup;
 use crate::model::parts::PartNames;
 
@@ -198,36 +198,43 @@ impl<'a> Targets<'a> {
 
     /// [`Bvh::first_hits`] of `rays`, each among what rays from its LOW triangle in `low_triangles`
     /// may meet; a hit's triangle is HIGH's index. The rays of one pair are traced together (a
-    /// packet's rays are nearly always one part's).
+    /// packet's rays are nearly always one part's), [`PACKET`] at a time, with nothing allocated.
     pub fn first_hits(&self, low_triangles: &[usize], rays: &[Ray], hits: &mut [Option<Hit>]) {
         let (pairs, low) = match self {
             Targets::Whole(bvh) => return bvh.first_hits(rays, hits),
             Targets::Pairs { pairs, low } => (pairs, low),
         };
-        let mut done = vec![false; rays.len()];
-        for k in 0..rays.len() {
-            if done[k] {
-                continue;
-            }
-            let pair = low[low_triangles[k]];
-            let ours: Vec<usize> = (k..rays.len())
-                .filter(|&j| !done[j] && low[low_triangles[j]] == pair)
-                .collect();
-            for &j in &ours {
-                done[j] = true;
-                hits[j] = None;
-            }
-            let Some((bvh, triangles)) = pairs.get(pair as usize) else {
-                continue;
-            };
-            let our_rays: Vec<Ray> = ours.iter().map(|&j| rays[j]).collect();
-            let mut our_hits = vec![None; ours.len()];
-            bvh.first_hits(&our_rays, &mut our_hits);
-            for (&j, hit) in ours.iter().zip(our_hits) {
-                hits[j] = hit.map(|hit| Hit {
-                    triangle: triangles[hit.triangle as usize],
-                    ..hit
-                });
+        let packets = (low_triangles.chunks(PACKET))
+            .zip(rays.chunks(PACKET))
+            .zip(hits.chunks_mut(PACKET));
+        for ((low_triangles, rays), hits) in packets {
+            let mut done = [false; PACKET];
+            for k in 0..rays.len() {
+                if done[k] {
+                    continue;
+                }
+                let pair = low[low_triangles[k]];
+                // This pair's rays of the packet, and where each came from.
+                let (mut ours, mut our_rays, mut n) = ([0usize; PACKET], [Ray::IDLE; PACKET], 0);
+                for j in k..rays.len() {
+                    if !done[j] && low[low_triangles[j]] == pair {
+                        done[j] = true;
+                        hits[j] = None;
+                        (ours[n], our_rays[n]) = (j, rays[j]);
+                        n += 1;
+                    }
+                }
+                let Some((bvh, triangles)) = pairs.get(pair as usize) else {
+                    continue;
+                };
+                let mut our_hits = [None; PACKET];
+                bvh.first_hits(&our_rays[..n], &mut our_hits[..n]);
+                for (&j, hit) in ours[..n].iter().zip(&our_hits[..n]) {
+                    hits[j] = hit.map(|hit| Hit {
+                        triangle: triangles[hit.triangle as usize],
+                        ..hit
+                    });
+                }
             }
         }
     }

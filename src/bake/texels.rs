@@ -11,8 +11,10 @@ use crate::pipeline::on_threads;
 
 /// Rows of texels baked together: small enough that the bands share the cores evenly.
 const BAND_ROWS: usize = 8;
-/// Samples a side of the tiles traced together (a texel's K × K, or that many texels' at K = 1).
-const TILE_SAMPLES: usize = 4;
+/// Samples a side of the tiles traced together: 2 × 2 texels' 4 × 4 rays, or 8 × 8 texels' one
+/// ray each (a packet, [`super::bvh::PACKET`]). A texel's 4 × 4 alone made a packet of 16 rays
+/// within one texel, whose walk down the hierarchy cost as much as one of sixteen texels'.
+const TILE_SAMPLES: usize = 8;
 /// No triangle owns a sample.
 const NONE: u32 = u32::MAX;
 
@@ -194,8 +196,8 @@ impl UvLayout {
         }
         let mut stats = BakeStats::default();
         let mut stretches = Vec::new();
-        // The samples are traced a tile of texels at a time, whose rays start side by side: a
-        // texel's K × K, or 4 × 4 texels' at K = 1 (see `Bvh::first_hits`).
+        // The samples are traced a tile of texels at a time, whose rays start side by side: 2 × 2
+        // texels' 4 × 4, or 8 × 8 texels' at K = 1 (see `Bvh::first_hits`).
         let tile = (TILE_SAMPLES / k).max(1);
         let mut batch = Vec::new();
         let mut found = Vec::new();
