@@ -83,8 +83,8 @@ pub struct Panel {
     tour_excerpts: Option<TourExcerpts>,
     /// The heat map of the last exercise check's answer, as a texture, with the answer's serial.
     heat_map: Option<(u32, egui::TextureHandle)>,
-    /// Whether a frame was laid out already (see [`Panel::run`]).
-    laid_out: bool,
+    /// The scene the last frame was laid out for (see [`Panel::run`]); `None` before the first.
+    laid_out_for: Option<&'static str>,
     /// Where each widget was in the last frame, in pixels.
     widgets: Vec<(PanelWidget, egui::Rect)>,
     /// What the last layout showed, and whether egui asked for another frame (an animation).
@@ -132,7 +132,7 @@ impl Panel {
             tour_rect: None,
             tour_excerpts: None,
             heat_map: None,
-            laid_out: false,
+            laid_out_for: None,
             widgets: Vec::new(),
             shown: None,
             repaint: false,
@@ -249,16 +249,23 @@ impl Panel {
             panel_rect = Some(response.response.rect);
             view.show_compare_labels(ui.ctx());
         };
-        // egui sizes a grid's columns from the frame before: the very first frame is laid out
-        // twice (the first, with no input, not painted) so that a one-frame screenshot is not
-        // drawn from a guess. Its texture uploads (the font atlas) are kept.
+        // egui sizes a grid's columns from the frame before, and its rows' stripes from the one
+        // before that: the very first frame is laid out twice (the first, with no input, not
+        // painted), and the first after a change of scene three times (two frames would show the
+        // last scene's sizes: 4,352 then 1,272 pixels of the sprite's panel, a screenshot taken
+        // just after Enter among them). Their texture uploads (the font atlas) are kept.
         let mut textures = egui::TexturesDelta::default();
-        if !self.laid_out {
+        let warm_ups = match self.laid_out_for {
+            None => 1,
+            Some(name) if name != descriptor.name => 2,
+            Some(_) => 0,
+        };
+        for _ in 0..warm_ups {
             let warm_up = Panel::headless_input_like(&input);
             let first = self.ctx.run_ui(warm_up, &mut layout);
             textures.append(first.textures_delta);
-            self.laid_out = true;
         }
+        self.laid_out_for = Some(descriptor.name);
         let mut output = self.ctx.run_ui(input, &mut layout);
         textures.append(std::mem::take(&mut output.textures_delta));
         output.textures_delta = textures;
