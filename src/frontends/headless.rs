@@ -132,6 +132,12 @@ impl HeadlessRenderer {
         for _ in 0..frames.max(1) {
             self.render()?;
         }
+        // Every command of the frame complete, the fences among them signalled: reading the
+        // target back only waits for the target, so the compare view's numbers of this frame,
+        // behind their own fence, could still be pending when the status is read after it (seen:
+        // compare_view's status without them, in the debug profile under load).
+        // SAFETY: waits for the current context's queued work.
+        unsafe { self.host.gl().gl.finish() };
         let image = self.target.read_rgba();
         self.check_errors()?;
         Ok(image)
