@@ -18,6 +18,11 @@ pub const STEP_TIMEOUT: Duration = Duration::from_secs(60);
 /// One server at a time in the test binary: two started at once can both pick the same free display.
 static ONE_SERVER: Mutex<()> = Mutex::new(());
 
+/// The programs started on the server now running (one window test at a time, [`ONE_SERVER`]): a
+/// wait that runs out says what became of each ([`programs_report`]), since a window that stopped
+/// answering and a program that died look alike from xdotool.
+static PROGRAMS: Mutex<Vec<(u32, Arc<Mutex<String>>)>> = Mutex::new(Vec::new());
+
 /// Xvfb on a display it picks itself (`-displayfd`, so a developer's own X server never clashes),
 /// killed when dropped (also when the test panics).
 pub struct Xvfb {
@@ -170,8 +175,8 @@ impl Program {
             self.assert_running(what);
             assert!(
                 start.elapsed() < STEP_TIMEOUT,
-                "{what}: not seen within {STEP_TIMEOUT:?}; the program's stderr:\n{}",
-                self.stderr()
+                "{what}: not seen within {STEP_TIMEOUT:?}{}",
+                programs_report()
             );
             std::thread::sleep(POLL);
         }
@@ -212,8 +217,9 @@ impl Program {
             self.assert_running(&what);
             assert!(
                 start.elapsed() < STEP_TIMEOUT,
-                "{what}: not seen within {STEP_TIMEOUT:?}; its stdout:\n{}",
-                self.stdout()
+                "{what}: not seen within {STEP_TIMEOUT:?}; its stdout:\n{}{}",
+                self.stdout(),
+                programs_report()
             );
             std::thread::sleep(POLL);
         }
@@ -222,6 +228,11 @@ impl Program {
 
 impl Drop for Program {
     fn drop(&mut self) {
+        let pid = self.child.id();
+        PROGRAMS
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .retain(|(p, _)| *p != pid);
         if let Ok(None) = self.child.try_wait() {
             let _ = self.child.kill();
             let _ = self.child.wait();
@@ -246,6 +257,10 @@ impl Xvfb {
             .spawn()
             .unwrap();
         let (stdout, stderr) = (Arc::default(), Arc::default());
+        PROGRAMS
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push((child.id(), Arc::clone(&stderr)));
         let readers = vec![
             keep_reading(child.stdout.take().unwrap(), Arc::clone(&stdout)),
             keep_reading(child.stderr.take().unwrap(), Arc::clone(&stderr)),
@@ -373,12 +388,77 @@ pub fn wait_for<T>(what: &str, mut get: impl FnMut() -> Option<T>) -> T {
         if let Some(value) = get() {
             return value;
         }
-        assert!(
-            start.elapsed() < STEP_TIMEOUT,
-            "{what}: not seen within {STEP_TIMEOUT:?}"
-        );
+        if start.elapsed() >= STEP_TIMEOUT {
+            panic!(
+                "{what}: not seen within {STEP_TIMEOUT:?}{}",
+                programs_report()
+            );
+        }
         std::thread::sleep(POLL);
     }
+}
+
+/// What became of each program started on the server: exited (how, from `/proc/PID/stat`'s exit
+/// code, before it is reaped) or still running (each thread's name, state and kernel wait, and its
+/// stacks by gdb where gdb is installed), with the end of its stderr.
+fn programs_report() -> String {
+    let programs = PROGRAMS.lock().unwrap_or_else(|e| e.into_inner()).clone();
+    let mut report = String::new();
+    for (pid, stderr) in programs {
+        let state = match proc_stat(&format!("/proc/{pid}/stat")) {
+            None => "gone".to_string(),
+            Some(fields) if fields[0] == "Z" => {
+                let code: i32 = fields.get(49).and_then(|c| c.parse().ok()).unwrap_or(-1);
+                match (code & 0x7f, code >> 8) {
+                    (0, status) => format!("exited with status {status}"),
+                    (signal, _) => format!("killed by signal {signal}"),
+                }
+            }
+            Some(fields) => format!("running (state {}){}", fields[0], threads_report(pid)),
+        };
+        let stderr = stderr.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        let lines: Vec<&str> = stderr.lines().collect();
+        let tail = lines[lines.len().saturating_sub(30)..].join("\n");
+        report += &format!("\nthe program (pid {pid}): {state}; the end of its stderr:\n{tail}");
+    }
+    report
+}
+
+/// The fields of a `/proc/.../stat` file after the command's name (which may hold spaces): the
+/// state first.
+fn proc_stat(path: &str) -> Option<Vec<String>> {
+    let stat = std::fs::read_to_string(path).ok()?;
+    let after_name = &stat[stat.rfind(')')? + 1..];
+    Some(after_name.split_whitespace().map(str::to_string).collect())
+}
+
+/// A running program's threads: name, state and kernel wait channel each, then gdb's stacks.
+fn threads_report(pid: u32) -> String {
+    let mut report = String::from("; its threads:");
+    let tasks = std::fs::read_dir(format!("/proc/{pid}/task"))
+        .into_iter()
+        .flatten();
+    for task in tasks.flatten() {
+        let dir = task.path();
+        let read = |name: &str| std::fs::read_to_string(dir.join(name)).unwrap_or_default();
+        let state = proc_stat(&dir.join("stat").to_string_lossy())
+            .map_or("?".to_string(), |f| f[0].clone());
+        report += &format!(
+            "\n  {} {} {}",
+            read("comm").trim(),
+            state,
+            read("wchan").trim()
+        );
+    }
+    let gdb = Command::new("timeout")
+        .args(["60", "gdb", "-p", &pid.to_string(), "-batch", "-q"])
+        .args(["-ex", "thread apply all bt 16"])
+        .stdin(Stdio::null())
+        .output();
+    if let Ok(out) = gdb {
+        report += &format!("\ngdb's stacks:\n{}", String::from_utf8_lossy(&out.stdout));
+    }
+    report
 }
 
 /// [`wait_for`] a condition.
