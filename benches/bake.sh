@@ -5,13 +5,8 @@
 # skipped, with a line, where it is not). Our figure is the whole command, both files read.
 #
 #   bash benches/bake.sh [DIR]      # DIR: where the pair and the maps go (default target/bench-bake)
-set -euo pipefail
-cd "$(dirname "$0")/.."
-dir="${1:-target/bench-bake}"
-mkdir -p "$dir"
-cargo build --release --quiet
-bin="$PWD/target/release/tutorial13"
-settings=(--extrusion 0.05 --max-distance 0.1 --margin 16)
+DEFAULT_DIR=target/bench-bake
+source "$(dirname "$0")/bake_setup.sh"
 
 # /usr/bin/time's elapsed seconds of a command, its log kept in $dir/$name.log.
 seconds() {

@@ -8,13 +8,8 @@
 # operator and the PNG save, the scene already built (as benches/bake.sh measures the sphere).
 #
 #   bash benches/bake_shapes.sh [DIR]   # DIR: where the pairs and the maps go (target/bench-shapes)
-set -euo pipefail
-cd "$(dirname "$0")/.."
-dir="${1:-target/bench-shapes}"
-mkdir -p "$dir"
-cargo build --release --quiet
-bin="$PWD/target/release/tutorial13"
-settings=(--extrusion 0.05 --max-distance 0.1 --margin 16)
+DEFAULT_DIR=target/bench-shapes
+source "$(dirname "$0")/bake_setup.sh"
 if ! command -v blender > /dev/null; then
   echo "blender: not installed (apt-get install blender python3-numpy); the ratios need it" >&2
   exit 1
