@@ -11,7 +11,7 @@ use tutorial13::bake::{BakeFiles, BakeSettings, BakedMap, Space, TexelState};
 use tutorial13::model::{load_model, MapOverrides};
 use tutorial13::tangent_source::TangentSource;
 
-use crate::common::{run, scratch, text, tutorial13};
+use crate::common::{run, scratch, text, tutorial13, without_uvs};
 
 /// HIGH's segments and rings: fine enough that its interpolated normals are the relief's within a
 /// few hundredths of a degree.
@@ -955,25 +955,7 @@ fn high_without_uvs_bakes_the_same_map() {
     let dir = scratch("high-no-uvs");
     let high = sphere(&dir, "high.obj", 64, 32, &relief(), false);
     let low = sphere(&dir, "low.obj", 16, 8, &round, false);
-    let sculpt = std::fs::read_to_string(&high)
-        .unwrap()
-        .lines()
-        .filter(|l| !l.starts_with("vt "))
-        .map(|l| match l.strip_prefix("f ") {
-            Some(corners) => {
-                let corners: Vec<String> = corners
-                    .split(' ')
-                    .map(|c| {
-                        let p: Vec<&str> = c.split('/').collect();
-                        format!("{}//{}", p[0], p[2])
-                    })
-                    .collect();
-                format!("f {}", corners.join(" "))
-            }
-            None => l.to_string(),
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
+    let sculpt = without_uvs(&std::fs::read_to_string(&high).unwrap());
     let sculpt_path = dir.join("sculpt.obj");
     std::fs::write(&sculpt_path, sculpt).unwrap();
     let mut maps = Vec::new();

@@ -896,30 +896,37 @@ fn k_twice_shows_the_native_heat_map() {
     assert!(like_lit < WITHIN, "the page shows the lit frame");
 }
 
+/// `tutorial13 bake HIGH LOW -o native_normal.png --size 256` in `dir`, the map the page's bake
+/// must equal; fails with its stderr if the command fails.
+fn native_bake(dir: &Path, high: &str, low: &str) {
+    let native = common::run(
+        common::tutorial13()
+            .args([
+                "bake",
+                high,
+                low,
+                "-o",
+                "native_normal.png",
+                "--size",
+                "256",
+            ])
+            .current_dir(dir),
+    );
+    assert!(native.status.success(), "{}", common::text(&native.stderr));
+}
+
 /// A bake's pair as artists hand it over, written into `dir`: HIGH a sculpt exported without UVs
 /// (`f v//vn`, as ZBrush and Blender's sculpt exports write it), a bumpy sphere of `segments` ×
 /// `segments / 2`; LOW a 32 × 16 UV sphere with its MTL and a PNG diffuse map. The files of each,
 /// model first.
 fn bake_pair(dir: &Path, segments: u32) -> (Vec<&'static str>, Vec<&'static str>) {
     let relief = tutorial13::assets::obj_text::bumps(0.02, 6.0);
-    let sculpt: String =
-        tutorial13::assets::obj_text::sphere_obj_text(segments, segments / 2, &relief, false)
-            .lines()
-            .filter(|l| !l.starts_with("vt "))
-            .map(|l| match l.strip_prefix("f ") {
-                Some(corners) => {
-                    let corners: Vec<String> = corners
-                        .split(' ')
-                        .map(|c| {
-                            let parts: Vec<&str> = c.split('/').collect();
-                            format!("{}//{}", parts[0], parts[2])
-                        })
-                        .collect();
-                    format!("f {}\n", corners.join(" "))
-                }
-                None => format!("{l}\n"),
-            })
-            .collect();
+    let sculpt = common::without_uvs(&tutorial13::assets::obj_text::sphere_obj_text(
+        segments,
+        segments / 2,
+        &relief,
+        false,
+    ));
     std::fs::write(dir.join("sculpt.obj"), sculpt).expect("sculpt.obj");
     let round = tutorial13::assets::obj_text::round;
     let low = tutorial13::assets::obj_text::sphere_obj_text(32, 16, &round, false);
@@ -977,20 +984,7 @@ fn the_page_bakes_the_native_map_and_draws_it_on_low() {
     };
     let drops = served_drops();
     let (high, low) = bake_pair(&drops, 192);
-    let native = common::run(
-        common::tutorial13()
-            .args([
-                "bake",
-                high[0],
-                low[0],
-                "-o",
-                "native_normal.png",
-                "--size",
-                "256",
-            ])
-            .current_dir(&drops),
-    );
-    assert!(native.status.success(), "{}", common::text(&native.stderr));
+    native_bake(&drops, high[0], low[0]);
     let query = format!(
         "scene=cylinder&panel=off&frames=100000&bake-high={}&bake-low={}&bake-set=bake-size:256",
         high.join(","),
@@ -1141,20 +1135,7 @@ fn cancel_ends_the_bake() {
     };
     let drops = served_drops();
     let (high, low) = bake_pair(&drops, 192);
-    let native = common::run(
-        common::tutorial13()
-            .args([
-                "bake",
-                high[0],
-                low[0],
-                "-o",
-                "native_normal.png",
-                "--size",
-                "256",
-            ])
-            .current_dir(&drops),
-    );
-    assert!(native.status.success(), "{}", common::text(&native.stderr));
+    native_bake(&drops, high[0], low[0]);
     let query = format!(
         "scene=cylinder&panel=off&frames=100000&bake-high={}&bake-low={}\
          &bake-set=bake-size:1024&bake-cancel&bake-again=bake-size:256",

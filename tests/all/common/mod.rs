@@ -708,3 +708,24 @@ pub fn check_docs_picture(picture: &RgbImage, docs_path: &str, module: &str) {
          TUTORIAL13_UPDATE_DOCS=1 cargo test --release -- {module}::"
     );
 }
+
+/// `obj` as a sculpt's export writes it: no UV layout (the `vt` lines dropped, each corner
+/// `v/vt/vn` written `v//vn`), as ZBrush and Blender's sculpt exports do.
+pub fn without_uvs(obj: &str) -> String {
+    obj.lines()
+        .filter(|l| !l.starts_with("vt "))
+        .map(|l| match l.strip_prefix("f ") {
+            Some(corners) => {
+                let corners: Vec<String> = corners
+                    .split(' ')
+                    .map(|c| {
+                        let parts: Vec<&str> = c.split('/').collect();
+                        format!("{}//{}", parts[0], parts[2])
+                    })
+                    .collect();
+                format!("f {}\n", corners.join(" "))
+            }
+            None => format!("{l}\n"),
+        })
+        .collect()
+}
