@@ -1211,11 +1211,65 @@ fn native_tour_frame(n: usize, panel: bool) -> RgbImage {
     frame(&mut renderer)
 }
 
+/// The native host's state line ([`tutorial13::frontends::host::SceneHost::state_line`]) at the
+/// tour's step `n` (from 1), as `--tour N` puts it there.
+fn native_step_state(n: usize) -> String {
+    let step = &tutorial13::tour::STEPS[n - 1];
+    let mut renderer = native_renderer(step.state.scene);
+    renderer
+        .host
+        .set_step_state(step)
+        .expect("the step's state");
+    renderer.host.state_line()
+}
+
+/// Checks the states the page went through on the walk 1 → 18 → 10 (`data-states`, one line per
+/// change): one step at a time, up to the last step and down to 10 (the sprite's step 18 may be
+/// passed over: a PageUp pressed while its files come in steps on from 18 asked, as it should), and
+/// each state the native host's at that step, switches, sliders, scene and camera.
+fn check_walk_states(page: &Loaded) {
+    let states = page
+        .attribute("canvas", "data-states")
+        .expect("data-states")
+        .replace("&quot;", "\"")
+        .replace("&amp;", "&");
+    let states: Vec<&str> = states.lines().collect();
+    let step_of = |line: &str| -> usize {
+        let number = line.strip_prefix("step ").and_then(|l| l.split(' ').next());
+        number
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("a state outside the tour: {line}"))
+    };
+    let steps: Vec<usize> = states.iter().map(|l| step_of(l)).collect();
+    let top = *steps.iter().max().unwrap_or(&0);
+    let walked: Vec<usize> = (1..=top).chain((10..top).rev()).collect();
+    assert!(
+        steps == walked && top >= STEPS_BEFORE_THE_SPRITE,
+        "the page's steps, one per change: {steps:?}"
+    );
+    let mut native = std::collections::HashMap::new();
+    for (line, n) in states.iter().zip(&steps) {
+        let expected = native.entry(*n).or_insert_with(|| native_step_state(*n));
+        assert_eq!(
+            line, expected,
+            "the page's state at step {n} is not --tour {n}'s"
+        );
+    }
+    eprintln!(
+        "web: the walk went through {} states, each --tour N's (steps {steps:?})",
+        states.len()
+    );
+}
+
+/// The tour's steps on the cylinder, before its last, the sprite's.
+const STEPS_BEFORE_THE_SPRITE: usize = 17;
+
 // Fails if the page's `?tour=N` is not the native `--tour N` frame (the step's scene and state, the
 // pane drawn by the panel), if PageDown and PageUp on the page do not step through the whole tour
 // (its last step, the sprite, fetched on the way) and back to the state of the step they land on
-// (step 10's switch, not the colour view an earlier step set), or if a bad `?tour=` is anything but
-// the one line on the page naming it.
+// (step 10's switch, not the colour view an earlier step set), if any state the page passes through
+// on the way is not its step's native state (switches, sliders, scene, camera), or if a bad
+// `?tour=` is anything but the one line on the page naming it.
 #[test]
 fn the_tour_in_the_page_steps_forward_and_back() {
     let Some(base) = page_url("web::the_tour_in_the_page_steps_forward_and_back") else {
@@ -1244,6 +1298,7 @@ fn the_tour_in_the_page_steps_forward_and_back() {
         "the last step's scene was not fetched: {:?}",
         page.fetched()
     );
+    check_walk_states(&page);
     // A tour key shows the panel F1 (or `panel=off`) hid: the pane is the panel's.
     let share = share_within(&page.shot, &native_tour_frame(10, true));
     eprintln!(

@@ -296,6 +296,27 @@ impl SceneHost {
         self.tour.and_then(|index| STEPS.get(index))
     }
 
+    /// The host's state in one line: the tour's step, the scene with every control (its status) and
+    /// the camera (position, then the horizontal and vertical angles, each number as Rust writes it,
+    /// so read back exactly). The page keeps one per change (`data-states`, with `frames=N`), which
+    /// its tests compare with the native host's in the same state.
+    pub fn state_line(&self) -> String {
+        let step = self.tour_step().map_or("no step".to_string(), |step| {
+            format!("step {}", step.number())
+        });
+        let c = &self.controls;
+        format!(
+            "{step} | {}: {} | camera {} {} {} {} {}",
+            self.descriptor.name,
+            self.scene.status(),
+            c.position.x,
+            c.position.y,
+            c.position.z,
+            c.horizontal_angle,
+            c.vertical_angle
+        )
+    }
+
     /// Puts the host in `step`'s state: its scene built again (with the command line's options, so
     /// that nothing an earlier step set stays), then [`SceneHost::set_step_state`]. On an error the
     /// scene that was built stays, and so does the tour's step.

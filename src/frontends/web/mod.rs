@@ -58,6 +58,9 @@ struct Page {
     /// page's `data-frame-ms` is their median, as `--bench` times the native frames. The last
     /// [`FRAME_MS_KEPT`] only: the median is taken every frame, and a page may stay open for hours.
     frame_ms: Vec<f64>,
+    /// With `frames=N`, the host's state after each frame that changed it
+    /// ([`SceneHost::state_line`]): the tests' record of a walk through the tour.
+    states: Vec<String>,
 }
 
 impl Page {
@@ -315,6 +318,7 @@ async fn run() -> Result<(), String> {
         target,
         frames_left: contract.frames,
         frame_ms: Vec::new(),
+        states: Vec::new(),
     }));
     FROZEN.with(|frozen| frozen.set(contract.frames.is_some()));
     input::listen(&window, &canvas, &page)?;
@@ -440,7 +444,7 @@ fn animate(page: Rc<RefCell<Page>>) {
         };
         page.frame();
         page.honour(&shared);
-        set_frames_drawn(&page);
+        set_frames_drawn(&mut page);
         if page.frames_left != Some(0) {
             if let Some(callback) = again.borrow().as_ref() {
                 request_animation_frame(callback);
@@ -480,8 +484,9 @@ thread_local! {
 
 /// `data-frames` on the canvas: how many frames are drawn (the tests wait for it); with the
 /// figures BENCHMARKS.md gives: `data-first-frame-ms`, when the first frame was drawn since the
-/// page's navigation began, and `data-frame-ms`, the median frame time so far; and `data-camera`.
-fn set_frames_drawn(page: &Page) {
+/// page's navigation began, and `data-frame-ms`, the median frame time so far; and `data-camera`
+/// and `data-states` ([`Page::states`]).
+fn set_frames_drawn(page: &mut Page) {
     let Some(canvas) = element("canvas") else {
         return;
     };
@@ -509,4 +514,9 @@ fn set_frames_drawn(page: &Page) {
         c.position.x, c.position.y, c.position.z, c.horizontal_angle, c.vertical_angle
     );
     let _ = canvas.set_attribute("data-camera", &camera);
+    let state = page.host.state_line();
+    if page.states.last() != Some(&state) {
+        page.states.push(state);
+        let _ = canvas.set_attribute("data-states", &page.states.join("\n"));
+    }
 }
