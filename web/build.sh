@@ -37,7 +37,7 @@ module=target/wasm32-unknown-unknown/release/tutorial13_web.wasm
 # target emits.
 if command -v wasm-opt >/dev/null; then
   say "shrinking the module with wasm-opt -Os (about a minute)"
-  wasm-opt -Os --enable-bulk-memory --enable-sign-ext --enable-nontrapping-float-to-int \
+  wasm-opt -Os --enable-simd --enable-bulk-memory --enable-sign-ext --enable-nontrapping-float-to-int \
     --enable-mutable-globals --enable-reference-types --enable-multivalue \
     "$module" -o target/wasm32-unknown-unknown/release/tutorial13_web.opt.wasm
   module=target/wasm32-unknown-unknown/release/tutorial13_web.opt.wasm
