@@ -1196,15 +1196,21 @@ fn the_pages_module_is_within_its_budget() {
     );
 }
 
-/// The native frame of the tour's step `n` (from 1) as `--headless --tour N` draws it, with the
-/// panel and the pane where `panel`.
-fn native_tour_frame(n: usize, panel: bool) -> RgbImage {
+/// A native renderer at the tour's step `n` (from 1), as `--headless --tour N` puts it there.
+fn native_at_step(n: usize) -> HeadlessRenderer {
     let step = &tutorial13::tour::STEPS[n - 1];
     let mut renderer = native_renderer(step.state.scene);
     renderer
         .host
         .set_step_state(step)
         .expect("the step's state");
+    renderer
+}
+
+/// The native frame of the tour's step `n` (from 1) as `--headless --tour N` draws it, with the
+/// panel and the pane where `panel`.
+fn native_tour_frame(n: usize, panel: bool) -> RgbImage {
+    let mut renderer = native_at_step(n);
     if panel {
         renderer.host.show_panel().expect("the panel");
     }
@@ -1212,15 +1218,9 @@ fn native_tour_frame(n: usize, panel: bool) -> RgbImage {
 }
 
 /// The native host's state line ([`tutorial13::frontends::host::SceneHost::state_line`]) at the
-/// tour's step `n` (from 1), as `--tour N` puts it there.
+/// tour's step `n` (from 1).
 fn native_step_state(n: usize) -> String {
-    let step = &tutorial13::tour::STEPS[n - 1];
-    let mut renderer = native_renderer(step.state.scene);
-    renderer
-        .host
-        .set_step_state(step)
-        .expect("the step's state");
-    renderer.host.state_line()
+    native_at_step(n).host.state_line()
 }
 
 /// Checks the states the page went through on the walk 1 → 18 → 10 (`data-states`, one line per
