@@ -978,7 +978,7 @@ fn high_without_uvs_bakes_the_same_map() {
 /// An OBJ's triangles (`v`, `vt`, `vn` and `f v/vt/vn` lines, as [`sphere`] writes them) as a binary
 /// glTF, corner by corner: the floats the OBJ holds, V turned to glTF's (down the picture), with
 /// TEXCOORD_0 or without, and with `tangents` (one per corner) where given.
-fn obj_as_glb(obj: &Path, uvs: bool, tangents: Option<&[[f32; 4]]>) -> Vec<u8> {
+pub fn obj_as_glb(obj: &Path, uvs: bool, tangents: Option<&[[f32; 4]]>) -> Vec<u8> {
     let text = std::fs::read_to_string(obj).unwrap();
     let floats = |prefix: &str| -> Vec<Vec<f32>> {
         let lines = text.lines().filter_map(|l| l.strip_prefix(prefix));

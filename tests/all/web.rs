@@ -899,17 +899,15 @@ fn k_twice_shows_the_native_heat_map() {
 /// `tutorial13 bake HIGH LOW -o native_normal.png --size 256` in `dir`, the map the page's bake
 /// must equal; fails with its stderr if the command fails.
 fn native_bake(dir: &Path, high: &str, low: &str) {
+    native_bake_to(dir, high, low, "native_normal.png", &[]);
+}
+
+/// `tutorial13 bake HIGH LOW -o OUT --size 256 ARGS…` in `dir`.
+fn native_bake_to(dir: &Path, high: &str, low: &str, out: &str, args: &[&str]) {
     let native = common::run(
         common::tutorial13()
-            .args([
-                "bake",
-                high,
-                low,
-                "-o",
-                "native_normal.png",
-                "--size",
-                "256",
-            ])
+            .args(["bake", high, low, "-o", out, "--size", "256"])
+            .args(args)
             .current_dir(dir),
     );
     assert!(native.status.success(), "{}", common::text(&native.stderr));
@@ -1193,6 +1191,62 @@ fn the_pages_module_is_within_its_budget() {
     assert!(
         gzipped <= WASM_BUDGET_GZIPPED,
         "{gzipped} bytes gzipped, over the budget of {WASM_BUDGET_GZIPPED}"
+    );
+}
+
+// Fails if a pair of binary glTF files as an exporter writes them (HIGH a bumpy sphere without a UV
+// layout, LOW a 32 × 16 UV sphere), baked in the page at 2 × 2 rays a texel, is not the map
+// `tutorial13 bake` writes from the very same two files at the same settings, byte for byte (the
+// page's glTF reader, its sample pattern and its encoder are the command's), or if the page shows a
+// line or logs an error.
+#[test]
+fn the_page_bakes_a_gltf_pair_as_the_command_does() {
+    let Some(base) = page_url("web::the_page_bakes_a_gltf_pair_as_the_command_does") else {
+        return;
+    };
+    let drops = served_drops();
+    let relief = tutorial13::assets::obj_text::bumps(0.02, 6.0);
+    let high_obj = tutorial13::assets::obj_text::sphere_obj_text(96, 48, &relief, false);
+    let round = tutorial13::assets::obj_text::round;
+    let low_obj = tutorial13::assets::obj_text::sphere_obj_text(32, 16, &round, false);
+    for (obj, glb, uvs) in [
+        (&high_obj, "gltf_high.glb", false),
+        (&low_obj, "gltf_low.glb", true),
+    ] {
+        let path = drops.join(glb).with_extension("obj");
+        std::fs::write(&path, obj).expect("the OBJ to convert");
+        let bytes = crate::bake::obj_as_glb(&path, uvs, None);
+        std::fs::write(drops.join(glb), bytes).expect("the .glb");
+    }
+    let (high, low) = ("gltf_high.glb", "gltf_low.glb");
+    native_bake_to(&drops, high, low, "native_gltf.png", &["--samples", "2"]);
+    let query = format!(
+        "scene=cylinder&panel=off&frames=100000&bake-high={high}&bake-low={low}\
+         &bake-set=bake-size:256,bake-samples:2"
+    );
+    let page = load_when("bake-gltf", &base, &query, BAKE_SETTLED);
+    page.check_clean("the glTF bake");
+    assert_eq!(
+        page.attribute("bake", "data-state").as_deref(),
+        Some("done")
+    );
+    let map = baked_map(&page).expect("the page's map (#bake-map)");
+    let native = std::fs::read(drops.join("native_gltf.png")).expect("the native map");
+    let d = frame_diff(
+        &image::load_from_memory(&map)
+            .expect("the page's PNG")
+            .into_rgb8(),
+        &image::load_from_memory(&native).unwrap().into_rgb8(),
+    );
+    eprintln!(
+        "web: the page's bake of a glTF pair (256², 2 × 2 rays): {} texels differ from the \
+         command's map (by {} levels at most)",
+        d.differing(),
+        d.max()
+    );
+    assert!(
+        d.differing() == 0 && map == native,
+        "the page's map is not the command's"
     );
 }
 
