@@ -660,7 +660,6 @@ fn show_control(
     }
 }
 
-/// "A, B (in DIR)" for files of one folder, or "shaders built into the binary".
 /// The texture of `answer`'s heat map: `cached` if it is that answer's, else loaded now; `None`
 /// where the answer has none.
 fn heat_map_texture(
@@ -682,6 +681,7 @@ fn heat_map_texture(
     }
 }
 
+/// "A, B (in DIR)" for files of one folder, or "shaders built into the binary".
 fn files_line(files: &[std::path::PathBuf]) -> String {
     let Some(first) = files.first() else {
         return "  shaders built into the binary".into();

@@ -304,16 +304,22 @@ impl SceneHost {
         let step = self.tour_step().map_or("no step".to_string(), |step| {
             format!("step {}", step.number())
         });
-        let c = &self.controls;
         format!(
-            "{step} | {}: {} | camera {} {} {} {} {}",
+            "{step} | {}: {} | camera {}",
             self.descriptor.name,
             self.scene.status(),
-            c.position.x,
-            c.position.y,
-            c.position.z,
-            c.horizontal_angle,
-            c.vertical_angle
+            self.camera_line()
+        )
+    }
+
+    /// The camera: position x y z, then the horizontal and vertical angles (radians), each as Rust
+    /// writes an f32 (read back exactly). The page's `data-camera`, and the end of
+    /// [`SceneHost::state_line`].
+    pub fn camera_line(&self) -> String {
+        let c = &self.controls;
+        format!(
+            "{} {} {} {} {}",
+            c.position.x, c.position.y, c.position.z, c.horizontal_angle, c.vertical_angle
         )
     }
 

@@ -502,18 +502,12 @@ fn set_frames_drawn(page: &mut Page) {
         let (_, median) = min_median(&page.frame_ms);
         let _ = canvas.set_attribute("data-frame-ms", &format!("{median:.2}"));
     }
-    // The camera the frame was drawn with, for the input tests (`frames=N` only): position x y z,
-    // then the horizontal and vertical angles (radians), each as Rust writes an f32 (read back
-    // exactly).
+    // The camera the frame was drawn with, and the host's state, for the input tests (`frames=N`
+    // only).
     if page.frames_left.is_none() {
         return;
     }
-    let c = &page.host.controls;
-    let camera = format!(
-        "{} {} {} {} {}",
-        c.position.x, c.position.y, c.position.z, c.horizontal_angle, c.vertical_angle
-    );
-    let _ = canvas.set_attribute("data-camera", &camera);
+    let _ = canvas.set_attribute("data-camera", &page.host.camera_line());
     let state = page.host.state_line();
     if page.states.last() != Some(&state) {
         page.states.push(state);
