@@ -959,13 +959,21 @@ fn baked_map(page: &Loaded) -> Option<Vec<u8>> {
     Some((0..text.len()).step_by(2).map(byte).collect())
 }
 
-/// The page's bake ended (with its map in `#bake-map` and ten frames drawn since), or failed, or
-/// the page shows a line (an error or a notice): the condition [`load_when`] waits for.
-const BAKE_SETTLED: &str = "(bake => bake.dataset.state == 'failed' \
-    || document.getElementById('message').className != '' \
-    || (bake.dataset.state == 'done' && document.getElementById('bake-map') \
-        && Number(document.getElementById('canvas').dataset.frames) \
-           >= Number(bake.dataset.framesDuring.split(' ')[1]) + 10))(document.getElementById('bake'))";
+/// The page's bake ended (with its map in `#bake-map` and `after` frames drawn since), or failed,
+/// or the page shows a line (an error or a notice): the condition [`load_when`] waits for.
+fn bake_settled(after: u32) -> String {
+    format!(
+        "(bake => bake.dataset.state == 'failed' \
+         || document.getElementById('message').className != '' \
+         || (bake.dataset.state == 'done' && document.getElementById('bake-map') \
+             && Number(document.getElementById('canvas').dataset.frames) \
+                >= Number(bake.dataset.framesDuring.split(' ')[1]) + {after}))\
+         (document.getElementById('bake'))"
+    )
+}
+
+/// [`bake_settled`] for a test that takes the frame the map is drawn in.
+const BAKE_SETTLED_AFTER: u32 = 10;
 
 // Fails if a sculpt without UVs and a LOW with its MTL and map, dropped on the page's bake slots
 // and baked at 256² in the page's worker, do not give the very map `tutorial13 bake` writes at the
@@ -988,7 +996,7 @@ fn the_page_bakes_the_native_map_and_draws_it_on_low() {
         high.join(","),
         low.join(",")
     );
-    let page = load_when("bake", &base, &query, BAKE_SETTLED);
+    let page = load_when("bake", &base, &query, &bake_settled(BAKE_SETTLED_AFTER));
     page.check_clean("the bake");
     assert_eq!(
         page.attribute("bake", "data-state").as_deref(),
@@ -1109,7 +1117,7 @@ fn bad_bakes_give_one_line() {
             "bad-bake",
             &base,
             &format!("frames=100000&{bake}"),
-            BAKE_SETTLED,
+            &bake_settled(BAKE_SETTLED_AFTER),
         );
         page.check_console(&bake);
         assert_eq!(page.text("message"), Some(line), "{bake}");
@@ -1140,7 +1148,7 @@ fn cancel_ends_the_bake() {
         high.join(","),
         low.join(",")
     );
-    let page = load_when("cancel", &base, &query, BAKE_SETTLED);
+    let page = load_when("cancel", &base, &query, &bake_settled(BAKE_SETTLED_AFTER));
     page.check_clean("cancel");
     let map = baked_map(&page).expect("the second bake's map");
     let map = image::load_from_memory(&map)
@@ -1224,7 +1232,12 @@ fn the_page_bakes_a_gltf_pair_as_the_command_does() {
         "scene=cylinder&panel=off&frames=100000&bake-high={high}&bake-low={low}\
          &bake-set=bake-size:256,bake-samples:2"
     );
-    let page = load_when("bake-gltf", &base, &query, BAKE_SETTLED);
+    let page = load_when(
+        "bake-gltf",
+        &base,
+        &query,
+        &bake_settled(BAKE_SETTLED_AFTER),
+    );
     page.check_clean("the glTF bake");
     assert_eq!(
         page.attribute("bake", "data-state").as_deref(),
@@ -1248,6 +1261,53 @@ fn the_page_bakes_a_gltf_pair_as_the_command_does() {
         d.differing() == 0 && map == native,
         "the page's map is not the command's"
     );
+}
+
+// Fails if F twice then K twice, pressed once the page has baked a map and drawn it on LOW, do not
+// show the compare view's heat map of where the tutorial's frame reads that map otherwise than the
+// MikkTSpace frame it was baked for, as the native program draws it with `--tangents tutorial
+// --compare tutorial,mikktspace --compare-difference` (F steps MikkTSpace, the source a baked LOW is
+// drawn with, to the per-pixel frame, then to the tutorial's; K compares the source drawn with the
+// next F would pick), within the scenes' tolerance and not the lit frame; or if the page shows a
+// line or logs an error.
+#[test]
+fn k_compares_on_the_baked_low() {
+    let Some(base) = page_url("web::k_compares_on_the_baked_low") else {
+        return;
+    };
+    let drops = served_drops();
+    let (high, low) = bake_pair(&drops, 96);
+    native_bake_to(&drops, high[0], low[0], "native_for_k.png", &[]);
+    let query = format!(
+        "scene=cylinder&panel=off&frames=100000&bake-high={}&bake-low={}&bake-set=bake-size:256\
+         &bake-keys=f,f,k,k",
+        high.join(","),
+        low.join(",")
+    );
+    // The four keys are down and up again by the sixteenth frame after the bake.
+    let page = load_when("bake-k", &base, &query, &bake_settled(24));
+    page.check_clean("F and K after the bake");
+    assert_eq!(
+        page.attribute("bake", "data-state").as_deref(),
+        Some("done")
+    );
+    let mut args = vec!["--model", "low.obj", "--normal-map", "native_for_k.png"];
+    args.extend(["--tangents", "tutorial"]);
+    let lit = common::headless_screenshot(&drops, "k_lit.png", &args);
+    args.extend(["--compare", "tutorial,mikktspace", "--compare-difference"]);
+    let heat = common::headless_screenshot(&drops, "k_heat.png", &args);
+    let (share, like_lit) = (
+        share_within(&page.shot, &heat),
+        share_within(&page.shot, &lit),
+    );
+    eprintln!(
+        "web: F, F, K, K on the baked LOW: {:.2} % of pixels within {TOLERANCE} levels of the \
+         native heat map ({:.2} % of the lit frame)",
+        share * 100.0,
+        like_lit * 100.0
+    );
+    assert!(share >= WITHIN, "{share:.4} within {TOLERANCE}");
+    assert!(like_lit < WITHIN, "the page shows the lit frame");
 }
 
 /// A native renderer at the tour's step `n` (from 1), as `--headless --tour N` puts it there.
