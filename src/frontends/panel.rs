@@ -12,7 +12,7 @@
 use glow::HasContext;
 
 use super::keys::{panel_key_rows, FrontEnd};
-use super::tour_pane::{show_tour, TourClick, TourExcerpts};
+use super::tour_pane::{show_tour, TourClick, TourExcerpts, TOUR_WIDTH};
 use crate::gl::extensions::GlExtensions;
 use crate::gl::offscreen::{ColorBuffer, OffscreenTarget};
 use crate::gl::Gl;
@@ -22,6 +22,13 @@ use crate::{Error, Result};
 
 /// Width of the panel, in points.
 pub const PANEL_WIDTH: f32 = 330.0;
+/// Width of the panel folded beside the tour's pane, in points: the scene's name, the figure and the
+/// button that unfolds it.
+pub const FOLDED_WIDTH: f32 = 120.0;
+/// The scene's least width between the panel and the tour's pane, in points: in a frame narrower
+/// than both and this (the tutorial's 1024 pixels among them) the panel folds while the pane shows,
+/// which leaves the scene 464 points there where it had 254.
+pub const SCENE_BESIDE_TOUR: f32 = 400.0;
 
 /// What the panel asks of the scene after a frame's layout: applied once the layout is done, so
 /// that the scene is not borrowed while egui runs.
@@ -53,6 +60,8 @@ pub enum PanelWidget {
     Figure,
     /// A button of the tour's pane.
     Tour(TourClick),
+    /// The button that folds the panel beside the tour's pane, or unfolds it.
+    Fold,
 }
 
 /// Besides the scene, what the panel shows: the front end's own figures.
@@ -83,6 +92,8 @@ pub struct Panel {
     tour_excerpts: Option<TourExcerpts>,
     /// The heat map of the last exercise check's answer, as a texture, with the answer's serial.
     heat_map: Option<(u32, egui::TextureHandle)>,
+    /// Unfolded by the learner beside the tour's pane where it would fold ([`SCENE_BESIDE_TOUR`]).
+    unfolded: bool,
     /// The scene the last frame was laid out for (see [`Panel::run`]); `None` before the first.
     laid_out_for: Option<&'static str>,
     /// Where each widget was in the last frame, in pixels.
@@ -132,6 +143,7 @@ impl Panel {
             tour_rect: None,
             tour_excerpts: None,
             heat_map: None,
+            unfolded: false,
             laid_out_for: None,
             widgets: Vec::new(),
             shown: None,
@@ -169,6 +181,20 @@ impl Panel {
             viewports: input.viewports.clone(),
             time: input.time,
             ..Default::default()
+        }
+    }
+
+    /// Whether the panel is folded in a frame `width` points wide, with the tour's pane or without.
+    pub fn folded(&self, width: f32, tour: bool) -> bool {
+        tour && !self.unfolded && too_narrow_for_both(width)
+    }
+
+    /// The panel's width in points in a frame `width` points wide, with the tour's pane or without.
+    pub fn width(&self, width: f32, tour: bool) -> f32 {
+        if self.folded(width, tour) {
+            FOLDED_WIDTH
+        } else {
+            PANEL_WIDTH
         }
     }
 
@@ -223,6 +249,11 @@ impl Panel {
         let answer = info.exercise.as_ref();
         self.heat_map = heat_map_texture(&self.ctx, answer, self.heat_map.take());
         let heat_map = self.heat_map.as_ref().map(|(_, texture)| texture);
+        // Beside the pane in a narrow frame the panel folds unless the learner unfolded it: its
+        // button turns it over at once (the pass is laid out again).
+        let folded = self.folded(screen.width(), tour.is_some());
+        let foldable = tour.is_some() && too_narrow_for_both(screen.width());
+        let mut turned = false;
         let mut layout = |ui: &mut egui::Ui| {
             // A pass egui discards runs the closure again: only the last pass's clicks count.
             actions.clear();
@@ -235,20 +266,27 @@ impl Panel {
                 actions.extend(clicked.map(PanelAction::Tour));
                 rect
             });
+            // Once turned, this frame's passes lay it out the other way.
+            let folded = folded != turned;
+            let mut record = Record {
+                actions: &mut actions,
+                widgets: &mut widgets,
+            };
             let response = egui::Panel::left("tutorial13-panel")
-                .exact_size(PANEL_WIDTH)
+                .exact_size(if folded { FOLDED_WIDTH } else { PANEL_WIDTH })
                 .resizable(false)
                 .show(ui, |ui| {
-                    egui::ScrollArea::vertical().show(ui, |ui| {
-                        view.show(
-                            ui,
-                            &info,
-                            &mut Record {
-                                actions: &mut actions,
-                                widgets: &mut widgets,
-                            },
-                        );
-                    });
+                    let clicked = if folded {
+                        view.show_folded(ui, &info, &mut record)
+                    } else {
+                        egui::ScrollArea::vertical()
+                            .show(ui, |ui| view.show(ui, &info, foldable, &mut record))
+                            .inner
+                    };
+                    if clicked && !turned {
+                        turned = true;
+                        ui.ctx().request_discard("the panel folded or unfolded");
+                    }
                 });
             panel_rect = Some(response.response.rect);
             view.show_compare_labels(ui.ctx());
@@ -273,6 +311,9 @@ impl Panel {
         let mut output = self.ctx.run_ui(input, &mut layout);
         textures.append(std::mem::take(&mut output.textures_delta));
         output.textures_delta = textures;
+        if turned {
+            self.unfolded = !self.unfolded;
+        }
         let ppp = output.pixels_per_point;
         self.rect = panel_rect.map(|r| r * ppp);
         self.tour_rect = tour_rect.map(|r| r * ppp);
@@ -420,6 +461,22 @@ impl Record<'_> {
     }
 }
 
+/// Whether a frame `width` points wide leaves the scene less than [`SCENE_BESIDE_TOUR`] between the
+/// whole panel and the tour's pane.
+fn too_narrow_for_both(width: f32) -> bool {
+    width < PANEL_WIDTH + TOUR_WIDTH + SCENE_BESIDE_TOUR
+}
+
+/// The ms/frame figure, always one line, so that the layout is the same before the first figure and
+/// headless.
+fn show_figure(ui: &mut egui::Ui, info: &PanelInfo, record: &mut Record) {
+    let figure = match info.ms_per_frame {
+        Some(ms) => ui.label(format!("{ms:.3} ms/frame")),
+        None => ui.label("– ms/frame"),
+    };
+    record.widgets.push((PanelWidget::Figure, figure.rect));
+}
+
 /// What the panel shows of a scene, read before the layout (so the scene is not borrowed in it).
 #[derive(Debug, Clone, PartialEq)]
 struct SceneView {
@@ -439,16 +496,20 @@ impl SceneView {
         }
     }
 
-    fn show(&self, ui: &mut egui::Ui, info: &PanelInfo, record: &mut Record) {
+    /// The whole panel; where it can fold (beside the tour's pane in a narrow frame) with the
+    /// button that folds it first. Returns whether that button was clicked.
+    fn show(
+        &self,
+        ui: &mut egui::Ui,
+        info: &PanelInfo,
+        foldable: bool,
+        record: &mut Record,
+    ) -> bool {
         let d = self.descriptor;
+        let fold = foldable && record.widget(PanelWidget::Fold, &ui.button("< fold the panel"));
         ui.heading(format!("scene {}", d.name));
         ui.small(d.description);
-        // Always one line, so that the layout is the same before the first figure and headless.
-        let figure = match info.ms_per_frame {
-            Some(ms) => ui.label(format!("{ms:.3} ms/frame")),
-            None => ui.label("– ms/frame"),
-        };
-        record.widgets.push((PanelWidget::Figure, figure.rect));
+        show_figure(ui, info, record);
         // The keys and sliders first, at rows that never move (what changes length comes after
         // them), so that a click on one never shifts the next one a learner aims at.
         ui.separator();
@@ -475,6 +536,17 @@ impl SceneView {
             .default_open(false)
             .show(ui, |ui| self.show_keys(ui, record, false, info.front_end));
         ui.small("F1 hides this panel");
+        fold
+    }
+
+    /// The panel folded beside the tour's pane: the button that unfolds it, the scene's name and
+    /// the figure. Returns whether that button was clicked.
+    fn show_folded(&self, ui: &mut egui::Ui, info: &PanelInfo, record: &mut Record) -> bool {
+        let unfold = record.widget(PanelWidget::Fold, &ui.button("the panel >"));
+        ui.heading(self.descriptor.name);
+        show_figure(ui, info, record);
+        ui.small("its keys work folded; F1 hides it");
+        unfold
     }
 
     /// The controls that are sliders, in the table's order.

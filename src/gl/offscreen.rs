@@ -225,6 +225,11 @@ impl OffscreenTarget {
         }
     }
 
+    /// The framebuffer, to blit from or into.
+    pub fn framebuffer(&self) -> Option<glow::Framebuffer> {
+        Some(self.framebuffer.name())
+    }
+
     /// Samples per pixel (0: not multisampled).
     pub fn samples(&self) -> u32 {
         self.samples

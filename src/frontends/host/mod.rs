@@ -11,6 +11,7 @@
 
 mod exercise;
 mod input;
+pub mod scene_box;
 
 use std::any::Any;
 use std::collections::VecDeque;
@@ -23,7 +24,7 @@ use super::events::{AfterFetch, FrameTime, Request};
 use super::frame_clock::FrameClock;
 use super::keys::{FrontEnd, HostKey, HOST_KEYS};
 use super::panel::{Panel, PanelAction, PanelFrame, PanelInfo};
-use super::tour_pane::TourClick;
+use super::tour_pane::{TourClick, TOUR_WIDTH};
 use crate::common::controls::{Controls, Input};
 use crate::gl::check_gl_errors;
 use crate::gl::current::GlContext;
@@ -117,6 +118,9 @@ pub struct SceneHost {
     requests: VecDeque<Request>,
     /// The title last asked for.
     title: String,
+    /// The scene's own target while the tour's pane shows ([`scene_box`]); before the context,
+    /// which must outlive it.
+    boxed: scene_box::BoxedScene,
     /// What every scene it builds is built on (Enter, a dropped file), and the panel.
     context: GlContext,
 }
@@ -158,6 +162,7 @@ impl SceneHost {
             panel_events: Vec::new(),
             front_end,
             host_keys: HOST_KEYS,
+            boxed: scene_box::BoxedScene::default(),
             requests: VecDeque::new(),
             title: String::new(),
             context,
@@ -516,16 +521,39 @@ impl SceneHost {
     fn frame_in(&mut self, time: FrameTime, panel: bool) -> Result<FrameDone> {
         let tick = self.clock.tick();
         let (width, height) = self.size;
-        // SAFETY: a viewport of the frame's size on the current context.
-        unsafe { self.context.gl.viewport(0, 0, width as i32, height as i32) };
+        let scene_box = if panel { self.scene_box() } else { None };
+        let destination = match &scene_box {
+            Some(b) => Some(
+                self.boxed
+                    .bind(&self.context.gl, &self.context.extensions, b)?,
+            ),
+            // SAFETY: a viewport of the frame's size on the current context.
+            None => {
+                unsafe { self.context.gl.viewport(0, 0, width as i32, height as i32) };
+                None
+            }
+        };
         let (delta_time, seconds, frozen) = match time {
             FrameTime::Running => (tick.delta_time, tick.time, false),
             FrameTime::Frozen => (0.0, 0.0, true),
             FrameTime::Stepped(step) => (step, 0.0, false),
         };
-        let input = self.frame_input(delta_time, seconds, frozen);
+        // In a box, the scene is drawn as in a window of the box's size: its projection, its size
+        // and the cursor are the box's.
+        if let Some(b) = &scene_box {
+            self.controls.set_viewport(b.width, b.height);
+        }
+        let mut input = self.frame_input(delta_time, seconds, frozen);
+        if let Some(b) = &scene_box {
+            self.controls.set_viewport(width, height);
+            input.size = b.size();
+            input.cursor = input.cursor.map(|at| b.from_frame(at));
+        }
         self.descriptor.gl_state.apply(&self.context.gl);
         self.scene.draw(&input);
+        if let (Some(b), Some(destination)) = (&scene_box, destination) {
+            (self.boxed).show(&self.context.gl, destination, self.size, b);
+        }
         // The panel's clock is the host's where the front end's time runs (a screenshot's frozen
         // redraw included: a click spans it); where frames are frozen or stepped it gets none (egui
         // steps its own), so that such a frame's panel is the same in every front end.
@@ -551,6 +579,23 @@ impl SceneHost {
             ms_per_frame: tick.ms_per_frame,
             panel_output,
         })
+    }
+
+    /// Where the scene is drawn this frame if the tour's pane shows beside the panel: the box
+    /// between them ([`scene_box`]). `None` (the whole frame) without the pane, or into a
+    /// multisampled framebuffer, which a blit cannot write at another place.
+    pub fn scene_box(&self) -> Option<scene_box::SceneBox> {
+        let panel = self.panel.as_ref().filter(|_| self.panel_shown)?;
+        self.tour?;
+        // SAFETY: a plain query on the current context.
+        let samples = unsafe { self.context.gl.get_parameter_i32(glow::SAMPLES) };
+        if samples > 0 {
+            return None;
+        }
+        let ppp = self.pixels_per_point.unwrap_or(1.0);
+        let width = self.size.0 as f32;
+        let left = panel.width(width / ppp, true) * ppp;
+        scene_box::SceneBox::between(self.size, left, width - TOUR_WIDTH * ppp)
     }
 
     /// "cylinder: lines off, view lit, tangents tutorial | 3.2 ms/frame | Tutorial 13": the scene
