@@ -943,6 +943,16 @@ fn bake_pair(dir: &Path, segments: u32) -> (Vec<&'static str>, Vec<&'static str>
     )
 }
 
+/// The page's query that drops the files `high` and `low` (in drops/) on the bake's slots, sets the
+/// bake's controls to `set` (`ID:V,…`) and bakes, with `more` (further `&` parameters).
+fn bake_query(high: &[&str], low: &[&str], set: &str, more: &str) -> String {
+    format!(
+        "scene=cylinder&panel=off&frames=100000&bake-high={}&bake-low={}&bake-set={set}{more}",
+        high.join(","),
+        low.join(",")
+    )
+}
+
 /// drops/ in the served folder, made if missing.
 fn served_drops() -> std::path::PathBuf {
     let served =
@@ -991,11 +1001,7 @@ fn the_page_bakes_the_native_map_and_draws_it_on_low() {
     let drops = served_drops();
     let (high, low) = bake_pair(&drops, 192);
     native_bake(&drops, high[0], low[0]);
-    let query = format!(
-        "scene=cylinder&panel=off&frames=100000&bake-high={}&bake-low={}&bake-set=bake-size:256",
-        high.join(","),
-        low.join(",")
-    );
+    let query = bake_query(&high, &low, "bake-size:256", "");
     let page = load_when("bake", &base, &query, &bake_settled(BAKE_SETTLED_AFTER));
     page.check_clean("the bake");
     assert_eq!(
@@ -1142,11 +1148,11 @@ fn cancel_ends_the_bake() {
     let drops = served_drops();
     let (high, low) = bake_pair(&drops, 192);
     native_bake(&drops, high[0], low[0]);
-    let query = format!(
-        "scene=cylinder&panel=off&frames=100000&bake-high={}&bake-low={}\
-         &bake-set=bake-size:1024&bake-cancel&bake-again=bake-size:256",
-        high.join(","),
-        low.join(",")
+    let query = bake_query(
+        &high,
+        &low,
+        "bake-size:1024",
+        "&bake-cancel&bake-again=bake-size:256",
     );
     let page = load_when("cancel", &base, &query, &bake_settled(BAKE_SETTLED_AFTER));
     page.check_clean("cancel");
@@ -1228,10 +1234,7 @@ fn the_page_bakes_a_gltf_pair_as_the_command_does() {
     }
     let (high, low) = ("gltf_high.glb", "gltf_low.glb");
     native_bake_to(&drops, high, low, "native_gltf.png", &["--samples", "2"]);
-    let query = format!(
-        "scene=cylinder&panel=off&frames=100000&bake-high={high}&bake-low={low}\
-         &bake-set=bake-size:256,bake-samples:2"
-    );
+    let query = bake_query(&[high], &[low], "bake-size:256,bake-samples:2", "");
     let page = load_when(
         "bake-gltf",
         &base,
@@ -1278,12 +1281,7 @@ fn k_compares_on_the_baked_low() {
     let drops = served_drops();
     let (high, low) = bake_pair(&drops, 96);
     native_bake_to(&drops, high[0], low[0], "native_for_k.png", &[]);
-    let query = format!(
-        "scene=cylinder&panel=off&frames=100000&bake-high={}&bake-low={}&bake-set=bake-size:256\
-         &bake-keys=f,f,k,k",
-        high.join(","),
-        low.join(",")
-    );
+    let query = bake_query(&high, &low, "bake-size:256", "&bake-keys=f,f,k,k");
     // The four keys are down and up again by the sixteenth frame after the bake.
     let page = load_when("bake-k", &base, &query, &bake_settled(24));
     page.check_clean("F and K after the bake");
