@@ -4,8 +4,8 @@
 //! mostly under the pane. So beside the pane the scene is drawn whole into a target of its own, the
 //! largest of the frame's aspect that fits between the panel and the pane, and copied there (one to
 //! one), centred, on a ground of the panel's grey. The scene is drawn as in a window of the box's
-//! size: its projection is the frame's (the same aspect), and the cursor reaches it in the box's
-//! pixels.
+//! size: the projection's aspect, the size it is given and the cursor are the box's (the host's
+//! `frame_in`). The box follows the panel a frame late: it is placed before the panel is laid out.
 
 use glam::Vec2;
 use glow::HasContext;
@@ -66,6 +66,7 @@ impl BoxedScene {
     /// Binds a target of `scene_box`'s size for the scene to draw into (made on the first frame
     /// and whenever the box's size changes), with its viewport; returns the framebuffer that was
     /// bound, where [`BoxedScene::show`] puts the scene.
+    ///
     /// The target is stored like a window where the driver can ([`OffscreenTarget::with_window_orientation`]):
     /// llvmpipe's rules for which edge pixels a triangle covers follow the storage, and the scene
     /// must be what a window of the box's size shows, to the pixel.
@@ -82,6 +83,7 @@ impl BoxedScene {
         let fits =
             (self.target.as_ref()).is_some_and(|t| (t.width(), t.height()) == (width, height));
         if !fits {
+            // The old one goes first: two frames' worth of storage need not be held at once.
             self.target = None;
             let target =
                 OffscreenTarget::with_window_orientation(gl, (width, height), 0, extensions);
