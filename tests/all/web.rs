@@ -884,16 +884,32 @@ fn k_twice_shows_the_native_heat_map() {
     }
     let native = frame(&mut renderer);
     let lit = frame(&mut native_renderer("cylinder"));
-    let share = share_within(&page.shot, &native);
-    let like_lit = share_within(&page.shot, &lit);
+    check_heat_map(&page, &native, &lit, "the difference view");
+}
+
+/// The page's frame must be the native heat map `heat` within the scenes' tolerance, and not the
+/// lit frame `lit` (the view did not come on); the shares are printed under `what`.
+fn check_heat_map(page: &Loaded, heat: &RgbImage, lit: &RgbImage, what: &str) {
+    let (share, like_lit) = (
+        share_within(&page.shot, heat),
+        share_within(&page.shot, lit),
+    );
     eprintln!(
-        "web: the difference view: {:.2} % of pixels within {TOLERANCE} levels of the native heat \
-         map ({:.2} % of the lit frame)",
+        "web: {what}: {:.2} % of pixels within {TOLERANCE} levels of the native heat map ({:.2} % \
+         of the lit frame)",
         share * 100.0,
         like_lit * 100.0
     );
     assert!(share >= WITHIN, "{share:.4} within {TOLERANCE}");
     assert!(like_lit < WITHIN, "the page shows the lit frame");
+}
+
+/// The page's bake ended with a map.
+fn assert_bake_done(page: &Loaded) {
+    assert_eq!(
+        page.attribute("bake", "data-state").as_deref(),
+        Some("done")
+    );
 }
 
 /// `tutorial13 bake HIGH LOW -o native_normal.png --size 256` in `dir`, the map the page's bake
@@ -1004,10 +1020,7 @@ fn the_page_bakes_the_native_map_and_draws_it_on_low() {
     let query = bake_query(&high, &low, "bake-size:256", "");
     let page = load_when("bake", &base, &query, &bake_settled(BAKE_SETTLED_AFTER));
     page.check_clean("the bake");
-    assert_eq!(
-        page.attribute("bake", "data-state").as_deref(),
-        Some("done")
-    );
+    assert_bake_done(&page);
     let map = baked_map(&page).expect("the page's map (#bake-map)");
     let native_bytes = std::fs::read(drops.join("native_normal.png")).expect("the native map");
     let (ours, theirs) = (
@@ -1242,10 +1255,7 @@ fn the_page_bakes_a_gltf_pair_as_the_command_does() {
         &bake_settled(BAKE_SETTLED_AFTER),
     );
     page.check_clean("the glTF bake");
-    assert_eq!(
-        page.attribute("bake", "data-state").as_deref(),
-        Some("done")
-    );
+    assert_bake_done(&page);
     let map = baked_map(&page).expect("the page's map (#bake-map)");
     let native = std::fs::read(drops.join("native_gltf.png")).expect("the native map");
     let d = frame_diff(
@@ -1285,27 +1295,13 @@ fn k_compares_on_the_baked_low() {
     // The four keys are down and up again by the sixteenth frame after the bake.
     let page = load_when("bake-k", &base, &query, &bake_settled(24));
     page.check_clean("F and K after the bake");
-    assert_eq!(
-        page.attribute("bake", "data-state").as_deref(),
-        Some("done")
-    );
+    assert_bake_done(&page);
     let mut args = vec!["--model", "low.obj", "--normal-map", "native_for_k.png"];
     args.extend(["--tangents", "tutorial"]);
     let lit = common::headless_screenshot(&drops, "k_lit.png", &args);
     args.extend(["--compare", "tutorial,mikktspace", "--compare-difference"]);
     let heat = common::headless_screenshot(&drops, "k_heat.png", &args);
-    let (share, like_lit) = (
-        share_within(&page.shot, &heat),
-        share_within(&page.shot, &lit),
-    );
-    eprintln!(
-        "web: F, F, K, K on the baked LOW: {:.2} % of pixels within {TOLERANCE} levels of the \
-         native heat map ({:.2} % of the lit frame)",
-        share * 100.0,
-        like_lit * 100.0
-    );
-    assert!(share >= WITHIN, "{share:.4} within {TOLERANCE}");
-    assert!(like_lit < WITHIN, "the page shows the lit frame");
+    check_heat_map(&page, &heat, &lit, "F, F, K, K on the baked LOW");
 }
 
 /// A native renderer at the tour's step `n` (from 1), as `--headless --tour N` puts it there.
