@@ -387,6 +387,7 @@ pub fn bake_soups_with(
         &mut map.normals,
         &mut map.states,
         settings.margin as usize,
+        settings.threads,
     );
     log::info!(
         "bake: margin of {} in {:.2} s",

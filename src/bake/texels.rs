@@ -7,7 +7,7 @@ use glam::{DVec2, Vec3};
 
 use super::{BakeStats, BakedMap, Sample, Skew, SKEW_LIMIT};
 use crate::common::objloader::TriangleSoup;
-use crate::pipeline::on_threads;
+use crate::pipeline::{in_runs, on_threads};
 
 /// Rows of texels baked together: small enough that the bands share the cores evenly.
 const BAND_ROWS: usize = 8;
@@ -34,8 +34,8 @@ pub enum TexelState {
 #[derive(Debug, Clone, Copy)]
 struct PixelTriangle {
     corners: [DVec2; 3],
-    /// Which soup corner each of `corners` is.
-    order: [usize; 3],
+    /// Whether `corners` are the soup's corners 0, 2, 1 (else 0, 1, 2).
+    swapped: bool,
     area: f64,
 }
 
@@ -71,13 +71,13 @@ impl UvLayout {
                 Some(if area > 0.0 {
                     PixelTriangle {
                         corners: [a, b, c],
-                        order: [0, 1, 2],
+                        swapped: false,
                         area,
                     }
                 } else {
                     PixelTriangle {
                         corners: [a, c, b],
-                        order: [0, 2, 1],
+                        swapped: true,
                         area: -area,
                     }
                 })
@@ -127,16 +127,20 @@ impl UvLayout {
         let work = Mutex::new(work.into_iter());
         let results = Mutex::new((BakeStats::default(), Vec::<f32>::new()));
         let sample = &sample;
-        // Each worker takes the next band until none is left: the first on this thread.
-        on_threads(vec![(); threads.max(1)], |()| loop {
-            let next = work.lock().expect("no worker panics holding it").next();
-            let Some((band, (normals, states))) = next else {
-                break;
-            };
-            let (stats, stretches) = self.bake_band(band, normals, states, sample);
-            let mut all = results.lock().expect("no worker panics holding it");
-            all.0 += &stats;
-            all.1.extend(stretches);
+        // Each worker takes the next band until none is left: the first on this thread. Its
+        // per-sample buffers are its own, kept from band to band.
+        on_threads(vec![(); threads.max(1)], |()| {
+            let mut owners = Owners::default();
+            loop {
+                let next = work.lock().expect("no worker panics holding it").next();
+                let Some((band, (normals, states))) = next else {
+                    break;
+                };
+                let (stats, stretches) = self.bake_band(band, normals, states, &mut owners, sample);
+                let mut all = results.lock().expect("no worker panics holding it");
+                all.0 += &stats;
+                all.1.extend(stretches);
+            }
         });
         let (mut stats, mut stretches) = results.into_inner().expect("workers are done");
         stats.flat_uv_triangles = self.flat_triangles();
@@ -164,6 +168,7 @@ impl UvLayout {
         band: usize,
         normals: &mut [Vec3],
         states: &mut [TexelState],
+        owners: &mut Owners,
         sample: &(impl Fn(&[(usize, [f32; 3])], &mut Vec<Sample>) + Sync),
     ) -> (BakeStats, Vec<f32>) {
         let (w, k) = (self.width, self.samples);
@@ -172,9 +177,17 @@ impl UvLayout {
         let sample_rows = first_sample_row..first_sample_row + rows * k;
         let per_row = w * k;
         let count = rows * k * per_row;
-        let mut owner = vec![NONE; count];
-        let mut weights = vec![[0f32; 3]; count];
-        let mut claims = vec![0u8; count];
+        let Owners {
+            owner,
+            weights,
+            claims,
+        } = owners;
+        owner.clear();
+        owner.resize(count, NONE);
+        claims.clear();
+        claims.resize(count, 0);
+        // Read only where a triangle owns the sample, which writes it first.
+        weights.resize(count, [0.0; 3]);
         for &t in &self.bands[band] {
             let tri = self.triangles[t as usize].expect("only triangles with area are in bands");
             let Some((xs, ys)) = sample_box(&tri, w * k, self.height * k) else {
@@ -182,7 +195,7 @@ impl UvLayout {
             };
             let ys = ys.start.max(sample_rows.start)..ys.end.min(sample_rows.end);
             for sy in ys {
-                for sx in xs.clone() {
+                for sx in row_span(&tri, sy as f64 + 0.5, xs.clone()) {
                     let p = DVec2::new(sx as f64 + 0.5, sy as f64 + 0.5);
                     let Some(b) = barycentrics(&tri, p) else {
                         continue;
@@ -255,6 +268,48 @@ impl UvLayout {
     }
 }
 
+/// Each bake thread's per-sample buffers for a band: which triangle owns each sample (the last
+/// to claim it), its barycentrics there, and how many triangles claimed it.
+#[derive(Default)]
+struct Owners {
+    owner: Vec<u32>,
+    weights: Vec<[f32; 3]>,
+    claims: Vec<u8>,
+}
+
+/// The columns of `columns` in the sample row whose centres lie at `y` that can hold a sample
+/// of `tri`: those between where the row crosses its edges, a column wider on each side than
+/// that crossing (computed with rounding, far below a column) says. The test of each sample
+/// ([`barycentrics`]) decides; this only spares it the bounding box's empty corners.
+fn row_span(
+    tri: &PixelTriangle,
+    y: f64,
+    columns: std::ops::Range<usize>,
+) -> std::ops::Range<usize> {
+    let (mut low, mut high) = (columns.start as f64, columns.end as f64);
+    let [a, b, c] = tri.corners;
+    for (from, to) in [(b, c), (c, a), (a, b)] {
+        let edge = to - from;
+        // A level edge bounds no column: its side is the whole row's.
+        if edge.y == 0.0 {
+            continue;
+        }
+        // The centre x + ½ where the edge's weight is 0; inside is to its left where the edge
+        // goes down the picture (y grows), to its right where it goes up.
+        let cross = from.x + edge.x * (y - from.y) / edge.y - 0.5;
+        if edge.y > 0.0 {
+            high = high.min(cross.floor() + 2.0);
+        } else {
+            low = low.max(cross.ceil() - 1.0);
+        }
+    }
+    // A NaN crossing (an edge too steep for f64) is passed over by `min` and `max`.
+    match low < high {
+        true => low as usize..high as usize,
+        false => 0..0,
+    }
+}
+
 /// The sample columns and rows whose centres (x + ½, y + ½) can fall in `tri`, clipped to the map.
 fn sample_box(
     tri: &PixelTriangle,
@@ -288,11 +343,13 @@ fn barycentrics(tri: &PixelTriangle, p: DVec2) -> Option<[f32; 3]> {
     let wa = weight(b, c)?;
     let wb = weight(c, a)?;
     let wc = weight(a, b)?;
-    let mut out = [0f32; 3];
-    for (k, w) in [wa, wb, wc].into_iter().enumerate() {
-        out[tri.order[k]] = (w / tri.area) as f32;
-    }
-    Some(out)
+    let w = [wa, wb, wc].map(|w| (w / tri.area) as f32);
+    // Put back in the soup's order as whole values (stored one by one through the order, they
+    // were read back as one, a stall on every sample).
+    Some(match tri.swapped {
+        false => w,
+        true => [w[0], w[2], w[1]],
+    })
 }
 
 /// Grows the covered texels outward by `margin` rings (8 neighbours: each ring is the texels at
@@ -304,6 +361,7 @@ pub fn fill_margin(
     normals: &mut [Vec3],
     states: &mut [TexelState],
     margin: usize,
+    threads: usize,
 ) -> usize {
     let neighbours = |i: usize| {
         let (x, y) = ((i % width) as isize, (i / width) as isize);
@@ -316,10 +374,17 @@ pub fn fill_margin(
             })
             .map(move |(nx, ny)| ny as usize * width + nx as usize)
     };
-    let mut frontier: Vec<usize> = (0..states.len())
-        .filter(|&i| states[i] == TexelState::Covered)
-        .filter(|&i| neighbours(i).any(|n| states[n] == TexelState::Empty))
-        .collect();
+    // The covered texels beside an empty one.
+    let mut frontier: Vec<usize> = {
+        let (states, neighbours) = (&*states, &neighbours);
+        in_runs(states.len(), threads, |run| {
+            run.filter(|&i| {
+                states[i] == TexelState::Covered
+                    && neighbours(i).any(|n| states[n] == TexelState::Empty)
+            })
+            .collect()
+        })
+    };
     let mut queued = vec![false; states.len()];
     let mut filled = 0;
     for _ in 0..margin {
@@ -336,16 +401,20 @@ pub fn fill_margin(
             break;
         }
         // Every value of the ring is computed from the rings before it, then written.
-        let values: Vec<Vec3> = ring
-            .iter()
-            .map(|&i| {
-                let sum: Vec3 = neighbours(i)
-                    .filter(|&n| states[n] != TexelState::Empty)
-                    .map(|n| normals[n])
-                    .sum();
-                sum.try_normalize().unwrap_or(Vec3::Z)
+        let values = {
+            let (states, normals, neighbours, ring) = (&*states, &*normals, &neighbours, &ring);
+            in_runs(ring.len(), threads, |run| {
+                (ring[run].iter())
+                    .map(|&i| {
+                        let sum: Vec3 = neighbours(i)
+                            .filter(|&n| states[n] != TexelState::Empty)
+                            .map(|n| normals[n])
+                            .sum();
+                        sum.try_normalize().unwrap_or(Vec3::Z)
+                    })
+                    .collect()
             })
-            .collect();
+        };
         for (&i, v) in ring.iter().zip(values) {
             normals[i] = v;
             states[i] = TexelState::Margin;
@@ -392,6 +461,84 @@ mod tests {
         assert_eq!(map.stats.overlapping, 0);
     }
 
+    /// Fails if a row's span leaves out a sample the triangle owns (a span too narrow by
+    /// rounding, or on the wrong side of an edge): every sample of the triangle's box is
+    /// tested, on random triangles of every size and shape (slivers, level and upright edges,
+    /// corners on sample centres, far outside the map), both windings.
+    #[test]
+    fn a_rows_span_holds_every_sample_of_the_triangle() {
+        let mut seed = 0x1234_5678_9abc_def1u64;
+        let mut next = move |scale: f64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * scale
+        };
+        let (columns, rows) = (96, 80);
+        let (mut inside, mut spared) = (0, 0);
+        for round in 0..3000 {
+            let mut corner = |k: usize| {
+                let p = DVec2::new(next(110.0) - 7.0, next(94.0) - 7.0);
+                // A round in three, each corner a fraction of the map in f32 UVs, scaled as
+                // `UvLayout::new` scales them: edges through sample centres but for rounding
+                // (the fill rule's ties).
+                let mut fraction = |scale: f64| (next(12.0).floor() as f32 / 10.0) as f64 * scale;
+                match (round + k) % 7 {
+                    _ if round % 3 == 0 => {
+                        DVec2::new(fraction(columns as f64), 1.0 - fraction(1.0) * rows as f64)
+                    }
+                    // On a sample centre, or on the row or column of another corner.
+                    0 => p.floor() + 0.5,
+                    1 => DVec2::new(p.x, 40.5),
+                    2 => DVec2::new(33.5, p.y),
+                    _ => p,
+                }
+            };
+            let (a, b) = (corner(0), corner(1));
+            // A sliver now and then: the third corner near the first two's line.
+            let c = match round % 5 {
+                0 => a + (b - a) * next(1.0) + DVec2::splat(next(1e-6)),
+                _ => corner(2),
+            };
+            let area = (b - a).perp_dot(c - a);
+            if area == 0.0 {
+                continue;
+            }
+            let tri = match area > 0.0 {
+                true => PixelTriangle {
+                    corners: [a, b, c],
+                    swapped: false,
+                    area,
+                },
+                false => PixelTriangle {
+                    corners: [a, c, b],
+                    swapped: true,
+                    area: -area,
+                },
+            };
+            let Some((xs, ys)) = sample_box(&tri, columns, rows) else {
+                continue;
+            };
+            for sy in ys {
+                let span = row_span(&tri, sy as f64 + 0.5, xs.clone());
+                for sx in xs.clone() {
+                    let p = DVec2::new(sx as f64 + 0.5, sy as f64 + 0.5);
+                    if barycentrics(&tri, p).is_some() {
+                        assert!(span.contains(&sx), "{tri:?}: ({sx}, {sy}) outside {span:?}");
+                        inside += 1;
+                    } else {
+                        spared += usize::from(!span.contains(&sx));
+                    }
+                }
+            }
+        }
+        // The spans did spare the box's empty corners.
+        assert!(
+            inside > 100_000 && spared > inside / 2,
+            "{inside} inside, {spared} spared"
+        );
+    }
+
     /// Fails if a sample claimed by two overlapping triangles is not counted as overlapping.
     #[test]
     fn overlapping_islands_are_counted() {
@@ -429,7 +576,7 @@ mod tests {
                 }
             }
         }
-        let filled = fill_margin(w, h, &mut normals, &mut states, 3);
+        let filled = fill_margin(w, h, &mut normals, &mut states, 3, 2);
         let mut expected = 0;
         for y in 0..h {
             for x in 0..w {

@@ -45,3 +45,22 @@ pub(crate) fn on_threads<T: Send, R: Send>(items: Vec<T>, f: impl Fn(T) -> R + S
         results
     })
 }
+
+/// `f` of runs of the indices below `count`, one run for each of `threads` threads (on
+/// [`on_threads`]), the values of all joined in the indices' order.
+pub(crate) fn in_runs<R: Send>(
+    count: usize,
+    threads: usize,
+    f: impl Fn(std::ops::Range<usize>) -> Vec<R> + Sync,
+) -> Vec<R> {
+    let step = count.div_ceil(threads.clamp(1, count.max(1))).max(1);
+    let runs = (0..count)
+        .step_by(step)
+        .map(|start| start..(start + step).min(count));
+    let parts = on_threads(runs.collect(), f);
+    let mut all = Vec::with_capacity(count);
+    for part in parts {
+        all.extend(part);
+    }
+    all
+}
