@@ -27,13 +27,14 @@
 
 pub mod bvh;
 pub mod cage;
+mod lanes;
 pub mod parts;
 mod texels;
 
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use glam::{DMat3, DVec3, Vec3};
+use glam::{DVec3, Vec3};
 
 use crate::clock::Instant;
 use crate::common::objloader::TriangleSoup;
@@ -510,28 +511,44 @@ impl Reach {
 }
 
 impl Sampler<'_> {
-    /// The ray of the sample at barycentrics `b` of LOW's triangle `t`, and LOW's normal there:
-    /// from the cage point (LOW's point pushed out along the normal) back along the normal.
-    fn ray(&self, t: usize, b: [f32; 3]) -> (bvh::Ray, Vec3) {
+    /// The rays of a packet's samples (LOW's triangle and barycentrics each) into `rays`, and
+    /// LOW's normal at each into `normals`: from the cage point (LOW's point pushed out along the
+    /// normal) back along the normal. The normals are normalized side by side ([`lanes`]).
+    fn rays(
+        &self,
+        chunk: &[(usize, [f32; 3])],
+        rays: &mut [bvh::Ray; bvh::PACKET],
+        normals: &mut [Vec3; bvh::PACKET],
+    ) {
         let low = self.input.low;
-        let mix = |v: &[Vec3]| -> Vec3 { (0..3).map(|i| v[3 * t + i] * b[i]).sum() };
-        let position = mix(&low.vertices);
-        let normal = mix(&low.normals).normalize_or_zero();
-        let (origin, direction) = match self.input.cage {
-            None => (position + normal * self.reach.extrusion, -normal),
-            Some(cage) => {
-                let origin = mix(cage);
-                // Where the cage touches LOW the ray goes in along LOW's normal.
-                let direction = (position - origin).try_normalize().unwrap_or(-normal);
-                (origin, direction)
-            }
+        let mix = |v: &[Vec3], t: usize, b: [f32; 3]| -> Vec3 {
+            (0..3).map(|i| v[3 * t + i] * b[i]).sum()
         };
-        let ray = bvh::Ray {
-            origin,
-            direction,
-            max_distance: self.reach.max_distance,
-        };
-        (ray, normal)
+        let mut positions = [Vec3::ZERO; bvh::PACKET];
+        let mut unit = lanes::Vec3Lanes::new();
+        for (k, &(t, b)) in chunk.iter().enumerate() {
+            positions[k] = mix(&low.vertices, t, b);
+            unit.set(k, mix(&low.normals, t, b));
+        }
+        unit.normalize_or_zero();
+        for (k, &(t, b)) in chunk.iter().enumerate() {
+            let (position, normal) = (positions[k], unit.get(k));
+            let (origin, direction) = match self.input.cage {
+                None => (position + normal * self.reach.extrusion, -normal),
+                Some(cage) => {
+                    let origin = mix(cage, t, b);
+                    // Where the cage touches LOW the ray goes in along LOW's normal.
+                    let direction = (position - origin).try_normalize().unwrap_or(-normal);
+                    (origin, direction)
+                }
+            };
+            rays[k] = bvh::Ray {
+                origin,
+                direction,
+                max_distance: self.reach.max_distance,
+            };
+            normals[k] = normal;
+        }
     }
 
     /// The samples of `batch` (LOW's triangle and barycentrics each), one for each into `out`:
@@ -541,9 +558,7 @@ impl Sampler<'_> {
             let n = chunk.len();
             let mut rays = [bvh::Ray::IDLE; bvh::PACKET];
             let mut normals = [Vec3::ZERO; bvh::PACKET];
-            for (k, &(t, b)) in chunk.iter().enumerate() {
-                (rays[k], normals[k]) = self.ray(t, b);
-            }
+            self.rays(chunk, &mut rays, &mut normals);
             let mut triangles = [0usize; bvh::PACKET];
             for (triangle, &(t, _)) in triangles.iter_mut().zip(chunk) {
                 *triangle = t;
@@ -554,10 +569,18 @@ impl Sampler<'_> {
                 .first_hits(triangles, &rays[..n], &mut hits[..n]);
             let (beyond, outside) = self.look(triangles, &rays[..n], &normals[..n], &hits[..n]);
             // HIGH's normals read for the whole packet first: each read may wait on memory, and
-            // these waits overlap where the shading's long sums would not let them.
+            // these waits overlap where the shading's long sums would not let them. They are
+            // normalized side by side.
+            let mut unit = lanes::Vec3Lanes::new();
+            for (k, hit) in hits[..n].iter().enumerate() {
+                if let Some(hit) = hit {
+                    unit.set(k, self.high_normal(hit));
+                }
+            }
+            unit.normalize_or_zero();
             let mut high = [None; bvh::PACKET];
-            for (high, hit) in high.iter_mut().zip(&hits[..n]) {
-                *high = hit.map(|hit| self.high_normal(hit));
+            for (k, (high, hit)) in high.iter_mut().zip(&hits[..n]).enumerate() {
+                *high = hit.map(|_| unit.get(k));
             }
             let shaded = self.shade(chunk, &normals[..n], &high[..n]);
             // Each sample written once, whole (built field by field in place, its stores were
@@ -646,35 +669,29 @@ impl Sampler<'_> {
             }
             return shaded;
         }
-        let mut frames = [[DVec3::ZERO; 3]; bvh::PACKET];
-        for (frame, &(t, b)) in frames.iter_mut().zip(chunk) {
-            *frame = self.input.frames.at(t, b);
-        }
-        let frames = &frames[..chunk.len()];
-        if self.measure_skew {
-            for (out, frame) in shaded.stretch.iter_mut().zip(frames) {
-                *out = Some(stretch(frame));
+        // t = (T B N)⁻¹ n, where the frame has an inverse: the packet's solves side by side.
+        let mut lanes = lanes::FrameLanes::new();
+        for (k, (&(t, b), high)) in chunk.iter().zip(high).enumerate() {
+            let frame = self.input.frames.at(t, b);
+            if self.measure_skew {
+                shaded.stretch[k] = Some(stretch(&frame));
+            }
+            if let Some(n) = high {
+                lanes.set(k, &frame, *n);
             }
         }
-        // t = (T B N)⁻¹ n, where the frame has an inverse.
-        let mut solved = [DVec3::ZERO; bvh::PACKET];
-        for (k, (frame, high)) in frames.iter().zip(high).enumerate() {
-            let Some(n) = high else { continue };
-            let matrix = DMat3::from_cols(frame[0], frame[1], frame[2]);
-            let det = matrix.determinant();
-            let scale = frame.iter().map(|c| c.length()).product::<f64>();
-            // A frame whose columns span no volume (relative to their lengths) has no inverse.
-            if det.abs() > 1e-9 * scale && det.is_finite() {
-                solved[k] = matrix.inverse() * n.as_dvec3();
-            } else {
-                shaded.singular[k] = true;
-            }
-        }
-        for (k, (solved, high)) in solved.iter().zip(high).enumerate() {
-            if high.is_none() || shaded.singular[k] {
+        let mut solved = lanes::Solved::new();
+        lanes::solve(&lanes, &mut solved);
+        for (k, high) in high.iter().enumerate() {
+            if high.is_none() {
                 continue;
             }
-            let t = solved.normalize_or_zero();
+            if !solved.invertible[k] {
+                shaded.singular[k] = true;
+                continue;
+            }
+            let [x, y, z] = &solved.normal;
+            let t = DVec3::new(x[k], y[k], z[k]);
             if t != DVec3::ZERO {
                 shaded.normal[k] = t.as_vec3();
             }
@@ -682,15 +699,14 @@ impl Sampler<'_> {
         shaded
     }
 
-    /// HIGH's normal where the ray met it: interpolated, or the face's.
-    fn high_normal(&self, hit: bvh::Hit) -> Vec3 {
+    /// HIGH's normal where the ray met it, before it is normalized: interpolated, or the face's.
+    fn high_normal(&self, hit: &bvh::Hit) -> Vec3 {
         let n = &hit.data;
-        let n = if self.input.high_face_normals {
+        if self.input.high_face_normals {
             n[0]
         } else {
             n[0] * (1.0 - hit.u - hit.v) + n[1] * hit.u + n[2] * hit.v
-        };
-        n.normalize_or_zero()
+        }
     }
 }
 
