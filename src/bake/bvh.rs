@@ -505,10 +505,12 @@ impl<const G: usize> Lanes<G> {
         let [p0x, p0y, p0z] = tri.p0.to_array().map(Vec4::splat);
         let [e1x, e1y, e1z] = tri.e1.to_array().map(Vec4::splat);
         let [e2x, e2y, e2z] = tri.e2.to_array().map(Vec4::splat);
-        for g in 0..G {
-            if groups & (1 << g) == 0 {
-                continue;
-            }
+        // The groups in the mask, lowest first (one step each, where a loop over every group
+        // tested each bit).
+        let mut remaining = groups & ((1u64 << G) - 1) as u32;
+        while remaining != 0 {
+            let g = remaining.trailing_zeros() as usize;
+            remaining &= remaining - 1;
             // p = direction × e2
             let px = dy[g] * e2z - e2y * dz[g];
             let py = dz[g] * e2x - e2z * dx[g];
