@@ -167,18 +167,14 @@ mod tests {
     use glam::DMat3;
 
     use super::*;
+    use crate::bake::xorshift;
 
     /// Fails if a lane's normalization differs from glam's in a bit: random vectors of every
     /// size, zeros, ones too long to square, NaN and infinities among them.
     #[test]
     fn each_lane_is_glams_normalization_to_the_bit() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 40) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
-        };
+        let mut bits = xorshift(0x9e37_79b9_7f4a_7c15);
+        let mut next = move || (bits() >> 40) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0;
         let special = [0.0, -0.0, 1e-30, 1e-45, 1e20, 3e38, f32::INFINITY, f32::NAN];
         let mut zero = 0;
         for round in 0..2000 {
@@ -229,13 +225,8 @@ mod tests {
     /// column), the special values among them.
     #[test]
     fn each_lane_is_the_scalar_solve_to_the_bit() {
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut bits = xorshift(0x2545_f491_4f6c_dd1d);
+        let mut next = move || (bits() >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0;
         let special = [0.0, -0.0, 1e-300, 1e300, f64::INFINITY, f64::NAN, 1.0];
         let (mut compared, mut singular) = (0, 0);
         for round in 0..400 {

@@ -409,6 +409,17 @@ fn uv_samples(low: &TriangleSoup, settings: &BakeSettings) -> f64 {
     (area * samples).max(1.0)
 }
 
+/// Xorshift64 from `seed` (not 0): the bake's tests' random numbers, the same on every run.
+#[cfg(test)]
+pub(crate) fn xorshift(mut seed: u64) -> impl FnMut() -> u64 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        seed
+    }
+}
+
 /// Each sample's ray, and its normal in the map's space.
 struct Sampler<'a> {
     input: &'a BakeInput<'a>,

@@ -467,13 +467,8 @@ mod tests {
     /// corners on sample centres, far outside the map), both windings.
     #[test]
     fn a_rows_span_holds_every_sample_of_the_triangle() {
-        let mut seed = 0x1234_5678_9abc_def1u64;
-        let mut next = move |scale: f64| {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * scale
-        };
+        let mut bits = crate::bake::xorshift(0x1234_5678_9abc_def1);
+        let mut next = move |scale: f64| (bits() >> 11) as f64 / (1u64 << 53) as f64 * scale;
         let (columns, rows) = (96, 80);
         let (mut inside, mut spared) = (0, 0);
         for round in 0..3000 {
