@@ -40,7 +40,7 @@ use crate::clock::Instant;
 use crate::common::objloader::TriangleSoup;
 use crate::mesh::{build_mesh, MeshOptions};
 use crate::model::{load_model, MapOverrides, Model};
-use crate::pipeline::join;
+use crate::pipeline::{each_on_cores, join, runs_on_cores};
 use crate::tangent_source::{stretch, TangentSource};
 use crate::{Error, Result};
 
@@ -486,21 +486,21 @@ impl Reach {
     /// farther than the cage's distance plus D (past that it has left the box). Bakes with
     /// distances within the models' size are unchanged.
     pub fn of(input: &BakeInput) -> Reach {
-        let bounds = |points: &mut dyn Iterator<Item = &Vec3>| {
-            points
+        type Box3 = (Vec3, Vec3);
+        let join = |(min, max): Box3, (lo, hi): Box3| (min.min(lo), max.max(hi));
+        let bounds = |points: &[Vec3]| -> Box3 {
+            (points.iter())
                 .filter(|p| p.is_finite())
-                .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(min, max), p| {
-                    (min.min(*p), max.max(*p))
+                .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |b, p| {
+                    join(b, (*p, *p))
                 })
         };
-        let low = bounds(&mut input.low.vertices.iter());
-        // A cage's points too: its rays start there.
-        let cage = input.cage.unwrap_or_default();
-        let both = bounds(
-            &mut (input.low.vertices.iter())
-                .chain(&input.high.vertices)
-                .chain(cage),
-        );
+        let low = bounds(&input.low.vertices);
+        // HIGH's a run per core (a minimum or a maximum is the same in any order); a cage's
+        // points too: its rays start there.
+        let high = runs_on_cores(&input.high.vertices, bounds);
+        let cage = bounds(input.cage.unwrap_or_default());
+        let both = high.into_iter().chain([cage]).fold(low, join);
         // Generous, so that rounding cannot cut a ray that reaches a triangle.
         let width = (both.1 - both.0).max(Vec3::ZERO).length() * 1.01 + f32::MIN_POSITIVE;
         let extrusion = input.extrusion.min(width);
@@ -774,9 +774,9 @@ impl BakeFiles {
         // to its file's coordinates, then where LOW's placing puts them. The soup is moved out of
         // the model, not copied: HIGH's millions of corners are only read by the rays from here on.
         let mut high_soup = std::mem::take(&mut high.soup);
-        for p in &mut high_soup.vertices {
+        each_on_cores(&mut high_soup.vertices, |p| {
             *p = low.placement.to_world(high.placement.to_file(*p));
-        }
+        });
         let frames = match settings.tangents {
             TangentSource::MikkTSpace => CornerFrames::mikktspace(
                 &low.soup,

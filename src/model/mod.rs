@@ -30,6 +30,7 @@ use glam::{DVec3, Vec3};
 
 use crate::common::objloader::{ObjMode, ObjRead, TriangleSoup};
 use crate::pipeline::obj_parse::read_obj_threaded;
+use crate::pipeline::{each_on_cores, runs_on_cores};
 use crate::tangent_source::FileTangents;
 use crate::{Error, Result};
 
@@ -335,9 +336,7 @@ fn load_obj_model(
         reason: "every face is at one point: a model needs some size to be framed and lit".into(),
     })?;
     let mut soup = soup;
-    for p in &mut soup.vertices {
-        *p = placement.to_world(*p);
-    }
+    each_on_cores(&mut soup.vertices, |p| *p = placement.to_world(*p));
     log::debug!(
         "{}: normals, materials, grouping and placement in {:.1} ms",
         path.display(),
@@ -594,16 +593,27 @@ pub(crate) fn group_by_material(
 
 /// The bounding sphere the model is placed by, or `None` if it has no size (or no finite one).
 pub(crate) fn placement(vertices: &[Vec3]) -> Option<Placement> {
-    let (mut min, mut max) = (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN));
-    for p in vertices {
-        min = min.min(p.as_dvec3());
-        max = max.max(p.as_dvec3());
-    }
+    // Each pass a run per core: a minimum or a maximum is the same taken in any order.
+    let boxes = runs_on_cores(vertices, |run| {
+        let (mut min, mut max) = (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN));
+        for p in run {
+            min = min.min(p.as_dvec3());
+            max = max.max(p.as_dvec3());
+        }
+        (min, max)
+    });
+    let (min, max) = (boxes.into_iter()).fold(
+        (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)),
+        |(min, max), (lo, hi)| (min.min(lo), max.max(hi)),
+    );
     let center = (min + max) * 0.5;
-    let radius = vertices
-        .iter()
-        .map(|p| p.as_dvec3().distance(center))
-        .fold(0.0, f64::max);
+    let radius = runs_on_cores(vertices, |run| {
+        (run.iter())
+            .map(|p| p.as_dvec3().distance(center))
+            .fold(0.0, f64::max)
+    })
+    .into_iter()
+    .fold(0.0, f64::max);
     let placement = Placement {
         center: center.as_vec3(),
         radius: radius as f32,
@@ -662,6 +672,34 @@ mod tests {
         assert!((world - Vec3::new(TUTORIAL_CYLINDER_RADIUS, 1.0, 0.0)).length() < 1e-6);
         assert!(placement(&[Vec3::ONE, Vec3::ONE]).is_none());
         assert!(placement(&[Vec3::splat(-3e38), Vec3::splat(3e38)]).is_none());
+    }
+
+    /// Fails if the placement of a sculpt-sized model, measured a run per core, is not the one
+    /// measured in one pass (its centre and radius to the bit), zeros of both signs included.
+    #[test]
+    fn a_large_models_placement_is_the_one_pass_placement() {
+        let mut next = crate::bake::xorshift(0x91ace);
+        let mut unit = move || (next() >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0;
+        let mut vertices: Vec<Vec3> = (0..300_001)
+            .map(|_| Vec3::new(unit() * 3.0 + 1.0, unit() * 0.5, unit() * 7.0 - 2.0))
+            .collect();
+        vertices[12_345] = Vec3::new(-0.0, 0.0, -0.0);
+        vertices[250_000] = Vec3::new(0.0, -0.0, 0.0);
+        let (mut min, mut max) = (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN));
+        for p in &vertices {
+            min = min.min(p.as_dvec3());
+            max = max.max(p.as_dvec3());
+        }
+        let center = (min + max) * 0.5;
+        let radius = (vertices.iter())
+            .map(|p| p.as_dvec3().distance(center))
+            .fold(0.0, f64::max);
+        let placed = placement(&vertices).unwrap();
+        assert_eq!(
+            placed.center.to_array().map(f32::to_bits),
+            center.as_vec3().to_array().map(f32::to_bits)
+        );
+        assert_eq!(placed.radius.to_bits(), (radius as f32).to_bits());
     }
 
     // Fails if interleaved materials are not grouped in first-use order with each one's triangles

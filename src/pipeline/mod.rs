@@ -64,3 +64,58 @@ pub(crate) fn in_runs<R: Send>(
     }
     all
 }
+
+/// Arrays at least this long are shared out between the cores by [`each_on_cores`] and
+/// [`runs_on_cores`]: a sculpt's millions of corners, not a learner's cube.
+const CORES_FROM: usize = 1 << 16;
+
+/// `items` cut into a run per core where it is long (one run where it is short, or where there is
+/// one core, as in the browser).
+fn runs_of<T>(items: &[T]) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    match items.len() >= CORES_FROM {
+        true => items.len().div_ceil(cores).max(1),
+        false => items.len().max(1),
+    }
+}
+
+/// `f` on every element of `items`, a run per core ([`runs_of`]): the values of one pass, as each
+/// element's is its own.
+pub(crate) fn each_on_cores<T: Send>(items: &mut [T], f: impl Fn(&mut T) + Sync) {
+    let run = runs_of(items);
+    on_threads(items.chunks_mut(run).collect(), |run| {
+        run.iter_mut().for_each(&f)
+    });
+}
+
+/// `f` of each run of `items` ([`runs_of`]), in order.
+pub(crate) fn runs_on_cores<T: Sync, R: Send>(items: &[T], f: impl Fn(&[T]) -> R + Sync) -> Vec<R> {
+    on_threads(items.chunks(runs_of(items)).collect(), f)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Fails if [`each_on_cores`] leaves an element out or does one twice, or if the runs of
+    /// [`runs_on_cores`] are not the array's, in order; and if an array long enough is not cut
+    /// into a run per core.
+    #[test]
+    fn the_runs_on_the_cores_cover_the_array_once_in_order() {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        for len in [0, 1, CORES_FROM - 1, CORES_FROM, 3 * CORES_FROM + 7] {
+            let mut values: Vec<u64> = (0..len as u64).collect();
+            each_on_cores(&mut values, |v| *v = 3 * *v + 1);
+            let expected: Vec<u64> = (0..len as u64).map(|v| 3 * v + 1).collect();
+            assert_eq!(values, expected, "{len}");
+            let runs = runs_on_cores(&values, |run| run.to_vec());
+            assert_eq!(runs.concat(), values, "{len}");
+            let wanted = match len {
+                0 => 0,
+                len if len >= CORES_FROM => cores.min(len),
+                _ => 1,
+            };
+            assert_eq!(runs.len(), wanted, "{len}");
+        }
+    }
+}

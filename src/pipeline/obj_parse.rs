@@ -452,8 +452,10 @@ fn floats<'a, const N: usize>(words: &mut impl Iterator<Item = &'a str>) -> Opti
     Some(values)
 }
 
-/// The triangle soup of every piece's faces, each piece written by its own thread, and for a model
-/// without normals each corner's position index. `None` if a used number is not finite.
+/// The triangle soup of every piece's faces, and for a model without normals each corner's position
+/// index; `None` if a used number is not finite. Written in as many equal runs of corners as there
+/// are pieces, each on a thread of its own: by the pieces themselves, the first (the vertices, the
+/// start of a file) had few faces and the last most of them.
 fn deindex(
     pieces: &[Piece],
     mode: ObjMode,
@@ -463,25 +465,30 @@ fn deindex(
     let uvs: Vec<Vec2> = pieces.iter().flat_map(|p| &p.uvs).copied().collect();
     let normals: Vec<Vec3> = pieces.iter().flat_map(|p| &p.normals).copied().collect();
 
-    let sizes: Vec<usize> = pieces.iter().map(|p| 3 * p.triangles.len()).collect();
-    let corners: usize = sizes.iter().sum();
+    let faces: Vec<&[Corner]> = pieces.iter().map(|p| p.triangles.as_flattened()).collect();
+    let corners: usize = faces.iter().map(|f| f.len()).sum();
+    let run = corners.div_ceil(pieces.len().max(1)).max(1);
+    let sizes: Vec<usize> = (0..corners)
+        .step_by(run)
+        .map(|start| run.min(corners - start))
+        .collect();
+    // Zeroed by the system, untouched: each thread below faults in its own part.
     let mut soup = TriangleSoup {
-        vertices: vec![Vec3::ZERO; corners],
-        uvs: vec![Vec2::ZERO; corners],
-        normals: vec![Vec3::ZERO; if normals_missing { 0 } else { corners }],
+        vertices: bytemuck::zeroed_vec(corners),
+        uvs: bytemuck::zeroed_vec(corners),
+        normals: bytemuck::zeroed_vec(if normals_missing { 0 } else { corners }),
     };
     let mut position_indices = vec![0; if normals_missing { corners } else { 0 }];
-    let jobs: Vec<_> = pieces
-        .iter()
+    let jobs: Vec<_> = (0..sizes.len())
         .zip(split(&mut soup.vertices, &sizes))
         .zip(split(&mut soup.uvs, &sizes))
         .zip(split(&mut soup.normals, &sizes))
         .zip(split(&mut position_indices, &sizes))
         .collect();
-    let finite = on_threads(jobs, |((((piece, out_p), out_uv), out_n), out_i)| {
+    let finite = on_threads(jobs, |((((job, out_p), out_uv), out_n), out_i)| {
         let mut finite = true;
-        let corners = piece.triangles.iter().flatten();
-        for (k, &[v, vt, vn]) in corners.enumerate() {
+        let start = job * run;
+        for (k, &[v, vt, vn]) in corners_in(&faces, start..start + out_p.len()).enumerate() {
             let position = positions[v as usize];
             // A shape without UVs: (0, 0), as a `vt 0 0` every corner named would read.
             let uv = match vt {
@@ -508,6 +515,20 @@ fn deindex(
         .into_iter()
         .all(|f| f)
         .then_some((soup, position_indices))
+}
+
+/// The corners numbered `range` of the pieces' `faces` taken one after the other.
+fn corners_in<'f>(
+    faces: &'f [&'f [Corner]],
+    range: std::ops::Range<usize>,
+) -> impl Iterator<Item = &'f Corner> {
+    let mut first = 0;
+    faces.iter().flat_map(move |face| {
+        let (start, end) = (first, first + face.len());
+        first = end;
+        let (from, to) = (range.start.clamp(start, end), range.end.clamp(start, end));
+        &face[from - start..to - start]
+    })
 }
 
 /// `slice` cut into consecutive parts of `sizes`, or into empty parts if it is empty.
