@@ -152,7 +152,7 @@ impl<'a> Targets<'a> {
         high: &TriangleSoup,
         pairing: Option<&'a Pairing>,
         threads: usize,
-        data: impl Fn(usize) -> [Vec3; 3],
+        data: impl Fn(usize) -> [Vec3; 3] + Sync,
     ) -> Self {
         let Some(pairing) = pairing else {
             return Targets::Whole(Bvh::build_with(&high.vertices, data, threads));
