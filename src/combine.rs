@@ -22,6 +22,7 @@
 use std::path::Path;
 
 use crate::normalmap::{decode_image, encode_normal, encode_normal16, Green};
+use crate::pipeline::runs_on_cores;
 use crate::{Error, Result};
 
 /// The normal of an untouched surface.
@@ -219,11 +220,14 @@ pub fn combine_maps(
 
 /// Unit normals (green up; arrays or `Vec3`s) as 8-bit texels stored with `green`: the packing
 /// `--combine` and the bake write.
-pub fn texels8<N: Copy + Into<[f32; 3]>>(normals: &[N], green: Green) -> Vec<[u8; 3]> {
-    normals
-        .iter()
-        .map(|&n| encode_normal(green_up(n.into(), green)))
-        .collect()
+pub fn texels8<N: Copy + Into<[f32; 3]> + Sync>(normals: &[N], green: Green) -> Vec<[u8; 3]> {
+    // A run per core: a 2048² bake's 4M texels took 0.02 s on one.
+    let runs = runs_on_cores(normals, |run| {
+        (run.iter())
+            .map(|&n| encode_normal(green_up(n.into(), green)))
+            .collect::<Vec<_>>()
+    });
+    runs.concat()
 }
 
 /// Unit normals (green up; arrays or `Vec3`s) as 16-bit texels stored with `green`.
@@ -245,6 +249,21 @@ mod tests {
         Method::Linear,
         Method::Pd,
     ];
+
+    /// Fails if a map's texels, encoded a run per core, are not each normal's own texel, in order.
+    #[test]
+    fn a_large_maps_texels_are_each_normals_own() {
+        let mut next = crate::bake::xorshift(0x7e4e15);
+        let normals: Vec<[f32; 3]> = (0..150_001)
+            .map(|_| [0, 1, 2].map(|_| (next() >> 40) as f32 / (1u64 << 23) as f32 - 1.0))
+            .collect();
+        for green in [Green::Up, Green::Down] {
+            let one_pass: Vec<[u8; 3]> = (normals.iter())
+                .map(|&n| encode_normal(green_up(n, green)))
+                .collect();
+            assert!(texels8(&normals, green) == one_pass, "{green:?}");
+        }
+    }
 
     /// An 8-bit texel as the tool reads it.
     fn decode8(texel: [u8; 3]) -> [f32; 3] {

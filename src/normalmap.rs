@@ -222,8 +222,7 @@ pub fn normal_map_file(
     width: u32,
     height: u32,
 ) -> Result<Vec<u8>> {
-    let flat: Vec<u8> = texels.iter().flatten().copied().collect();
-    let image = image::RgbImage::from_raw(width, height, flat);
+    let image = image::RgbImage::from_raw(width, height, texels.as_flattened().to_vec());
     encoded(
         path,
         image,

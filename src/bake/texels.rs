@@ -363,26 +363,25 @@ pub fn fill_margin(
     margin: usize,
     threads: usize,
 ) -> usize {
-    let neighbours = |i: usize| {
-        let (x, y) = ((i % width) as isize, (i / width) as isize);
-        (-1..=1isize)
-            .flat_map(move |dy| (-1..=1isize).map(move |dx| (x + dx, y + dy)))
-            .filter(move |&(nx, ny)| {
-                (nx, ny) != (x, y)
-                    && (0..width as isize).contains(&nx)
-                    && (0..height as isize).contains(&ny)
-            })
-            .map(move |(nx, ny)| ny as usize * width + nx as usize)
-    };
-    // The covered texels beside an empty one.
+    let around = |i: usize| neighbours(i, i % width, i / width, width, height);
+    // The covered texels beside an empty one: each run walks its texels along the rows.
     let mut frontier: Vec<usize> = {
-        let (states, neighbours) = (&*states, &neighbours);
+        let states = &*states;
         in_runs(states.len(), threads, |run| {
-            run.filter(|&i| {
-                states[i] == TexelState::Covered
-                    && neighbours(i).any(|n| states[n] == TexelState::Empty)
-            })
-            .collect()
+            let (mut x, mut y) = (run.start % width, run.start / width);
+            let mut frontier = Vec::new();
+            for i in run {
+                if states[i] == TexelState::Covered
+                    && neighbours(i, x, y, width, height).any(|n| states[n] == TexelState::Empty)
+                {
+                    frontier.push(i);
+                }
+                x += 1;
+                if x == width {
+                    (x, y) = (0, y + 1);
+                }
+            }
+            frontier
         })
     };
     let mut queued = vec![false; states.len()];
@@ -390,7 +389,7 @@ pub fn fill_margin(
     for _ in 0..margin {
         let mut ring = Vec::new();
         for &f in &frontier {
-            for n in neighbours(f) {
+            for n in around(f) {
                 if states[n] == TexelState::Empty && !queued[n] {
                     queued[n] = true;
                     ring.push(n);
@@ -402,11 +401,11 @@ pub fn fill_margin(
         }
         // Every value of the ring is computed from the rings before it, then written.
         let values = {
-            let (states, normals, neighbours, ring) = (&*states, &*normals, &neighbours, &ring);
+            let (states, normals, around, ring) = (&*states, &*normals, &around, &ring);
             in_runs(ring.len(), threads, |run| {
                 (ring[run].iter())
                     .map(|&i| {
-                        let sum: Vec3 = neighbours(i)
+                        let sum: Vec3 = around(i)
                             .filter(|&n| states[n] != TexelState::Empty)
                             .map(|n| normals[n])
                             .sum();
@@ -423,6 +422,44 @@ pub fn fill_margin(
         frontier = ring;
     }
     filled
+}
+
+/// The neighbours within the map of texel `i` at column `x` and row `y`, row by row (the order in
+/// which the margin's sums add them). Built in an array: as a chain of closures over the nine
+/// offsets, finding the frontier of a 2048² map took half the margin's time.
+fn neighbours(
+    i: usize,
+    x: usize,
+    y: usize,
+    width: usize,
+    height: usize,
+) -> impl Iterator<Item = usize> {
+    let mut found = [0; 8];
+    let mut count = 0;
+    if x > 0 && y > 0 && x + 1 < width && y + 1 < height {
+        let (above, below) = (i - width, i + width);
+        found = [
+            above - 1,
+            above,
+            above + 1,
+            i - 1,
+            i + 1,
+            below - 1,
+            below,
+            below + 1,
+        ];
+        count = 8;
+    } else {
+        for ny in y.saturating_sub(1)..(y + 2).min(height) {
+            for nx in x.saturating_sub(1)..(x + 2).min(width) {
+                if (nx, ny) != (x, y) {
+                    found[count] = ny * width + nx;
+                    count += 1;
+                }
+            }
+        }
+    }
+    found.into_iter().take(count)
 }
 
 #[cfg(test)]
@@ -549,6 +586,30 @@ mod tests {
         let map = UvLayout::new(&soup(&uvs), 8, 8, 1).bake(1, flat);
         assert_eq!(map.stats.covered, 36);
         assert_eq!(map.stats.overlapping, 36);
+    }
+
+    /// Fails if a texel's neighbours are not the texels around it inside the map, each once,
+    /// row by row and left to right (the order the margin's sums take), on maps one texel wide
+    /// or high, and at every border and corner.
+    #[test]
+    fn a_texels_neighbours_are_the_eight_around_it_in_order() {
+        for (w, h) in [(1, 1), (1, 5), (5, 1), (2, 2), (3, 3), (7, 4), (4, 7)] {
+            for i in 0..w * h {
+                let (x, y) = ((i % w) as isize, (i / w) as isize);
+                let mut around = Vec::new();
+                for dy in -1..=1 {
+                    for dx in -1..=1 {
+                        let (nx, ny) = (x + dx, y + dy);
+                        let inside = (0..w as isize).contains(&nx) && (0..h as isize).contains(&ny);
+                        if (dx, dy) != (0, 0) && inside {
+                            around.push(ny as usize * w + nx as usize);
+                        }
+                    }
+                }
+                let found: Vec<usize> = neighbours(i, i % w, i / w, w, h).collect();
+                assert_eq!(found, around, "texel ({x}, {y}) of {w} × {h}");
+            }
+        }
     }
 
     /// Fails if the margin fills anything other than the texels within `margin` (Chebyshev) of
