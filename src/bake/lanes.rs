@@ -80,15 +80,26 @@ impl FrameLanes {
     }
 
     /// Lane `k`'s frame and HIGH's normal.
+    #[cfg(test)]
     pub fn set(&mut self, k: usize, frame: &[DVec3; 3], high: Vec3) {
         for (column, c) in self.columns.iter_mut().zip(frame) {
             for axis in 0..3 {
                 column[axis][k] = c[axis];
             }
         }
+        self.set_high(k, high);
+    }
+
+    /// Lane `k`'s HIGH normal.
+    pub fn set_high(&mut self, k: usize, high: Vec3) {
         for axis in 0..3 {
             self.high[axis][k] = high[axis] as f64;
         }
+    }
+
+    /// Lane `k`'s frame, its columns T, B, N.
+    pub fn frame(&self, k: usize) -> [DVec3; 3] {
+        self.columns.map(|[x, y, z]| DVec3::new(x[k], y[k], z[k]))
     }
 }
 

@@ -43,6 +43,7 @@ use crate::model::{load_model, MapOverrides, Model};
 use crate::pipeline::{each_on_cores, join, runs_on_cores};
 use crate::tangent_source::{stretch, TangentSource};
 use crate::{Error, Result};
+use bvh::PACKET;
 
 pub use parts::Pairing;
 pub use texels::{TexelState, UvLayout};
@@ -157,6 +158,7 @@ impl CornerFrames {
     }
 
     /// The frame at barycentrics `b` of triangle `t`: the columns T, B, N.
+    #[cfg(test)]
     fn at(&self, t: usize, b: [f32; 3]) -> [DVec3; 3] {
         let mix = |v: &[Vec3]| -> DVec3 {
             (0..3)
@@ -174,6 +176,68 @@ impl CornerFrames {
         };
         [tangent, bitangent, normal]
     }
+
+    /// [`CornerFrames::at`] of every sample of `chunk` (a packet's), into `columns` (column, axis,
+    /// lane), to the bit. A packet's samples come in runs on one triangle (a texel's K × K, often
+    /// its neighbours'): each run's corners are read once and mixed lane by lane, the same products
+    /// summed in the same order from the same zero as `at`'s, which the compiler lays side by side.
+    fn at_lanes(&self, chunk: &[(usize, [f32; 3])], columns: &mut [[[f64; PACKET]; 3]; 3]) {
+        let mut weights = [[0.0f64; PACKET]; 3];
+        for (k, (_, b)) in chunk.iter().enumerate() {
+            for i in 0..3 {
+                weights[i][k] = b[i] as f64;
+            }
+        }
+        // `mix` of `at` for lanes `run` of one triangle's corners `v`.
+        let mix = |v: &[Vec3], run: std::ops::Range<usize>, out: &mut [[f64; PACKET]; 3]| {
+            for (axis, out) in out.iter_mut().enumerate() {
+                let corner = [0, 1, 2].map(|i| v[i][axis] as f64);
+                for k in run.clone() {
+                    let sum = 0.0 + corner[0] * weights[0][k];
+                    out[k] = (sum + corner[1] * weights[1][k]) + corner[2] * weights[2][k];
+                }
+            }
+        };
+        for (t, std::ops::Range { start, end }) in runs_of_triangles(chunk) {
+            let corners = 3 * t..3 * t + 3;
+            let [tangent, bitangent, normal] = columns;
+            mix(&self.tangents[corners.clone()], start..end, tangent);
+            mix(&self.normals[corners.clone()], start..end, normal);
+            match &self.bitangents {
+                Bitangents::Given(v) => mix(&v[corners], start..end, bitangent),
+                Bitangents::Signs(signs) => {
+                    let signs = &signs[corners];
+                    for k in start..end {
+                        let b = chunk[k].1;
+                        let sign: f32 = (0..3).map(|i| signs[i] * b[i]).sum();
+                        let flip = if sign < 0.0 { -1.0 } else { 1.0 };
+                        // N × T as glam's `cross` writes it.
+                        let (n, t) = (
+                            [0, 1, 2].map(|a| normal[a][k]),
+                            [0, 1, 2].map(|a| tangent[a][k]),
+                        );
+                        bitangent[0][k] = (n[1] * t[2] - t[1] * n[2]) * flip;
+                        bitangent[1][k] = (n[2] * t[0] - t[2] * n[0]) * flip;
+                        bitangent[2][k] = (n[0] * t[1] - t[0] * n[1]) * flip;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The runs of consecutive samples of `chunk` on one triangle: the triangle, the run.
+fn runs_of_triangles(
+    chunk: &[(usize, [f32; 3])],
+) -> impl Iterator<Item = (usize, std::ops::Range<usize>)> + '_ {
+    let mut start = 0;
+    std::iter::from_fn(move || {
+        let &(t, _) = chunk.get(start)?;
+        let end = start + chunk[start..].iter().take_while(|(u, _)| *u == t).count();
+        let run = start..end;
+        start = end;
+        Some((t, run))
+    })
 }
 
 /// How far the tutorial's frame is from one that lights right: its stretch σmax/σmin (1 for T, B
@@ -682,13 +746,13 @@ impl Sampler<'_> {
         }
         // t = (T B N)⁻¹ n, where the frame has an inverse: the packet's solves side by side.
         let mut lanes = lanes::FrameLanes::new();
-        for (k, (&(t, b), high)) in chunk.iter().zip(high).enumerate() {
-            let frame = self.input.frames.at(t, b);
+        self.input.frames.at_lanes(chunk, &mut lanes.columns);
+        for (k, high) in high.iter().enumerate() {
             if self.measure_skew {
-                shaded.stretch[k] = Some(stretch(&frame));
+                shaded.stretch[k] = Some(stretch(&lanes.frame(k)));
             }
             if let Some(n) = high {
-                lanes.set(k, &frame, *n);
+                lanes.set_high(k, *n);
             }
         }
         let mut solved = lanes::Solved::new();
@@ -912,6 +976,88 @@ impl BakeFiles {
             });
         }
         Ok(map)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Fails if a packet's frames mixed lane by lane are not `CornerFrames::at`'s, to the bit, for
+    /// MikkTSpace's frames (signs, B = ±N × T) and the tutorial's (B mixed as given): packets of
+    /// runs on one triangle and of single samples, weights of 0 and −0, signs of 0, corners of
+    /// every size, and a packet shorter than [`PACKET`].
+    #[test]
+    fn a_packets_frames_in_lanes_are_each_samples_own() {
+        let mut next = xorshift(0xf4a3e5);
+        let mut value = move || {
+            let r = next();
+            let x = (r >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0;
+            match r % 16 {
+                0 => 0.0,
+                1 => -0.0,
+                2 => x * 1e30,
+                3 => x * 1e-30,
+                _ => x,
+            }
+        };
+        let triangles = 40;
+        let mut corners = |n: usize| -> Vec<Vec3> {
+            (0..3 * n)
+                .map(|_| Vec3::new(value(), value(), value()))
+                .collect()
+        };
+        let (tangents, normals, given) =
+            (corners(triangles), corners(triangles), corners(triangles));
+        let signs: Vec<f32> = (0..3 * triangles)
+            .map(|k| [1.0, -1.0, 0.0, -0.0][k % 4])
+            .collect();
+        let frames = [
+            CornerFrames {
+                tangents: tangents.clone(),
+                normals: normals.clone(),
+                bitangents: Bitangents::Signs(signs),
+            },
+            CornerFrames {
+                tangents,
+                normals,
+                bitangents: Bitangents::Given(given),
+            },
+        ];
+        let mut pick = xorshift(0x5a3b1e);
+        for packet in 0..400 {
+            let length = if packet % 5 == 0 {
+                1 + (pick() % PACKET as u64) as usize
+            } else {
+                PACKET
+            };
+            let mut chunk = Vec::new();
+            while chunk.len() < length {
+                let t = (pick() % triangles as u64) as usize;
+                // Runs of a texel's sixteen, of one, or of a few.
+                let run = [16, 1, 3, 64][(pick() % 4) as usize];
+                for _ in 0..run.min(length - chunk.len()) {
+                    let b = [0, 1, 2].map(|_| match pick() % 8 {
+                        0 => 0.0,
+                        1 => -0.0,
+                        r => (r as f32 * 0.37).fract(),
+                    });
+                    chunk.push((t, b));
+                }
+            }
+            for frames in &frames {
+                let mut columns = [[[f64::NAN; PACKET]; 3]; 3];
+                frames.at_lanes(&chunk, &mut columns);
+                for (k, &(t, b)) in chunk.iter().enumerate() {
+                    let lane = columns.map(|[x, y, z]| [x[k], y[k], z[k]].map(f64::to_bits));
+                    let alone = frames.at(t, b).map(|c| c.to_array().map(f64::to_bits));
+                    assert_eq!(
+                        lane, alone,
+                        "packet {packet}, lane {k}: triangle {t} at {b:?}"
+                    );
+                }
+            }
+        }
     }
 }
 
