@@ -9,8 +9,11 @@ use super::{BakeStats, BakedMap, Sample, Skew, SKEW_LIMIT};
 use crate::common::objloader::TriangleSoup;
 use crate::pipeline::{in_runs, on_threads};
 
-/// Rows of texels baked together: small enough that the bands share the cores evenly.
-const BAND_ROWS: usize = 8;
+/// Rows of samples baked together (rows of texels: this over K, at least a tile's): small enough
+/// that the bands share the cores evenly, and that a band's owners (17 bytes a sample, written by
+/// the raster, then read back by the tiles) stay in a core's cache: 8 rows of texels at 4 × 4 were
+/// 4.5 MB.
+const BAND_SAMPLE_ROWS: usize = 8;
 /// Samples a side of the tiles traced together: 2 × 2 texels' 4 × 4 rays, or 8 × 8 texels' one
 /// ray each (a packet, [`super::bvh::PACKET`]). A texel's 4 × 4 alone made a packet of 16 rays
 /// within one texel, whose walk down the hierarchy cost as much as one of sixteen texels'.
@@ -55,7 +58,8 @@ impl UvLayout {
     pub fn new(soup: &TriangleSoup, width: u32, height: u32, samples: u32) -> UvLayout {
         let (width, height, samples) = (width as usize, height as usize, samples.max(1) as usize);
         let scale = DVec2::new((width * samples) as f64, (height * samples) as f64);
-        let band_count = height.div_ceil(BAND_ROWS);
+        let band_rows = band_rows(samples);
+        let band_count = height.div_ceil(band_rows);
         let mut bands = vec![Vec::new(); band_count];
         let triangles: Vec<Option<PixelTriangle>> = soup
             .uvs
@@ -88,8 +92,8 @@ impl UvLayout {
             let Some((_, rows)) = sample_box(tri, width * samples, height * samples) else {
                 continue;
             };
-            let first = rows.start / samples / BAND_ROWS;
-            let last = (rows.end - 1) / samples / BAND_ROWS;
+            let first = rows.start / samples / band_rows;
+            let last = (rows.end - 1) / samples / band_rows;
             for band in &mut bands[first..=last] {
                 band.push(t as u32);
             }
@@ -120,8 +124,8 @@ impl UvLayout {
         let mut normals = vec![Vec3::Z; texels];
         let mut states = vec![TexelState::Empty; texels];
         let work: Vec<_> = normals
-            .chunks_mut(BAND_ROWS * self.width)
-            .zip(states.chunks_mut(BAND_ROWS * self.width))
+            .chunks_mut(band_rows(self.samples) * self.width)
+            .zip(states.chunks_mut(band_rows(self.samples) * self.width))
             .enumerate()
             .collect();
         let work = Mutex::new(work.into_iter());
@@ -173,7 +177,7 @@ impl UvLayout {
     ) -> (BakeStats, Vec<f32>) {
         let (w, k) = (self.width, self.samples);
         let rows = normals.len() / w;
-        let first_sample_row = band * BAND_ROWS * k;
+        let first_sample_row = band * band_rows(k) * k;
         let sample_rows = first_sample_row..first_sample_row + rows * k;
         let per_row = w * k;
         let count = rows * k * per_row;
@@ -266,6 +270,11 @@ impl UvLayout {
         }
         (stats, stretches)
     }
+}
+
+/// The rows of texels of a band at `k` × `k` samples a texel: a row of tiles.
+fn band_rows(k: usize) -> usize {
+    (BAND_SAMPLE_ROWS / k).max(1)
 }
 
 /// Each bake thread's per-sample buffers for a band: which triangle owns each sample (the last
@@ -496,6 +505,53 @@ mod tests {
         assert_eq!(map.stats.covered, 64);
         assert_eq!(map.stats.rays, 64 * 9);
         assert_eq!(map.stats.overlapping, 0);
+    }
+
+    /// Fails if a texel's samples are not the ones its own test of every sample finds (which
+    /// triangle owns each, last claimant first, at which barycentrics, summed in order), at 1 to
+    /// 5 samples a side: a band's rows taken from another band, or rows of a band left out. The
+    /// map's height is no multiple of any band's.
+    #[test]
+    fn each_texel_averages_the_samples_its_own_test_finds() {
+        let mut bits = crate::bake::xorshift(0x7a3b_11c0_9e21_55d3);
+        let mut next = move || (bits() >> 40) as f32 / (1u64 << 24) as f32;
+        let uvs: Vec<Vec2> = (0..3 * 9)
+            .map(|_| Vec2::new(next() * 1.2 - 0.1, next() * 1.2 - 0.1))
+            .collect();
+        let (w, h) = (13, 37);
+        let normal = |t: usize, b: [f32; 3]| Vec3::new(t as f32 + 1.0, b[0], b[1] - b[2]);
+        for k in 1..=5 {
+            let layout = UvLayout::new(&soup(&uvs), w as u32, h as u32, k as u32);
+            let map = layout.bake(2, |batch, out| {
+                out.extend(batch.iter().map(|&(t, b)| Sample {
+                    normal: normal(t, b),
+                    ..Sample::flat()
+                }))
+            });
+            for texel in 0..w * h {
+                let (x, y) = (texel % w, texel / w);
+                let mut found = Vec::new();
+                for j in 0..k {
+                    for i in 0..k {
+                        let p = DVec2::new((x * k + i) as f64 + 0.5, (y * k + j) as f64 + 0.5);
+                        let owner = (layout.triangles.iter().enumerate())
+                            .rev()
+                            .find_map(|(t, tri)| Some((t, barycentrics(tri.as_ref()?, p)?)));
+                        found.extend(owner.map(|(t, b)| normal(t, b)));
+                    }
+                }
+                let covered = map.states[texel] == TexelState::Covered;
+                assert_eq!(covered, !found.is_empty(), "texel ({x}, {y}) at {k} × {k}");
+                if let Some(&first) = found.first() {
+                    let sum: Vec3 = found.iter().fold(Vec3::ZERO, |sum, n| sum + *n);
+                    let expected = sum.try_normalize().unwrap_or(first);
+                    assert_eq!(
+                        map.normals[texel], expected,
+                        "texel ({x}, {y}) at {k} × {k}"
+                    );
+                }
+            }
+        }
     }
 
     /// Fails if a row's span leaves out a sample the triangle owns (a span too narrow by
