@@ -523,6 +523,23 @@ impl Sample {
     }
 }
 
+/// A thread's arrays for a packet, kept from packet to packet: made anew for each, they were 13 KB
+/// of zeros every 64 rays. Every lane a packet reads is written first: its rays' hits, its samples'
+/// frames, HIGH's normal where a ray met it, every lane of the solve.
+struct PacketLanes {
+    hits: [Option<bvh::Hit>; PACKET],
+    frames: lanes::FrameLanes,
+    solved: lanes::Solved,
+}
+
+thread_local! {
+    static PACKET_LANES: std::cell::RefCell<PacketLanes> = std::cell::RefCell::new(PacketLanes {
+        hits: [None; PACKET],
+        frames: lanes::FrameLanes::new(),
+        solved: lanes::Solved::new(),
+    });
+}
+
 /// What [`Sampler::shade`] gives the samples of a packet: the first as many as it shaded.
 struct Shaded {
     normal: [Vec3; bvh::PACKET],
@@ -629,6 +646,16 @@ impl Sampler<'_> {
     /// The samples of `batch` (LOW's triangle and barycentrics each), one for each into `out`:
     /// their rays traced [`bvh::PACKET`] at a time.
     fn samples(&self, batch: &[(usize, [f32; 3])], out: &mut Vec<Sample>) {
+        PACKET_LANES.with_borrow_mut(|scratch| self.samples_with(batch, out, scratch));
+    }
+
+    /// [`Sampler::samples`] with this thread's lanes.
+    fn samples_with(
+        &self,
+        batch: &[(usize, [f32; 3])],
+        out: &mut Vec<Sample>,
+        scratch: &mut PacketLanes,
+    ) {
         for chunk in batch.chunks(bvh::PACKET) {
             let n = chunk.len();
             let mut rays = [bvh::Ray::IDLE; bvh::PACKET];
@@ -639,7 +666,7 @@ impl Sampler<'_> {
                 *triangle = t;
             }
             let triangles = &triangles[..n];
-            let mut hits = [None; bvh::PACKET];
+            let hits = &mut scratch.hits;
             self.targets
                 .first_hits(triangles, &rays[..n], &mut hits[..n]);
             let (beyond, outside) = self.look(triangles, &rays[..n], &normals[..n], &hits[..n]);
@@ -657,7 +684,7 @@ impl Sampler<'_> {
             for (k, (high, hit)) in high.iter_mut().zip(&hits[..n]).enumerate() {
                 *high = hit.map(|_| unit.get(k));
             }
-            let shaded = self.shade(chunk, &normals[..n], &high[..n]);
+            let shaded = self.shade(chunk, &normals[..n], &high[..n], scratch);
             // Each sample written once, whole (built field by field in place, its stores were
             // read back across their seams, a stall each).
             out.extend((0..n).map(|k| Sample {
@@ -725,6 +752,7 @@ impl Sampler<'_> {
         chunk: &[(usize, [f32; 3])],
         normals: &[Vec3],
         high: &[Option<Vec3>],
+        scratch: &mut PacketLanes,
     ) -> Shaded {
         let mut shaded = Shaded {
             normal: [Vec3::Z; bvh::PACKET],
@@ -745,7 +773,11 @@ impl Sampler<'_> {
             return shaded;
         }
         // t = (T B N)⁻¹ n, where the frame has an inverse: the packet's solves side by side.
-        let mut lanes = lanes::FrameLanes::new();
+        let PacketLanes {
+            frames: lanes,
+            solved,
+            ..
+        } = scratch;
         self.input.frames.at_lanes(chunk, &mut lanes.columns);
         for (k, high) in high.iter().enumerate() {
             if self.measure_skew {
@@ -755,8 +787,7 @@ impl Sampler<'_> {
                 lanes.set_high(k, *n);
             }
         }
-        let mut solved = lanes::Solved::new();
-        lanes::solve(&lanes, &mut solved);
+        lanes::solve(lanes, solved);
         for (k, high) in high.iter().enumerate() {
             if high.is_none() {
                 continue;
@@ -1058,6 +1089,103 @@ mod tests {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod packet_lanes {
+    use super::*;
+    use glam::Vec2;
+
+    /// A quad in z = 0 (UVs 0..1) as LOW, its frames with triangle 1's T along N where `singular`,
+    /// and as HIGH a wavy sheet above it, over all of it or over its lower half only (V < 0.5: the
+    /// map's lower rows, baked last, so that its first packets meet nothing).
+    fn pair(singular: bool, half: bool) -> (TriangleSoup, CornerFrames, TriangleSoup) {
+        let corners = [
+            Vec2::ZERO,
+            Vec2::X,
+            Vec2::ONE,
+            Vec2::ZERO,
+            Vec2::ONE,
+            Vec2::Y,
+        ];
+        let low = TriangleSoup {
+            vertices: corners.iter().map(|c| c.extend(0.0)).collect(),
+            uvs: corners.to_vec(),
+            normals: vec![Vec3::Z; 6],
+        };
+        let mut frames = CornerFrames::tutorial(&low, false);
+        if singular {
+            frames.tangents[3..].fill(Vec3::Z);
+        }
+        let (columns, top) = (24, if half { 0.5 } else { 1.0 });
+        let at = |i: usize, j: usize| {
+            let (x, y) = (i as f32 / columns as f32, top * j as f32 / columns as f32);
+            Vec3::new(x, y, 0.02 * (9.0 * x).sin() * (7.0 * y).cos())
+        };
+        let mut vertices = Vec::new();
+        for j in 0..columns {
+            for i in 0..columns {
+                let quad = [at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
+                vertices.extend([quad[0], quad[1], quad[2], quad[0], quad[2], quad[3]]);
+            }
+        }
+        let high = TriangleSoup {
+            uvs: vec![Vec2::ZERO; vertices.len()],
+            normals: vec![Vec3::Z; vertices.len()],
+            vertices,
+        };
+        (low, frames, high)
+    }
+
+    fn bake((low, frames, high): &(TriangleSoup, CornerFrames, TriangleSoup)) -> BakedMap {
+        let input = BakeInput {
+            low,
+            frames,
+            high,
+            high_face_normals: true,
+            extrusion: 0.1,
+            max_distance: 0.2,
+            cage: None,
+            pairing: None,
+        };
+        let settings = BakeSettings {
+            width: 24,
+            height: 24,
+            samples: 3,
+            margin: 2,
+            threads: 1,
+            ..BakeSettings::default()
+        };
+        bake_soups(&input, &settings)
+    }
+
+    /// Fails if a packet reads a lane its thread's arrays kept from an earlier one (the arrays are
+    /// not zeroed from packet to packet): a bake with misses and frames without an inverse gives
+    /// the same map, to the bit, on a thread of its own and on a thread that baked another pair
+    /// first, whose every ray met HIGH in an invertible frame.
+    #[test]
+    fn a_packet_reads_no_lane_an_earlier_one_left() {
+        let (full, gaps) = (pair(false, false), pair(true, true));
+        let alone = std::thread::scope(|s| s.spawn(|| bake(&gaps)).join().unwrap());
+        let after = std::thread::scope(|s| {
+            s.spawn(|| {
+                assert_eq!(bake(&full).stats.missed, 0);
+                bake(&gaps)
+            })
+            .join()
+            .unwrap()
+        });
+        assert!(alone.stats.missed > 0 && alone.stats.singular > 0);
+        let bits = |map: &BakedMap| -> Vec<[u32; 3]> {
+            map.normals
+                .iter()
+                .map(|n| n.to_array().map(f32::to_bits))
+                .collect()
+        };
+        assert!(bits(&after) == bits(&alone));
+        assert_eq!(after.states, alone.states);
+        assert_eq!(format!("{:?}", after.stats), format!("{:?}", alone.stats));
     }
 }
 
