@@ -873,8 +873,6 @@ fn node_of(built: &[BuildNode], children: &[usize], mut inner: impl FnMut(usize)
     node
 }
 
-/// The subtree over `items` (reordered into its leaves' order), its root first; child and leaf
-/// indices count from its root, its leaves' from `base` items; `depth` is its root's.
 /// The build's items of the triangles of `positions` whose corners are all finite (no ray can
 /// meet the others, and their boxes would poison their neighbours'), in order. Made in runs on
 /// `threads` threads into an array the system zeroed, each thread faulting in its own pages; a
@@ -910,6 +908,8 @@ fn items_of(positions: &[Vec3], threads: usize) -> Vec<Item> {
     triangles.filter(|(_, c)| finite(c)).map(item).collect()
 }
 
+/// The subtree over `items` (reordered into its leaves' order), its root first; child and leaf
+/// indices count from its root, its leaves' from `base` items; `depth` is its root's.
 fn build_subtree(items: &mut [Item], base: usize, depth: usize, threads: usize) -> Vec<BuildNode> {
     let mut nodes = Vec::with_capacity(2 * items.len() / LEAF_SIZE + 1);
     nodes.push(BuildNode {

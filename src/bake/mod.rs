@@ -568,12 +568,12 @@ impl Reach {
     /// distances within the models' size are unchanged.
     pub fn of(input: &BakeInput) -> Reach {
         type Box3 = (Vec3, Vec3);
-        let join = |(min, max): Box3, (lo, hi): Box3| (min.min(lo), max.max(hi));
+        let union = |(min, max): Box3, (lo, hi): Box3| (min.min(lo), max.max(hi));
         let bounds = |points: &[Vec3]| -> Box3 {
             (points.iter())
                 .filter(|p| p.is_finite())
                 .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |b, p| {
-                    join(b, (*p, *p))
+                    union(b, (*p, *p))
                 })
         };
         let low = bounds(&input.low.vertices);
@@ -581,7 +581,7 @@ impl Reach {
         // points too: its rays start there.
         let high = runs_on_cores(&input.high.vertices, bounds);
         let cage = bounds(input.cage.unwrap_or_default());
-        let both = high.into_iter().chain([cage]).fold(low, join);
+        let both = high.into_iter().chain([cage]).fold(low, union);
         // Generous, so that rounding cannot cut a ray that reaches a triangle.
         let width = (both.1 - both.0).max(Vec3::ZERO).length() * 1.01 + f32::MIN_POSITIVE;
         let extrusion = input.extrusion.min(width);

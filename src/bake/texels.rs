@@ -49,6 +49,8 @@ pub struct UvLayout {
     height: usize,
     samples: usize,
     triangles: Vec<Option<PixelTriangle>>,
+    /// Rows of texels a band: a row of tiles ([`BAND_SAMPLE_ROWS`] over K).
+    band_rows: usize,
     /// Each band's triangles, in the soup's order.
     bands: Vec<Vec<u32>>,
 }
@@ -58,7 +60,7 @@ impl UvLayout {
     pub fn new(soup: &TriangleSoup, width: u32, height: u32, samples: u32) -> UvLayout {
         let (width, height, samples) = (width as usize, height as usize, samples.max(1) as usize);
         let scale = DVec2::new((width * samples) as f64, (height * samples) as f64);
-        let band_rows = band_rows(samples);
+        let band_rows = (BAND_SAMPLE_ROWS / samples).max(1);
         let band_count = height.div_ceil(band_rows);
         let mut bands = vec![Vec::new(); band_count];
         let triangles: Vec<Option<PixelTriangle>> = soup
@@ -103,6 +105,7 @@ impl UvLayout {
             height,
             samples,
             triangles,
+            band_rows,
             bands,
         }
     }
@@ -124,8 +127,8 @@ impl UvLayout {
         let mut normals = vec![Vec3::Z; texels];
         let mut states = vec![TexelState::Empty; texels];
         let work: Vec<_> = normals
-            .chunks_mut(band_rows(self.samples) * self.width)
-            .zip(states.chunks_mut(band_rows(self.samples) * self.width))
+            .chunks_mut(self.band_rows * self.width)
+            .zip(states.chunks_mut(self.band_rows * self.width))
             .enumerate()
             .collect();
         let work = Mutex::new(work.into_iter());
@@ -177,7 +180,7 @@ impl UvLayout {
     ) -> (BakeStats, Vec<f32>) {
         let (w, k) = (self.width, self.samples);
         let rows = normals.len() / w;
-        let first_sample_row = band * band_rows(k) * k;
+        let first_sample_row = band * self.band_rows * k;
         let sample_rows = first_sample_row..first_sample_row + rows * k;
         let per_row = w * k;
         let count = rows * k * per_row;
@@ -270,11 +273,6 @@ impl UvLayout {
         }
         (stats, stretches)
     }
-}
-
-/// The rows of texels of a band at `k` × `k` samples a texel: a row of tiles.
-fn band_rows(k: usize) -> usize {
-    (BAND_SAMPLE_ROWS / k).max(1)
 }
 
 /// Each bake thread's per-sample buffers for a band: which triangle owns each sample (the last
