@@ -1,12 +1,14 @@
 // The page's bake, off its main thread: this Web Worker (a module worker) loads the page's own
-// module (tutorial13.js, whose start does nothing here) and runs its `bake` on the files and
-// arguments the bake panel posts: { files: [[path, bytes]...], args: [...] }. It answers
-// { progress: [stage, share] } as the bake goes, then { done: { map, report, seconds } } or { error }.
+// module (tutorial13.js, whose start does nothing here), warms it up with a small bake, and runs
+// its `bake` on the files and arguments the bake panel posts: { files: [[path, bytes]...],
+// args: [...] }. It answers { progress: [stage, share] } as the bake goes, then
+// { done: { map, report, seconds } } or { error }.
 // Cancel terminates the worker (no shared memory: a plain file server sends no cross-origin
 // isolation headers), so one worker bakes once.
-import init, { bake, provide_file } from './tutorial13.js';
+import init, { bake, provide_file, warm_up } from './tutorial13.js';
 
-const loaded = init();
+// A small bake first, so that the browser has its best code for the user's (web/src/bake.rs).
+const loaded = init().then(() => warm_up());
 self.onmessage = async ({ data }) => {
   try {
     await loaded;

@@ -33,6 +33,33 @@ pub fn provide_file(path: &str, bytes: Vec<u8>) {
     tutorial13::files::provide(Path::new(path), bytes);
 }
 
+/// Bakes a small pair once and throws its map away (a bumpy sphere of 9,216 triangles onto a UV
+/// sphere of 256, 64², one ray a texel: a few tens of milliseconds). The browser first runs a
+/// module's functions in code it compiles fast, and replaces a function's code with better code
+/// only once it has run a while, from its next call on: the reader's and the BVH's few long calls
+/// kept the first code through a whole bake, which then took about half as long again as the
+/// same bake run a second time (BENCHMARKS.md). The worker calls this as it starts, before any
+/// bake is asked of it. Its error (a pair that no longer bakes) fails the worker's bakes, so that
+/// the browser tests see it.
+#[wasm_bindgen]
+pub fn warm_up() -> Result<(), String> {
+    use tutorial13::assets::obj_text::{bumps, round, sphere_obj_text};
+    let (high, low) = ("warm-up/high.obj", "warm-up/low.obj");
+    let relief = bumps(0.02, 6.0);
+    let high_text = sphere_obj_text(96, 48, &relief, false);
+    tutorial13::files::provide(Path::new(high), high_text.into_bytes());
+    let low_text = sphere_obj_text(16, 8, &round, false);
+    tutorial13::files::provide(Path::new(low), low_text.into_bytes());
+    let args: Vec<String> = [high, low, "-o", "warm-up/map.png", "--size", "64"]
+        .map(String::from)
+        .into();
+    let failed = |e: tutorial13::Error| format!("bake: the worker's warm-up bake failed: {e}");
+    let options = BakeOptions::from_args(&args)?;
+    let (_, _, map) = bake_map(&options, None).map_err(failed)?;
+    encode(&options, &map).map_err(failed)?;
+    Ok(())
+}
+
 /// `tutorial13 bake ARGS`, the map returned (not written) as the bytes of the file `-o` names, with
 /// the report's coverage and misses lines and the seconds it took (the files read from memory, the
 /// bake, the file's bytes: the command's own time but for the disk); `progress(stage, share)` is
@@ -57,12 +84,15 @@ pub fn bake(args: Vec<String>, progress: js_sys::Function) -> Result<js_sys::Obj
     tell("writing the PNG", 1.0);
     let file = encode(&options, &map).map_err(|e| e.to_string())?;
     let radius = files.low.placement.radius;
-    let report = [Some(coverage(&settings, &map)), scale_warning(&options, &settings, radius)]
-        .into_iter()
-        .flatten()
-        .chain([misses(&options, &settings, &map.stats, files.scale)])
-        .collect::<Vec<_>>()
-        .join("; ");
+    let report = [
+        Some(coverage(&settings, &map)),
+        scale_warning(&options, &settings, radius),
+    ]
+    .into_iter()
+    .flatten()
+    .chain([misses(&options, &settings, &map.stats, files.scale)])
+    .collect::<Vec<_>>()
+    .join("; ");
     let result = js_sys::Object::new();
     let set = |key: &str, value: JsValue| js_sys::Reflect::set(&result, &key.into(), &value);
     let seconds = start.elapsed().as_secs_f64();

@@ -5,6 +5,10 @@
 //! on LOW as soon as it is done (the cylinder scene with LOW as its model and the map as its normal
 //! map, in the frame it was baked for: the compare key K at hand), and Save downloads the PNG.
 //!
+//! A worker is started ahead of each bake, once a slot has taken its files: it loads the module and
+//! warms it up with a small bake of its own (web/src/bake.rs `warm_up`) while the learner sets the
+//! bake up, so that Bake starts at once on the browser's best code.
+//!
 //! The worker gets the command's own arguments (`high/H.obj low/L.obj -o L_normal.png --size …`),
 //! which the panel shows as the native command that makes the same map.
 
@@ -90,6 +94,10 @@ struct Panel {
     high: Option<Dropped>,
     low: Option<Dropped>,
     running: Option<Running>,
+    /// A worker started ahead of the next bake (once a slot has taken files, and again after each
+    /// bake), its module already loading, so that Bake does not wait for it; with the handler
+    /// that drops it if it fails to load (a fresh one then says why).
+    spare: Option<(web_sys::Worker, Handler)>,
     /// The last map's object URL (Save's link), revoked when another replaces it.
     saved: Option<String>,
 }
@@ -183,11 +191,11 @@ fn take(role: Role, list: web_sys::FileList, panel: &Shared) {
         };
         set_text(&format!("{}-names", role.slot()), &names.join(", "));
         let dropped = Dropped { files, model };
-        let mut panel = panel.borrow_mut();
         match role {
-            Role::High => panel.high = Some(dropped),
-            Role::Low => panel.low = Some(dropped),
+            Role::High => panel.borrow_mut().high = Some(dropped),
+            Role::Low => panel.borrow_mut().low = Some(dropped),
         }
+        keep_spare(&panel);
     });
 }
 
@@ -301,17 +309,47 @@ fn shown(args: &[String]) -> String {
     args.iter().map(bare).collect::<Vec<_>>().join(" ")
 }
 
-/// The worker, sent both slots' files and `args`, and its two handlers (a message; a failure to
-/// load it).
+/// A bake worker (web/bake-worker.js), loading the page's module as it starts.
+fn new_worker() -> Result<web_sys::Worker, String> {
+    let options = web_sys::WorkerOptions::new();
+    options.set_type(web_sys::WorkerType::Module);
+    web_sys::Worker::new_with_options("bake-worker.js", &options)
+        .map_err(|_| "bake: this browser cannot start a module worker (bake-worker.js)".into())
+}
+
+/// Starts the spare worker ([`Panel::spare`]) if there is none and no bake runs. A worker that
+/// cannot be started here is left to Bake, which says why.
+fn keep_spare(panel: &Shared) {
+    {
+        let state = panel.borrow();
+        if state.spare.is_some() || state.running.is_some() {
+            return;
+        }
+    }
+    let Ok(worker) = new_worker() else { return };
+    let dropped = Rc::downgrade(panel);
+    let on_error = Handler::new(move |_: Event| {
+        if let Some(panel) = dropped.upgrade() {
+            panel.borrow_mut().spare = None;
+        }
+    });
+    worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
+    panel.borrow_mut().spare = Some((worker, on_error));
+}
+
+/// The worker (the spare, or a new one), sent both slots' files and `args`, and its two handlers
+/// (a message; a failure to load it).
 fn spawn(
     panel: &Shared,
     page: &Rc<RefCell<Page>>,
     args: &[String],
 ) -> Result<(web_sys::Worker, [Handler; 2]), String> {
-    let options = web_sys::WorkerOptions::new();
-    options.set_type(web_sys::WorkerType::Module);
-    let worker = web_sys::Worker::new_with_options("bake-worker.js", &options)
-        .map_err(|_| "bake: this browser cannot start a module worker (bake-worker.js)")?;
+    let spare = panel.borrow_mut().spare.take();
+    // The spare's own handler lives until the bake's replace it.
+    let (worker, _spare_handler) = match spare {
+        Some((worker, handler)) => (worker, Some(handler)),
+        None => (new_worker()?, None),
+    };
     let (answered, page) = (panel.clone(), page.clone());
     let on_message = Handler::new(move |event: Event| {
         if let Some(event) = event.dyn_ref::<MessageEvent>() {
@@ -414,6 +452,7 @@ fn finish(panel: &Shared, page: &Rc<RefCell<Page>>, running: Running, done: &JsV
             show_error(&e.to_string());
         }
     });
+    keep_spare(panel);
 }
 
 /// Save's link to `map`, named as `path`'s file.
@@ -449,6 +488,7 @@ fn fail(panel: &Shared, line: &str) {
     set_state("failed");
     set_progress("failed", 0.0);
     show_error(line);
+    keep_spare(panel);
 }
 
 /// Cancel: the worker terminated, its bake with it.
@@ -459,6 +499,7 @@ fn cancel(panel: &Shared) {
     running.worker.terminate();
     set_state("cancelled");
     set_progress("cancelled", 0.0);
+    keep_spare(panel);
 }
 
 /// `#bake`'s `data-state` (the tests wait for it), the buttons as it allows.
