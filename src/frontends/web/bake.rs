@@ -379,9 +379,14 @@ fn spawn(
     let args: js_sys::Array = args.iter().map(|a| JsValue::from_str(a)).collect();
     let _ = js_sys::Reflect::set(&message, &"files".into(), &files);
     let _ = js_sys::Reflect::set(&message, &"args".into(), &args);
-    worker
+    if worker
         .post_message_with_transfer(&message, &transfer)
-        .map_err(|_| "bake: the files cannot be sent to the worker")?;
+        .is_err()
+    {
+        // Not left running (the spare had started its warm-up).
+        worker.terminate();
+        return Err("bake: the files cannot be sent to the worker".into());
+    }
     Ok((worker, [on_message, on_error]))
 }
 
