@@ -181,6 +181,7 @@ impl CornerFrames {
     /// lane), to the bit. A packet's samples come in runs on one triangle (a texel's K × K, often
     /// its neighbours'): each run's corners are read once and mixed lane by lane, the same products
     /// summed in the same order from the same zero as `at`'s, which the compiler lays side by side.
+    #[inline(always)]
     fn at_lanes(&self, chunk: &[(usize, [f32; 3])], columns: &mut [[[f64; PACKET]; 3]; 3]) {
         let mut weights = [[0.0f64; PACKET]; 3];
         for (k, (_, b)) in chunk.iter().enumerate() {
@@ -188,23 +189,35 @@ impl CornerFrames {
                 weights[i][k] = b[i] as f64;
             }
         }
-        // `mix` of `at` for lanes `run` of one triangle's corners `v`.
-        let mix = |v: &[Vec3], run: std::ops::Range<usize>, out: &mut [[f64; PACKET]; 3]| {
+        // `mix` of `at` for lanes `run` of one triangle's corners `v` (a function, so that it is
+        // compiled into the packet's code and not called).
+        #[inline(always)]
+        fn mix(
+            v: &[Vec3],
+            run: std::ops::Range<usize>,
+            weights: &[[f64; PACKET]; 3],
+            out: &mut [[f64; PACKET]; 3],
+        ) {
             for (axis, out) in out.iter_mut().enumerate() {
-                let corner = [0, 1, 2].map(|i| v[i][axis] as f64);
+                let corner = [v[0][axis] as f64, v[1][axis] as f64, v[2][axis] as f64];
                 for k in run.clone() {
                     let sum = 0.0 + corner[0] * weights[0][k];
                     out[k] = (sum + corner[1] * weights[1][k]) + corner[2] * weights[2][k];
                 }
             }
-        };
+        }
         for (t, std::ops::Range { start, end }) in runs_of_triangles(chunk) {
             let corners = 3 * t..3 * t + 3;
             let [tangent, bitangent, normal] = columns;
-            mix(&self.tangents[corners.clone()], start..end, tangent);
-            mix(&self.normals[corners.clone()], start..end, normal);
+            mix(
+                &self.tangents[corners.clone()],
+                start..end,
+                &weights,
+                tangent,
+            );
+            mix(&self.normals[corners.clone()], start..end, &weights, normal);
             match &self.bitangents {
-                Bitangents::Given(v) => mix(&v[corners], start..end, bitangent),
+                Bitangents::Given(v) => mix(&v[corners], start..end, &weights, bitangent),
                 Bitangents::Signs(signs) => {
                     let signs = &signs[corners];
                     for k in start..end {
@@ -227,13 +240,17 @@ impl CornerFrames {
 }
 
 /// The runs of consecutive samples of `chunk` on one triangle: the triangle, the run.
+#[inline(always)]
 fn runs_of_triangles(
     chunk: &[(usize, [f32; 3])],
 ) -> impl Iterator<Item = (usize, std::ops::Range<usize>)> + '_ {
     let mut start = 0;
     std::iter::from_fn(move || {
         let &(t, _) = chunk.get(start)?;
-        let end = start + chunk[start..].iter().take_while(|(u, _)| *u == t).count();
+        let mut end = start + 1;
+        while end < chunk.len() && chunk[end].0 == t {
+            end += 1;
+        }
         let run = start..end;
         start = end;
         Some((t, run))
@@ -286,6 +303,7 @@ pub struct BakeStats {
 
 impl BakeStats {
     /// Counts one sample.
+    #[inline(always)]
     pub(crate) fn add_sample(&mut self, sample: &Sample) {
         self.rays += 1;
         self.missed += usize::from(sample.missed);
@@ -606,6 +624,7 @@ impl Sampler<'_> {
     /// The rays of a packet's samples (LOW's triangle and barycentrics each) into `rays`, and
     /// LOW's normal at each into `normals`: from the cage point (LOW's point pushed out along the
     /// normal) back along the normal. The normals are normalized side by side ([`lanes`]).
+    #[inline(always)]
     fn rays(
         &self,
         chunk: &[(usize, [f32; 3])],
@@ -613,9 +632,13 @@ impl Sampler<'_> {
         normals: &mut [Vec3; bvh::PACKET],
     ) {
         let low = self.input.low;
-        let mix = |v: &[Vec3], t: usize, b: [f32; 3]| -> Vec3 {
-            (0..3).map(|i| v[3 * t + i] * b[i]).sum()
-        };
+        // The corners' sum from 0, in order, as `Iterator::sum` adds (a closure over that sum
+        // was a call for each point, outside the packet's compiled code).
+        #[inline(always)]
+        fn mix(v: &[Vec3], t: usize, b: [f32; 3]) -> Vec3 {
+            let c = &v[3 * t..3 * t + 3];
+            ((Vec3::ZERO + c[0] * b[0]) + c[1] * b[1]) + c[2] * b[2]
+        }
         let mut positions = [Vec3::ZERO; bvh::PACKET];
         let mut unit = lanes::Vec3Lanes::new();
         for (k, &(t, b)) in chunk.iter().enumerate() {
@@ -651,6 +674,36 @@ impl Sampler<'_> {
 
     /// [`Sampler::samples`] with this thread's lanes.
     fn samples_with(
+        &self,
+        batch: &[(usize, [f32; 3])],
+        out: &mut Vec<Sample>,
+        scratch: &mut PacketLanes,
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2, which is all that `samples_avx2` is compiled for beyond
+            // SSE2.
+            return unsafe { self.samples_avx2(batch, out, scratch) };
+        }
+        self.samples_of(batch, out, scratch)
+    }
+
+    /// [`Sampler::samples_with`] compiled for AVX2 (as [`bvh::Bvh::first_hits`] is: no fused
+    /// multiply-add, so every sample rounds as before).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,bmi1,popcnt")]
+    unsafe fn samples_avx2(
+        &self,
+        batch: &[(usize, [f32; 3])],
+        out: &mut Vec<Sample>,
+        scratch: &mut PacketLanes,
+    ) {
+        self.samples_of(batch, out, scratch)
+    }
+
+    /// [`Sampler::samples_with`], for whichever instruction set it is inlined into.
+    #[inline(always)]
+    fn samples_of(
         &self,
         batch: &[(usize, [f32; 3])],
         out: &mut Vec<Sample>,
@@ -703,6 +756,7 @@ impl Sampler<'_> {
     /// each ray past its end, and against it outside the cage. Traced as a packet of the missed
     /// rays, so that a miss costs about what a hit does.
     #[allow(clippy::type_complexity)]
+    #[inline(always)]
     fn look(
         &self,
         triangles: &[usize],
@@ -747,6 +801,7 @@ impl Sampler<'_> {
     /// each, LOW's normal there in `normals`), given HIGH's normal where each ray met HIGH
     /// (`None`: it met nothing). Each step is taken for the whole chunk before the next, so that
     /// one sample's long divisions and square roots overlap the others'.
+    #[inline(always)]
     fn shade(
         &self,
         chunk: &[(usize, [f32; 3])],
@@ -806,6 +861,7 @@ impl Sampler<'_> {
     }
 
     /// HIGH's normal where the ray met it, before it is normalized: interpolated, or the face's.
+    #[inline(always)]
     fn high_normal(&self, hit: &bvh::Hit) -> Vec3 {
         let n = &hit.data;
         if self.input.high_face_normals {

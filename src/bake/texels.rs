@@ -178,6 +178,40 @@ impl UvLayout {
         owners: &mut Owners,
         sample: &(impl Fn(&[(usize, [f32; 3])], &mut Vec<Sample>) + Sync),
     ) -> (BakeStats, Vec<f32>) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2, which is all that `bake_band_avx2` is compiled for
+            // beyond SSE2.
+            return unsafe { self.bake_band_avx2(band, normals, states, owners, sample) };
+        }
+        self.bake_band_of(band, normals, states, owners, sample)
+    }
+
+    /// [`UvLayout::bake_band`] compiled for AVX2 (no fused multiply-add: every barycentric and
+    /// average rounds as before).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,bmi1,popcnt")]
+    unsafe fn bake_band_avx2(
+        &self,
+        band: usize,
+        normals: &mut [Vec3],
+        states: &mut [TexelState],
+        owners: &mut Owners,
+        sample: &(impl Fn(&[(usize, [f32; 3])], &mut Vec<Sample>) + Sync),
+    ) -> (BakeStats, Vec<f32>) {
+        self.bake_band_of(band, normals, states, owners, sample)
+    }
+
+    /// [`UvLayout::bake_band`], for whichever instruction set it is inlined into.
+    #[inline(always)]
+    fn bake_band_of(
+        &self,
+        band: usize,
+        normals: &mut [Vec3],
+        states: &mut [TexelState],
+        owners: &mut Owners,
+        sample: &(impl Fn(&[(usize, [f32; 3])], &mut Vec<Sample>) + Sync),
+    ) -> (BakeStats, Vec<f32>) {
         let (w, k) = (self.width, self.samples);
         let rows = normals.len() / w;
         let first_sample_row = band * self.band_rows * k;
@@ -288,6 +322,7 @@ struct Owners {
 /// of `tri`: those between where the row crosses its edges, a column wider on each side than
 /// that crossing (computed with rounding, far below a column) says. The test of each sample
 /// ([`barycentrics`]) decides; this only spares it the bounding box's empty corners.
+#[inline(always)]
 fn row_span(
     tri: &PixelTriangle,
     y: f64,
@@ -318,6 +353,7 @@ fn row_span(
 }
 
 /// The sample columns and rows whose centres (x + ½, y + ½) can fall in `tri`, clipped to the map.
+#[inline(always)]
 fn sample_box(
     tri: &PixelTriangle,
     columns: usize,
@@ -336,6 +372,7 @@ fn sample_box(
 /// The barycentrics (in the soup's corner order) of `p` if it is inside `tri`. A point on an edge
 /// belongs to one of the two triangles that share it: the edge's own triangle when the edge is a
 /// "top" or "left" one, as GL rasterizes, so that no sample is counted twice on a shared edge.
+#[inline(always)]
 fn barycentrics(tri: &PixelTriangle, p: DVec2) -> Option<[f32; 3]> {
     let [a, b, c] = tri.corners;
     let weight = |from: DVec2, to: DVec2| {
