@@ -127,8 +127,9 @@ impl Node {
 /// [`Node::count`] of a child that is an inner node.
 const INNER: u32 = u32::MAX;
 
-/// A triangle as the ray test wants it: a corner and the two edges from it; and what a hit
-/// hands back (see [`Bvh::build_with`]), kept beside them so that it is read with them.
+/// A triangle as the ray test wants it: a corner and the two edges from it, 40 bytes (what a
+/// hit hands back is in [`Bvh::data`], read once a packet's walk is done: beside them, a leaf's
+/// four triangles were twice as many cache lines for the tests to read).
 #[derive(Debug, Clone, Copy, bytemuck::Zeroable)]
 struct Triangle {
     p0: Vec3,
@@ -137,11 +138,10 @@ struct Triangle {
     /// The determinant at or below which a ray counts as parallel to the triangle's plane
     /// ([`Triangle::new`]).
     parallel: f32,
-    data: [Vec3; 3],
 }
 
 impl Triangle {
-    fn new(c: &[Vec3], data: [Vec3; 3]) -> Triangle {
+    fn new(c: &[Vec3]) -> Triangle {
         let (e1, e2) = (c[1] - c[0], c[2] - c[0]);
         Triangle {
             p0: c[0],
@@ -153,7 +153,6 @@ impl Triangle {
             // barycentrics are noise (a "hit" at 0 on a triangle far from the origin). Such a
             // ray meets the triangle's edge at most, as a neighbour's face meets it.
             parallel: (e1.cross(e2).length() * PARALLEL).max(f32::MIN_POSITIVE),
-            data,
         }
     }
 }
@@ -175,6 +174,8 @@ pub struct Hit {
 pub struct Bvh {
     nodes: Vec<Node>,
     triangles: Vec<Triangle>,
+    /// What each of `triangles` hands back in a hit ([`Bvh::build_with`]), in their order.
+    data: Vec<[Vec3; 3]>,
     /// The mesh's index of each of `triangles`.
     order: Vec<u32>,
 }
@@ -194,9 +195,9 @@ impl Bvh {
         Bvh::build_with(positions, |_| [Vec3::ZERO; 3], threads)
     }
 
-    /// [`Bvh::build`], with `data(t)` kept beside triangle `t` and handed back in its hits (a
-    /// bake's HIGH normals): read where the search read the triangle, not from anywhere in a
-    /// mesh-sized array.
+    /// [`Bvh::build`], with `data(t)` kept for triangle `t` and handed back in its hits (a
+    /// bake's HIGH normals): in the leaves' order, so that it is read near where the search read
+    /// the triangle, not from anywhere in a mesh-sized array.
     pub fn build_with(
         positions: &[Vec3],
         data: impl Fn(usize) -> [Vec3; 3] + Sync,
@@ -208,6 +209,7 @@ impl Bvh {
             return Bvh {
                 nodes: Vec::new(),
                 triangles: Vec::new(),
+                data: Vec::new(),
                 order: Vec::new(),
             };
         }
@@ -216,21 +218,24 @@ impl Bvh {
         // first thread makes the four-wide nodes first (0.04 s for a 1.3M-triangle sculpt, which
         // the other spends on the copies).
         let mut triangles: Vec<Triangle> = bytemuck::zeroed_vec(items.len());
+        let mut datas: Vec<[Vec3; 3]> = bytemuck::zeroed_vec(items.len());
         let mut order: Vec<u32> = bytemuck::zeroed_vec(items.len());
         let runs = (items.chunks(COPY_RUN)).zip(
-            triangles
-                .chunks_mut(COPY_RUN)
+            (triangles.chunks_mut(COPY_RUN))
+                .zip(datas.chunks_mut(COPY_RUN))
                 .zip(order.chunks_mut(COPY_RUN)),
         );
         let runs = Mutex::new(runs);
         let copy = || loop {
             let next = runs.lock().expect("no copy panics holding it").next();
-            let Some((items, (triangles, order))) = next else {
+            let Some((items, ((triangles, datas), order))) = next else {
                 break;
             };
-            for ((item, triangle), index) in items.iter().zip(triangles).zip(order) {
+            let slots = triangles.iter_mut().zip(datas).zip(order);
+            for (item, ((triangle, kept), index)) in items.iter().zip(slots) {
                 let i = item.index as usize;
-                *triangle = Triangle::new(&positions[3 * i..3 * i + 3], data(i));
+                *triangle = Triangle::new(&positions[3 * i..3 * i + 3]);
+                *kept = data(i);
                 *index = item.index;
             }
         };
@@ -254,6 +259,7 @@ impl Bvh {
         Bvh {
             nodes,
             triangles,
+            data: datas,
             order,
         }
     }
@@ -333,7 +339,7 @@ impl Bvh {
             (false, Some(beam)) => self.walk::<G, WIDE>(&mut lanes, &beam),
             (false, None) => self.walk::<G, WIDE>(&mut lanes, &EachRay),
         };
-        lanes.hits(hits);
+        lanes.hits(&self.data, hits);
         visits
     }
 
@@ -367,10 +373,10 @@ impl Bvh {
                     #[cfg(target_arch = "x86_64")]
                     if WIDE {
                         // SAFETY: only `first_hits_avx2` asks for WIDE, on a CPU with AVX2.
-                        unsafe { wide::intersect(lanes, tri, index, groups) };
+                        unsafe { wide::intersect(lanes, tri, index, k as u32, groups) };
                         continue;
                     }
-                    lanes.intersect(tri, index, groups);
+                    lanes.intersect(tri, index, k as u32, groups);
                 }
                 continue;
             }
@@ -465,9 +471,11 @@ struct Lanes<const G: usize> {
     nearest: [Vec4; G],
     /// `nearest` widened by [`LIMIT_SLACK`], as the boxes are tested against it.
     reach: [Vec4; G],
-    /// The mesh index of the triangle met at `nearest` (`u32::MAX`: none yet), and its data.
+    /// The mesh index of the triangle met at `nearest` (`u32::MAX`: none yet), and where it is
+    /// in [`Bvh::triangles`] (its data is read from there once the walk is done, not copied at
+    /// each nearer hit).
     triangle: [[u32; 4]; G],
-    data: [[[Vec3; 3]; 4]; G],
+    slot: [[u32; 4]; G],
     u: [[f32; 4]; G],
     v: [[f32; 4]; G],
 }
@@ -483,7 +491,7 @@ impl<const G: usize> Lanes<G> {
             nearest: [Vec4::splat(-1.0); G],
             reach: [Vec4::splat(-1.0); G],
             triangle: [[u32::MAX; 4]; G],
-            data: [[[Vec3::ZERO; 3]; 4]; G],
+            slot: [[0; 4]; G],
             u: [[0.0; 4]; G],
             v: [[0.0; 4]; G],
         };
@@ -581,9 +589,10 @@ impl<const G: usize> Lanes<G> {
     /// same operations in the same order as [`intersect`]'s (glam's `cross` and `dot` written
     /// out), so that each lane's distance and barycentrics are its, to the bit.
     /// Only the groups of four lanes in the mask `groups` (group g: bit g) are tested: the others
-    /// enter no box around the triangle.
+    /// enter no box around the triangle. `index` is the triangle's in the mesh, `slot` in
+    /// [`Bvh::triangles`].
     #[inline(always)]
-    fn intersect(&mut self, tri: &Triangle, index: u32, groups: u32) {
+    fn intersect(&mut self, tri: &Triangle, index: u32, slot: u32, groups: u32) {
         let [ox, oy, oz] = &self.origin;
         let [dx, dy, dz] = &self.direction;
         let [p0x, p0y, p0z] = tri.p0.to_array().map(Vec4::splat);
@@ -634,7 +643,7 @@ impl<const G: usize> Lanes<G> {
                     self.nearest[g][k] = t;
                     self.reach[g][k] = widened_limit(t);
                     self.triangle[g][k] = index;
-                    self.data[g][k] = tri.data;
+                    self.slot[g][k] = slot;
                     self.u[g][k] = u[k];
                     self.v[g][k] = v[k];
                 }
@@ -642,9 +651,9 @@ impl<const G: usize> Lanes<G> {
         }
     }
 
-    /// The first `count` lanes' hits.
+    /// The first `count` lanes' hits, each with its triangle's data from `data`.
     #[inline(always)]
-    fn hits(&self, hits: &mut [Option<Hit>]) {
+    fn hits(&self, data: &[[Vec3; 3]], hits: &mut [Option<Hit>]) {
         for (l, hit) in hits.iter_mut().enumerate() {
             let (g, k) = (l / 4, l % 4);
             *hit = (self.triangle[g][k] != u32::MAX).then(|| Hit {
@@ -652,7 +661,7 @@ impl<const G: usize> Lanes<G> {
                 distance: self.nearest[g][k],
                 u: self.u[g][k],
                 v: self.v[g][k],
-                data: self.data[g][k],
+                data: data[self.slot[g][k] as usize],
             });
         }
     }
@@ -1156,7 +1165,7 @@ mod tests {
             if !c.iter().all(|p| p.is_finite()) {
                 continue;
             }
-            let tri = Triangle::new(c, [Vec3::ZERO; 3]);
+            let tri = Triangle::new(c);
             if let Some((t, u, v)) = intersect(&tri, ray.origin, ray.direction) {
                 if t <= ray.max_distance && best.is_none_or(|b| t < b.distance) {
                     best = Some(Hit {
@@ -1301,9 +1310,10 @@ mod tests {
                         let t = bvh.order[at] as usize;
                         seen[t] += 1;
                         let corners = &positions[3 * t..3 * t + 3];
-                        let expected = Triangle::new(corners, data(t));
+                        let expected = Triangle::new(corners);
                         let copy = &bvh.triangles[at];
                         assert_eq!(format!("{copy:?}"), format!("{expected:?}"), "triangle {t}");
+                        assert_eq!(bvh.data[at], data(t), "triangle {t}'s data");
                         for p in corners {
                             let inside = p.cmpge(bounds.min).all() && p.cmple(bounds.max).all();
                             assert!(inside, "triangle {t} outside its leaf's box");

@@ -91,6 +91,7 @@ pub(super) unsafe fn intersect<const G: usize>(
     lanes: &mut Lanes<G>,
     tri: &Triangle,
     index: u32,
+    slot: u32,
     groups: u32,
 ) {
     let splat = |v: glam::Vec3| v.to_array().map(|c| _mm256_set1_ps(c));
@@ -186,7 +187,7 @@ pub(super) unsafe fn intersect<const G: usize>(
                 lanes.nearest[g][k] = t;
                 lanes.reach[g][k] = widened_limit(t);
                 lanes.triangle[g][k] = index;
-                lanes.data[g][k] = tri.data;
+                lanes.slot[g][k] = slot;
                 lanes.u[g][k] = us[l];
                 lanes.v[g][k] = vs[l];
             }
