@@ -739,16 +739,21 @@ impl Sampler<'_> {
             }
             let shaded = self.shade(chunk, &normals[..n], &high[..n], scratch);
             // Each sample written once, whole (built field by field in place, its stores were
-            // read back across their seams, a stall each).
-            out.extend((0..n).map(|k| Sample {
-                normal: shaded.normal[k],
-                // A LOW part without a partner meets nothing and is not a miss: it is said once.
-                missed: high[k].is_none() && self.targets.paired(triangles[k]),
-                beyond: beyond[k],
-                outside: outside[k],
-                singular: shaded.singular[k],
-                stretch: shaded.stretch[k],
-            }));
+            // read back across their seams, a stall each); pushed in a loop here, where
+            // `extend` was a call for each packet, outside the packet's compiled code.
+            out.reserve(n);
+            for k in 0..n {
+                out.push(Sample {
+                    normal: shaded.normal[k],
+                    // A LOW part without a partner meets nothing and is not a miss: it is said
+                    // once.
+                    missed: high[k].is_none() && self.targets.paired(triangles[k]),
+                    beyond: beyond[k],
+                    outside: outside[k],
+                    singular: shaded.singular[k],
+                    stretch: shaded.stretch[k],
+                });
+            }
         }
     }
 
