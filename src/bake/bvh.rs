@@ -371,8 +371,9 @@ impl Bvh {
                 for k in start..start + count as usize {
                     let (tri, index) = (&self.triangles[k], self.order[k]);
                     #[cfg(target_arch = "x86_64")]
-                    if WIDE {
-                        // SAFETY: only `first_hits_avx2` asks for WIDE, on a CPU with AVX2.
+                    if WIDE && G % 2 == 0 {
+                        // SAFETY: only `first_hits_avx2` asks for WIDE, on a CPU with AVX2; the
+                        // groups pair up.
                         unsafe { wide::intersect(lanes, tri, index, k as u32, groups) };
                         continue;
                     }
@@ -398,8 +399,11 @@ impl Bvh {
                         groups = match G {
                             1 => 1,
                             #[cfg(target_arch = "x86_64")]
-                            // SAFETY: only `first_hits_avx2` asks for WIDE, on a CPU with AVX2.
-                            _ if WIDE => unsafe { wide::groups_entering(lanes, &node.bounds(k)) },
+                            // SAFETY: only `first_hits_avx2` asks for WIDE, on a CPU with AVX2; the
+                            // groups pair up.
+                            _ if WIDE && G % 2 == 0 => unsafe {
+                                wide::groups_entering(lanes, &node.bounds(k))
+                            },
                             _ => lanes.groups_entering(&node.bounds(k)),
                         };
                         if groups == 0 {

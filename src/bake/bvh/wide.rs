@@ -34,10 +34,11 @@ unsafe fn abs(x: __m256) -> __m256 {
 /// [`Lanes::groups_entering`], two groups at a time.
 ///
 /// # Safety
-/// The CPU has AVX2.
+/// The CPU has AVX2, and `G` is even.
 #[target_feature(enable = "avx2")]
 #[inline]
 pub(super) unsafe fn groups_entering<const G: usize>(lanes: &Lanes<G>, bounds: &Aabb) -> u32 {
+    debug_assert!(G % 2 == 0);
     let mut groups = 0;
     for p in 0..G / 2 {
         let mut near = _mm256_setzero_ps();
@@ -84,7 +85,7 @@ pub(super) unsafe fn groups_entering<const G: usize>(lanes: &Lanes<G>, bounds: &
 /// [`Lanes::intersect`], two groups at a time: the pairs of which either group is in `groups`.
 ///
 /// # Safety
-/// The CPU has AVX2.
+/// The CPU has AVX2, and `G` is even.
 #[target_feature(enable = "avx2")]
 #[inline]
 pub(super) unsafe fn intersect<const G: usize>(
