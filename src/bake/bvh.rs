@@ -597,8 +597,6 @@ impl<const G: usize> Lanes<G> {
     /// [`Bvh::triangles`].
     #[inline(always)]
     fn intersect(&mut self, tri: &Triangle, index: u32, slot: u32, groups: u32) {
-        let [ox, oy, oz] = &self.origin;
-        let [dx, dy, dz] = &self.direction;
         let [p0x, p0y, p0z] = tri.p0.to_array().map(Vec4::splat);
         let [e1x, e1y, e1z] = tri.e1.to_array().map(Vec4::splat);
         let [e2x, e2y, e2z] = tri.e2.to_array().map(Vec4::splat);
@@ -608,14 +606,17 @@ impl<const G: usize> Lanes<G> {
         while remaining != 0 {
             let g = remaining.trailing_zeros() as usize;
             remaining &= remaining - 1;
+            let (o, d) = (&self.origin, &self.direction);
+            let (ox, oy, oz) = (o[0][g], o[1][g], o[2][g]);
+            let (dx, dy, dz) = (d[0][g], d[1][g], d[2][g]);
             // p = direction × e2
-            let px = dy[g] * e2z - e2y * dz[g];
-            let py = dz[g] * e2x - e2z * dx[g];
-            let pz = dx[g] * e2y - e2x * dy[g];
+            let px = dy * e2z - e2y * dz;
+            let py = dz * e2x - e2z * dx;
+            let pz = dx * e2y - e2x * dy;
             let det = (e1x * px) + (e1y * py) + (e1z * pz);
             let inv = Vec4::ONE / det;
             // s = origin − p0
-            let (sx, sy, sz) = (ox[g] - p0x, oy[g] - p0y, oz[g] - p0z);
+            let (sx, sy, sz) = (ox - p0x, oy - p0y, oz - p0z);
             let u = ((sx * px) + (sy * py) + (sz * pz)) * inv;
             let within_u = det.abs().cmpgt(Vec4::splat(tri.parallel))
                 & det.abs().cmplt(Vec4::INFINITY)
@@ -629,7 +630,7 @@ impl<const G: usize> Lanes<G> {
             let qx = sy * e1z - e1y * sz;
             let qy = sz * e1x - e1z * sx;
             let qz = sx * e1y - e1x * sy;
-            let v = ((dx[g] * qx) + (dy[g] * qy) + (dz[g] * qz)) * inv;
+            let v = ((dx * qx) + (dy * qy) + (dz * qz)) * inv;
             let t = ((e2x * qx) + (e2y * qy) + (e2z * qz)) * inv;
             let hit = within_u
                 & !(v.cmplt(Vec4::ZERO) | (u + v).cmpgt(Vec4::ONE))
@@ -642,16 +643,24 @@ impl<const G: usize> Lanes<G> {
                 continue;
             }
             for k in (0..4).filter(|k| mask & (1 << k) != 0) {
-                let (t, nearest) = (t[k], self.nearest[g][k]);
-                if t < nearest || index < self.triangle[g][k] {
-                    self.nearest[g][k] = t;
-                    self.reach[g][k] = widened_limit(t);
-                    self.triangle[g][k] = index;
-                    self.slot[g][k] = slot;
-                    self.u[g][k] = u[k];
-                    self.v[g][k] = v[k];
-                }
+                self.keep(g, k, (t[k], u[k], v[k]), index, slot);
             }
+        }
+    }
+
+    /// Lane `k` of group `g` met triangle `index` (at `slot`) within its nearest, at distance,
+    /// u and v `hit`: kept if nearer than what it holds, or at the same distance with a lower
+    /// index.
+    #[inline(always)]
+    fn keep(&mut self, g: usize, k: usize, hit: (f32, f32, f32), index: u32, slot: u32) {
+        let (t, u, v) = hit;
+        if t < self.nearest[g][k] || index < self.triangle[g][k] {
+            self.nearest[g][k] = t;
+            self.reach[g][k] = widened_limit(t);
+            self.triangle[g][k] = index;
+            self.slot[g][k] = slot;
+            self.u[g][k] = u;
+            self.v[g][k] = v;
         }
     }
 

@@ -11,7 +11,7 @@
 
 use std::arch::x86_64::*;
 
-use super::{widened_limit, Aabb, Lanes, Triangle, LIMIT_SLACK};
+use super::{Aabb, Lanes, Triangle, LIMIT_SLACK};
 
 /// Groups `2p` and `2p + 1` of a component (`[Vec4; G]`) as one vector of eight lanes.
 ///
@@ -182,16 +182,7 @@ pub(super) unsafe fn intersect<const G: usize>(
         while lanes_hit != 0 {
             let l = lanes_hit.trailing_zeros() as usize;
             lanes_hit &= lanes_hit - 1;
-            let (g, k) = (2 * p + l / 4, l % 4);
-            let (t, nearest) = (ts[l], lanes.nearest[g][k]);
-            if t < nearest || index < lanes.triangle[g][k] {
-                lanes.nearest[g][k] = t;
-                lanes.reach[g][k] = widened_limit(t);
-                lanes.triangle[g][k] = index;
-                lanes.slot[g][k] = slot;
-                lanes.u[g][k] = us[l];
-                lanes.v[g][k] = vs[l];
-            }
+            lanes.keep(2 * p + l / 4, l % 4, (ts[l], us[l], vs[l]), index, slot);
         }
     }
 }
