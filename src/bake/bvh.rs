@@ -298,9 +298,10 @@ impl Bvh {
         self.first_hits_of::<false>(rays, hits)
     }
 
-    /// [`Bvh::first_hits`] compiled for AVX2: the same four-lane operations, in VEX's
-    /// three-operand form (no copies of registers before each one) and with AVX2's bit counts.
-    /// No fused multiply-add is enabled, so every lane rounds as before: the same hits to the bit.
+    /// [`Bvh::first_hits`] compiled for AVX2: the walk's four-lane operations in VEX's
+    /// three-operand form (no copies of registers before each one), and a leaf's tests on eight
+    /// lanes ([`wide`]). No fused multiply-add is enabled, so every lane rounds as before: the
+    /// same hits to the bit.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,bmi1,popcnt")]
     unsafe fn first_hits_avx2(&self, rays: &[Ray], hits: &mut [Option<Hit>]) {
@@ -476,8 +477,8 @@ struct Lanes<const G: usize> {
     /// `nearest` widened by [`LIMIT_SLACK`], as the boxes are tested against it.
     reach: [Vec4; G],
     /// The mesh index of the triangle met at `nearest` (`u32::MAX`: none yet), and where it is
-    /// in [`Bvh::triangles`] (its data is read from there once the walk is done, not copied at
-    /// each nearer hit).
+    /// in [`Bvh::triangles`] (its data is read at that slot of [`Bvh::data`] once the walk is
+    /// done, not copied at each nearer hit).
     triangle: [[u32; 4]; G],
     slot: [[u32; 4]; G],
     u: [[f32; 4]; G],
